@@ -1,0 +1,183 @@
+"""Exact, cancellation-free kernels shared by the zone, propagation and
+periodic-solution modules. Inputs are trusted (validated by the callers).
+
+Notation (``docs/theory.md``): ``x = w_h T``, ``u = w_e T``, ``D = w_h / w_e``,
+``s4 = sqrt(1 - mu^4)``. The two angles of Theorems 3.3-3.4 are
+
+    alpha = 2 atan(D tanh(x/2)),     beta = 2 atan(D coth(x/2)),
+
+with half-sum and half-difference
+
+    gamma = (alpha + beta)/2 = pi/2 + atan(mu^2 tanh(x) / s4),
+    delta = (beta - alpha)/2 = atan(s4 / sinh(x)).
+
+With ``tau = tr M / 2`` the trace of the monodromy factors exactly::
+
+    tau     = -sin(u - gamma) / sin(delta)
+    tau - 1 = -2 sin((u - alpha)/2) cos((u - beta)/2) / sin(delta)
+    tau + 1 = -2 cos((u - alpha)/2) sin((u - beta)/2) / sin(delta)
+
+(substitute ``tan(u/2)`` and ``t = tanh(x/2)`` in
+``2 cosh x cos u + (D - 1/D) sinh x sin u``; the numerators factor as
+``(tan(u/2) - D t)(tan(u/2) + t/D)`` and ``(D t tan(u/2) + 1)(t tan(u/2)/D - 1)``).
+The zeros of the factors are exactly the conditions (3.10)-(3.13), and no
+``e^x``-sized terms are ever subtracted.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+LOG2 = np.log(2.0)
+PI = np.pi
+
+
+def s4_of(mu):
+    """sqrt(1 - mu^4) with full relative accuracy as mu -> 1."""
+    return np.sqrt((1.0 - mu) * (1.0 + mu) * (1.0 + mu * mu))
+
+
+def alpha_x(x, D):
+    """alpha = 2 atan(D tanh(x/2)) (section 4 of the paper)."""
+    return 2.0 * np.arctan(D * np.tanh(0.5 * x))
+
+
+def beta_x(x, D):
+    """beta = 2 atan(D coth(x/2)); atan2 keeps x -> 0 exact (beta -> pi)."""
+    return 2.0 * np.arctan2(D, np.tanh(0.5 * x))
+
+
+def dalpha_dx(x, D):
+    """d alpha/dx = 2D / ((1 + D^2) cosh x + 1 - D^2); 0 where cosh overflows."""
+    with np.errstate(over="ignore"):
+        return 2.0 * D / ((1.0 + D * D) * np.cosh(x) + 1.0 - D * D)
+
+
+def dbeta_dx(x, D):
+    """d beta/dx = -2D / ((1 + D^2) cosh x + D^2 - 1); 0 where cosh overflows."""
+    with np.errstate(over="ignore"):
+        return -2.0 * D / ((1.0 + D * D) * np.cosh(x) + D * D - 1.0)
+
+
+def dgamma_dx(x, mu, s4):
+    """d gamma/dx = mu^2 s4 sech^2 x / (s4^2 + mu^4 tanh^2 x) (tiny for large x)."""
+    with np.errstate(over="ignore"):
+        sech2 = 1.0 / np.cosh(x) ** 2
+    th = np.tanh(x)
+    return mu * mu * s4 * sech2 / (s4 * s4 + mu**4 * th * th)
+
+
+def log_sinh(x):
+    """log(sinh x) for x > 0, without overflow."""
+    big = x > 20.0
+    small = np.log(np.sinh(np.where(big, 1.0, x)))
+    large = x - LOG2 + np.log1p(-np.exp(-2.0 * np.where(big, x, 21.0)))
+    return np.where(big, large, small)
+
+
+def delta_x(x, s4):
+    """Half-width delta = (beta - alpha)/2 = atan(s4 / sinh x), as atan2 (no overflow)."""
+    with np.errstate(over="ignore"):
+        return np.arctan2(s4, np.sinh(x))
+
+
+def log_sin_delta(x, s4):
+    """log sin(delta) = log s4 - log sqrt(sinh^2 x + s4^2), finite for every x > 0."""
+    ls = log_sinh(x)
+    with np.errstate(over="ignore", under="ignore"):
+        corr = np.log1p(s4 * s4 * np.exp(-2.0 * np.maximum(ls, -300.0)))
+    return np.log(s4) - ls - 0.5 * corr
+
+
+def gamma_x(x, mu, s4):
+    """Centre gamma = (alpha + beta)/2 = pi/2 + atan(mu^2 tanh x / s4)."""
+    return 0.5 * PI + np.arctan(mu * mu * np.tanh(x) / s4)
+
+
+def reduced(u):
+    """Zone candidate ``n = floor(u / pi)`` and ``w = u - n pi`` in [0, pi)."""
+    n = np.floor(u / PI)
+    return n, u - n * PI
+
+
+def acosh_excess(e):
+    """acosh(1 + e) for e >= 0, accurate for small e."""
+    return np.log1p(e + np.sqrt(e * (e + 2.0)))
+
+
+def floquet_elliptic(x, u, D, mu):
+    """Floquet data for ``0 < mu < 1`` (there is an elliptic phase).
+
+    Returns
+    -------
+    n : float ndarray
+        ``floor(u / pi)``; the zone index where the point is stable.
+    a, b : ndarray
+        ``a = w - alpha``, ``b = w - beta`` with ``w = u - n pi``; stable iff ``a > 0 > b``
+        (``docs/theory.md`` section 5).
+    tau : ndarray
+        Half-trace ``tr M / 2`` (``+-inf`` where it overflows a double).
+    growth : ndarray
+        ``log max|lambda|`` per period, finite for every input; 0 on the zones.
+    theta : ndarray
+        Rotation angle per period: ``n pi + 2 asin(sqrt(zeta/2))`` on zone ``n``,
+        locked to ``n pi`` (below zone n) or ``(n + 1) pi`` (above) off the zones.
+    """
+    n, w = reduced(u)
+    alpha = alpha_x(x, D)
+    beta = beta_x(x, D)
+    a = w - alpha
+    b = w - beta
+    s4 = s4_of(mu)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        sd = np.sin(delta_x(x, s4))
+        lsd = log_sin_delta(x, s4)
+        num = -np.sin(u - gamma_x(x, mu, s4))
+        tau = np.where(sd > 0, num / np.where(sd > 0, sd, 1.0), np.copysign(np.inf, num))
+        # P has the sign of a, Q the sign of b (|a/2|, |b/2| < pi/2 so the cosines are > 0).
+        # n even: tau - 1 = -P, tau + 1 = -Q;  n odd: tau - 1 = Q, tau + 1 = P.
+        sdp = np.where(sd > 0, sd, np.inf)
+        P = 2.0 * np.sin(0.5 * a) * np.cos(0.5 * b) / sdp
+        Q = 2.0 * np.cos(0.5 * a) * np.sin(0.5 * b) / sdp
+    stable = (a > 0) & (b < 0)
+    below = a <= 0
+    # Off the zones |tau| - 1 is -P below zone n and Q above it, for either parity.
+    excess = np.where(below, -P, Q)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        log_abs_tau = np.log(np.abs(num)) - lsd
+        big = log_abs_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * np.maximum(log_abs_tau, 0.0))))
+        small = acosh_excess(np.where((excess >= 0) & (excess < 1.0), excess, 0.0))
+    use_small = (excess < 1.0) & (sd > 1e-300)
+    growth = np.where(stable, 0.0, np.where(use_small, small, big))
+    growth = np.maximum(growth, 0.0)
+    zeta = np.clip(P, 0.0, 2.0)
+    theta = np.where(
+        stable,
+        n * PI + 2.0 * np.arcsin(np.sqrt(0.5 * zeta)),
+        np.where(below, n * PI, (n + 1.0) * PI),
+    )
+    return n, a, b, tau, growth, theta
+
+
+def floquet_hyperbolic(x, v):
+    """Half-trace and growth when ``A <= g``: both phases hyperbolic (``v >= 0``), or the
+    second is free flight (``v = 0``).
+
+    ``tau = cosh x cosh v + (x^2 + v^2)/(2x) sinh x sinh(v)/v > 1``; the excess
+    ``tau - 1 = 2 sinh^2(x/2) cosh v + 2 sinh^2(v/2) + (x^2 + v^2)/(2x) sinh x sinh(v)/v``
+    is a sum of positive terms, and ``log tau`` is formed with ``e^{-x}``, ``e^{-v}``
+    only, so the growth stays finite for every input.
+    """
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        vs = np.where(v > 0, v, 1.0)
+        shc_v = np.where(v > 0, np.sinh(vs) / vs, 1.0)
+        cfac = (x * x + v * v) / (2.0 * x)
+        excess = 2.0 * np.sinh(0.5 * x) ** 2 * np.cosh(v) + 2.0 * np.sinh(0.5 * v) ** 2 + cfac * np.sinh(x) * shc_v
+        ex = np.exp(-2.0 * x)
+        ev = np.exp(-2.0 * v)
+        one_minus_ev_over_v = np.where(v > 0, -np.expm1(-2.0 * vs) / vs, 2.0)
+        log_tau = x + v - 2.0 * LOG2 + np.log((1.0 + ex) * (1.0 + ev) + cfac * (1.0 - ex) * one_minus_ev_over_v)
+        tau = np.where(np.isfinite(excess), 1.0 + excess, np.inf)
+        big = log_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * log_tau)))
+        small = acosh_excess(np.where(excess < 1.0, excess, 0.0))
+    growth = np.where(excess < 1.0, small, big)
+    return tau, growth

@@ -1,0 +1,83 @@
+"""Validation of user input, done once at the public boundary.
+
+Every public function converts its arguments here; private kernels trust what
+they receive. Messages name the parameter, the offending value and the allowed
+range, e.g. ``eps must be finite and > 0; got -1.0``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["positive", "finite", "nonnegative_int", "in_range", "KapitzaValueError"]
+
+
+class KapitzaValueError(ValueError):
+    """A parameter is outside its allowed range (a :class:`ValueError`)."""
+
+
+def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
+    value = arr[bad].flat[0]
+    where = "" if arr.ndim == 0 else f" (at index {tuple(int(i) for i in np.argwhere(bad)[0])})"
+    return f"{value!r}{where}"
+
+
+def _as_float(name: str, value) -> np.ndarray:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise KapitzaValueError(f"{name} must be a real number or array of real numbers; got {value!r}") from None
+    if arr.size == 0:
+        raise KapitzaValueError(f"{name} must not be empty")
+    return arr
+
+
+def finite(name: str, value) -> np.ndarray:
+    """Return ``value`` as a float array, rejecting NaN and infinities."""
+    arr = _as_float(name, value)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        raise KapitzaValueError(f"{name} must be finite; got {_first_bad(arr, bad)}")
+    return arr
+
+
+def positive(name: str, value) -> np.ndarray:
+    """Return ``value`` as a float array; every element must satisfy 0 < value < inf."""
+    arr = _as_float(name, value)
+    bad = ~(np.isfinite(arr) & (arr > 0))
+    if bad.any():
+        raise KapitzaValueError(f"{name} must be finite and > 0 (0 < {name} < inf); got {_first_bad(arr, bad)}")
+    return arr
+
+
+def in_range(name: str, value, lo: float, hi: float, *, lo_open=True, hi_open=True) -> np.ndarray:
+    """Return ``value`` as a float array inside the interval (lo, hi) (ends open or closed)."""
+    arr = _as_float(name, value)
+    ok = np.isfinite(arr)
+    ok &= (arr > lo) if lo_open else (arr >= lo)
+    ok &= (arr < hi) if hi_open else (arr <= hi)
+    if not ok.all():
+        left = "(" if lo_open else "["
+        right = ")" if hi_open else "]"
+        raise KapitzaValueError(f"{name} must lie in {left}{lo:g}, {hi:g}{right}; got {_first_bad(arr, ~ok)}")
+    return arr
+
+
+def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
+    """Return ``value`` as an int array of integers >= ``minimum``."""
+    arr = np.asarray(value)
+    if arr.size == 0:
+        raise KapitzaValueError(f"{name} must not be empty")
+    if arr.dtype.kind not in "iu":
+        try:
+            f = np.asarray(arr, dtype=float)
+        except (TypeError, ValueError):
+            raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {value!r}") from None
+        bad = ~(np.isfinite(f) & (f == np.round(f)))
+        if bad.any():
+            raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_first_bad(f, bad)}")
+        arr = f.astype(np.int64)
+    arr = arr.astype(np.int64)
+    bad = arr < minimum
+    if bad.any():
+        raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_first_bad(arr, bad)}")
+    return arr

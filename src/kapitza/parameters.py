@@ -1,0 +1,141 @@
+"""Parameters of the model and their conversions.
+
+Physical parameters: rod length ``l``, gravity ``g``, pivot-acceleration
+amplitude ``A`` and half-period ``T`` of the square wave (2.2). Arnold's
+dimensionless parameters (section 4 of the paper, ``docs/theory.md`` section 2)::
+
+    eps = T sqrt(A) / sqrt(8 l),        mu = sqrt(g / A).
+
+Everything about stability depends on ``(eps, mu)`` only, through
+
+    x = w_h T = 2 sqrt(2) eps sqrt(1 + mu^2),
+    u = w_e T = 2 sqrt(2) eps sqrt(1 - mu^2),
+    D = w_h / w_e = sqrt((1 + mu^2) / (1 - mu^2)).
+
+``mu >= 1`` (``A <= g``) is valid input: there is then no elliptic phase and the
+upright position is unstable for every ``T``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _validate as _v
+
+__all__ = [
+    "G_EARTH",
+    "to_arnold",
+    "to_physical",
+    "frequencies",
+    "phase_angles",
+]
+
+#: Standard gravity used by default throughout, in m/s^2 (the paper's examples use 9.81).
+G_EARTH = 9.81
+
+SQRT8 = np.sqrt(8.0)
+
+
+def to_arnold(T, A, l=1.0, g=G_EARTH):
+    """Arnold's parameters ``(eps, mu)`` of physical parameters.
+
+    Parameters
+    ----------
+    T, A, l, g : array_like, broadcast together
+        Half-period of the drive [s], amplitude of the pivot acceleration
+        [m/s^2], rod length [m], gravity [m/s^2]; each finite and > 0.
+
+    Returns
+    -------
+    eps, mu : ndarray
+        ``eps = T sqrt(A / (8 l))``, ``mu = sqrt(g / A)``. ``mu >= 1`` means
+        ``A <= g``.
+
+    Notes
+    -----
+    Section 4 of the paper ("Stability zones").
+    """
+    T = _v.positive("T", T)
+    A = _v.positive("A", A)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    return T * np.sqrt(A / (8.0 * l)), np.sqrt(g / A)
+
+
+def to_physical(eps, mu, l=1.0, g=G_EARTH):
+    """Physical ``(T, A)`` of Arnold's ``(eps, mu)`` for a rod ``l`` under gravity ``g``.
+
+    Parameters
+    ----------
+    eps, mu, l, g : array_like, broadcast together
+        Each finite and > 0.
+
+    Returns
+    -------
+    T, A : ndarray
+        ``A = g / mu^2`` and ``T = eps sqrt(8 l / A)``.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    A = g / mu**2
+    return eps * np.sqrt(8.0 * l / A), A
+
+
+def frequencies(A, l=1.0, g=G_EARTH):
+    """Hyperbolic and elliptic frequencies ``w_h``, ``w_e`` and their ratio ``D``.
+
+    Parameters
+    ----------
+    A, l, g : array_like, broadcast together
+        Each finite and > 0.
+
+    Returns
+    -------
+    w_h, w_e, D : ndarray
+        ``w_h = sqrt((A + g) / l)``, ``w_e = sqrt((A - g) / l)``, ``D = w_h / w_e``.
+        Where ``A <= g`` there is no elliptic phase: there ``w_e = 0`` and
+        ``D = inf`` are returned, and the upright position is unstable for
+        every ``T`` (see :func:`kapitza.analyze`).
+
+    Notes
+    -----
+    Equations (2.4)-(2.5) of the paper.
+    """
+    A = _v.positive("A", A)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    w_h = np.sqrt((A + g) / l)
+    w_e = np.sqrt(np.maximum(A - g, 0.0) / l)
+    with np.errstate(divide="ignore"):
+        D = np.where(w_e > 0, w_h / np.where(w_e > 0, w_e, 1.0), np.inf)
+    return w_h, w_e, D
+
+
+def phase_angles(eps, mu):
+    """The phase angles ``x = w_h T``, ``u = w_e T`` and the ratio ``D`` for Arnold's parameters.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        ``eps > 0`` and ``0 < mu < 1``.
+
+    Returns
+    -------
+    x, u, D : ndarray
+
+    Notes
+    -----
+    ``docs/theory.md`` section 2. ``1 - mu^2`` is formed as ``(1 - mu)(1 + mu)``
+    so that ``u`` and ``D`` keep full relative accuracy as ``mu -> 1``.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.in_range("mu", mu, 0.0, 1.0)
+    return _phase_angles(eps, mu)
+
+
+def _phase_angles(eps, mu):
+    """Kernel of :func:`phase_angles` (inputs trusted; ``mu < 1``)."""
+    p = np.sqrt(1.0 + mu * mu)
+    q = np.sqrt((1.0 - mu) * (1.0 + mu))
+    return SQRT8 * eps * p, SQRT8 * eps * q, p / q

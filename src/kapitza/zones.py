@@ -1,0 +1,471 @@
+"""Stability zones on Arnold's ``eps``-``mu`` plane and in the physical ``(T, A)`` plane.
+
+Zone ``n`` (``n = 0, 1, 2, ...``) is the set ``alpha + n pi < u < beta + n pi``
+(``docs/theory.md`` section 5, from Theorems 3.3-3.4 and Corollary 4.1). At fixed
+``mu`` it is one interval ``eps_lo(n) < eps < eps_hi(n)``; the lower edge is
+2T-periodic for even ``n`` and 4T-periodic for odd ``n``, the upper edge the
+other way round.
+
+The edges are found by Newton's method on ``F(u) = u - n pi - alpha(D u)``
+(convex, iterated from the right of its root) and ``u - n pi - beta(D u)``
+(concave and increasing, iterated from the left): both sequences are monotone,
+so they cannot overshoot into a neighbouring branch, and they stop at machine
+precision.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _exact as X
+from . import _validate as _v
+from .parameters import G_EARTH, SQRT8, _phase_angles
+
+__all__ = [
+    "is_stable",
+    "zone_index",
+    "zone_edges",
+    "zone_width",
+    "G_m_curve",
+    "StabilityMargin",
+    "stability_margin",
+    "stability_grid",
+    "period_edges",
+    "amplitude_edges",
+]
+
+PI = np.pi
+_MAX_NEWTON = 200
+
+
+# ---------------------------------------------------------------- kernels
+def _edge_u(mu, n, upper: bool):
+    """Edge of zone ``n`` in ``u = w_e T`` at fixed ``mu`` (arrays broadcast; trusted)."""
+    mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, float))
+    shape = mu.shape
+    mu = mu.ravel()
+    n = n.ravel()
+    p = np.sqrt(1.0 + mu * mu)
+    q = np.sqrt((1.0 - mu) * (1.0 + mu))
+    D = p / q
+    npi = n * PI
+    u = npi + 2.0 * np.arctan(D)  # alpha < 2 atan D < beta: right of the lower root, left of the upper
+    if not upper:
+        # Zone 0's lower edge sits near u = sqrt(12 (D^2-1) / (D^4 (1+D^2))) for small mu
+        # (cubic Taylor term of u - alpha); start there when that point is still right of the root.
+        z = n == 0
+        if z.any():
+            Dz = D[z]
+            guess = 1.5 * np.sqrt(12.0 * (Dz * Dz - 1.0) / (Dz**4 * (1.0 + Dz * Dz)))
+            ok = (guess < u[z]) & (guess - X.alpha_x(Dz * guess, Dz) > 0)
+            u[np.flatnonzero(z)[ok]] = guess[ok]
+    fn, dfn = (X.beta_x, X.dbeta_dx) if upper else (X.alpha_x, X.dalpha_dx)
+    active = np.arange(u.size)
+    for _ in range(_MAX_NEWTON):
+        ua, Da = u[active], D[active]
+        xa = Da * ua
+        F = ua - npi[active] - fn(xa, Da)
+        dF = 1.0 - Da * dfn(xa, Da)
+        step = F / dF
+        unew = ua - step
+        u[active] = unew
+        keep = np.abs(step) > 4.0 * np.finfo(float).eps * np.abs(unew)
+        active = active[keep]
+        if active.size == 0:
+            break
+    return u.reshape(shape), q.reshape(shape)
+
+
+def _edges_eps(mu, n):
+    """(eps_lo, eps_hi) of zone n (trusted input, 0 < mu < 1)."""
+    ulo, q = _edge_u(mu, n, upper=False)
+    uhi, _ = _edge_u(mu, n, upper=True)
+    return ulo / (SQRT8 * q), uhi / (SQRT8 * q)
+
+
+def _verdict(eps, mu):
+    """(stable, n) for trusted input; mu >= 1 is unstable."""
+    eps, mu = np.broadcast_arrays(eps, mu)
+    ell = mu < 1.0
+    mus = np.where(ell, mu, 0.5)
+    x, u, D = _phase_angles(eps, mus)
+    n, w = X.reduced(u)
+    stable = ell & (w > X.alpha_x(x, D)) & (w < X.beta_x(x, D))
+    return stable, n
+
+
+# ---------------------------------------------------------------- public API
+def is_stable(eps, mu):
+    """Whether the upright position is (strongly) stable at Arnold's ``(eps, mu)``.
+
+    Parameters
+    ----------
+    eps : array_like
+        ``eps = T sqrt(A / (8 l))``, finite and > 0.
+    mu : array_like
+        ``mu = sqrt(g / A)``, finite and > 0; ``mu >= 1`` (``A <= g``) is always unstable.
+        ``eps`` and ``mu`` broadcast together.
+
+    Returns
+    -------
+    ndarray of bool
+        True where ``alpha + n pi < u < beta + n pi`` for some ``n >= 0``.
+
+    Notes
+    -----
+    Theorems 3.3-3.4 and Corollary 4.1; ``docs/theory.md`` section 5. Points exactly
+    on an edge (a 2T- or 4T-periodic solution exists, ``|tr M| = 2``) are unstable.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    return _verdict(eps, mu)[0]
+
+
+def zone_index(eps, mu):
+    """Index ``n`` of the stability zone containing ``(eps, mu)``, or -1 where unstable.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        As in :func:`is_stable`.
+
+    Returns
+    -------
+    ndarray of int
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    stable, n = _verdict(eps, mu)
+    return np.where(stable, n, -1).astype(np.int64)
+
+
+def zone_edges(mu, n):
+    """Edges ``eps_lo < eps_hi`` of stability zone ``n`` at the given ``mu``.
+
+    Parameters
+    ----------
+    mu : array_like
+        ``0 < mu < 1``.
+    n : int or array_like of int
+        Zone index, ``n >= 0``; broadcasts with ``mu``.
+
+    Returns
+    -------
+    eps_lo, eps_hi : ndarray
+        Zone ``n`` is ``eps_lo < eps < eps_hi``; both are accurate to a few units
+        in the last place. The lower edge carries a 2T-periodic solution for even
+        ``n`` (eq. 3.10) and a 4T-periodic one for odd ``n`` (eq. 3.12); the upper
+        edge a 4T- (3.13) respectively 2T-periodic one (3.11).
+
+    Notes
+    -----
+    ``u = alpha + n pi`` and ``u = beta + n pi`` at fixed ``mu``, ``u = 2 sqrt 2 eps
+    sqrt(1 - mu^2)``; ``docs/theory.md`` section 5. Where the zone is narrower than
+    a double's resolution of ``eps`` the two edges round to the same number; use
+    :func:`zone_width` for the width.
+    """
+    mu = _v.in_range("mu", mu, 0.0, 1.0)
+    n = _v.nonnegative_int("n", n)
+    return _edges_eps(mu, n)
+
+
+def zone_width(mu, n, log=False):
+    """Width ``eps_hi - eps_lo`` of zone ``n``, free of cancellation.
+
+    Parameters
+    ----------
+    mu : array_like
+        ``0 < mu < 1``.
+    n : int or array_like of int
+        Zone index ``>= 0``; broadcasts with ``mu``.
+    log : bool, optional
+        Return the natural logarithm of the width, finite even where the width
+        underflows a double (``x`` beyond about 700).
+
+    Returns
+    -------
+    ndarray
+
+    Notes
+    -----
+    With ``x = D u`` at the two edges (``u_lo = n pi + gamma(x_lo) - delta(x_lo)``,
+    ``u_hi = n pi + gamma(x_hi) + delta(x_hi)``, ``docs/theory.md`` section 5)::
+
+        u_hi - u_lo = delta(x_lo) + delta(x_hi) + [gamma(x_hi) - gamma(x_lo)],
+
+    with ``delta = atan(sqrt(1 - mu^4) / sinh x)`` and the bracket written as one
+    arctangent of ``mu^2 sinh(x_hi - x_lo) / (s4 cosh x_lo cosh x_hi)``. Where the
+    zone is wide the edges are subtracted directly (no cancellation to fear); where
+    it is narrow the relation above is solved by fixed-point iteration (it contracts
+    by ``D gamma' ~ e^{-2x}``), so the edges are never subtracted.
+    """
+    mu = _v.in_range("mu", mu, 0.0, 1.0)
+    n = _v.nonnegative_int("n", n)
+    ulo, q = _edge_u(mu, n, upper=False)
+    uhi, _ = _edge_u(mu, n, upper=True)
+    mu_b = np.broadcast_to(mu, ulo.shape)
+    D = np.sqrt(1.0 + mu_b * mu_b) / q
+    s4 = X.s4_of(mu_b)
+    xlo, xhi = D * ulo, D * uhi
+    with np.errstate(over="ignore", under="ignore"):
+        dsum = X.delta_x(xlo, s4) + X.delta_x(xhi, s4)
+        c = mu_b * mu_b / (s4 * np.cosh(xlo) * np.cosh(xhi))
+        du = dsum
+        for _ in range(12):
+            du = dsum + np.arctan2(c * np.sinh(D * du), 1.0 + (mu_b**4 / s4**2) * np.tanh(xlo) * np.tanh(xhi))
+    wide = (uhi - ulo) > 0.05 * uhi
+    du = np.where(wide, uhi - ulo, du)
+    if not log:
+        return du / (SQRT8 * q)
+
+    # Far out delta underflows: log(delta) ~ log s4 - log sinh x, and the bracket is negligible.
+    def log_delta(x):
+        lz = np.log(s4) - X.log_sinh(x)
+        with np.errstate(under="ignore"):
+            return np.where(lz < -30.0, lz, np.log(np.arctan(np.exp(np.maximum(lz, -30.0)))))
+
+    with np.errstate(divide="ignore"):
+        log_du = np.where(du > 1e-280, np.log(du), np.logaddexp(log_delta(xlo), log_delta(xhi)))
+    return log_du - np.log(SQRT8 * q)
+
+
+def G_m_curve(mu, m):
+    """The curve ``G_m``: ``2 sqrt 2 eps sqrt(1 - mu^2) = (2m + 1) pi / 2``, as ``eps(mu)``.
+
+    Parameters
+    ----------
+    mu : array_like
+        ``0 < mu < 1``.
+    m : int or array_like of int
+        ``m >= 0``; broadcasts with ``mu``.
+
+    Returns
+    -------
+    ndarray
+        ``eps`` on ``G_m``. Zone ``m`` lies along ``G_m`` (section 4 of the paper).
+    """
+    mu = _v.in_range("mu", mu, 0.0, 1.0)
+    m = _v.nonnegative_int("m", m)
+    return (2 * m + 1) * PI / (2.0 * SQRT8 * np.sqrt((1.0 - mu) * (1.0 + mu)))
+
+
+@dataclass(frozen=True)
+class StabilityMargin:
+    """Distance of ``(eps, mu)`` to the nearest zone edge along ``eps`` (fixed ``mu``,
+    i.e. fixed ``A``: only the drive period changes). Arrays of the broadcast shape.
+
+    Attributes
+    ----------
+    stable : ndarray of bool
+    zone : ndarray of int
+        The zone containing the point, or the nearest zone where unstable.
+    eps_lo, eps_hi : ndarray
+        Edges of that zone.
+    margin : ndarray
+        Signed relative distance to the nearest edge of that zone,
+        ``min(eps - eps_lo, eps_hi - eps) / eps``: positive inside a zone
+        (the fraction by which ``T`` may change before stability is lost),
+        negative outside (the fraction by which ``T`` must change to gain it).
+        ``-inf`` where ``mu >= 1``.
+    """
+
+    stable: np.ndarray
+    zone: np.ndarray
+    eps_lo: np.ndarray
+    eps_hi: np.ndarray
+    margin: np.ndarray
+
+
+def stability_margin(eps, mu):
+    """Signed relative distance from ``(eps, mu)`` to the nearest zone edge along ``eps``.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        As in :func:`is_stable`.
+
+    Returns
+    -------
+    StabilityMargin
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    eps, mu = np.broadcast_arrays(eps, mu)
+    ell = mu < 1.0
+    mus = np.where(ell, mu, 0.5)
+    stable, n = _verdict(eps, mus)
+    stable &= ell
+    x, u, D = _phase_angles(eps, mus)
+    w = u - n * PI
+    below = w <= X.alpha_x(x, D)
+    # Candidate zones: n itself, and the neighbour across the gap the point sits in.
+    lo_n, hi_n = _edges_eps(mus, n)
+    nb = np.where(below, np.maximum(n - 1, 0), n + 1)
+    lo_b, hi_b = _edges_eps(mus, nb)
+    d_n = np.minimum(eps - lo_n, hi_n - eps)
+    d_b = np.where(below & (n == 0), -np.inf, np.minimum(eps - lo_b, hi_b - eps))
+    use_b = ~stable & (d_b > d_n)
+    zone = np.where(use_b, nb, n).astype(np.int64)
+    lo = np.where(use_b, lo_b, lo_n)
+    hi = np.where(use_b, hi_b, hi_n)
+    margin = np.where(use_b, d_b, d_n) / eps
+    nan = np.full(eps.shape, np.nan)
+    return StabilityMargin(
+        stable=stable,
+        zone=np.where(ell, zone, -1),
+        eps_lo=np.where(ell, lo, nan),
+        eps_hi=np.where(ell, hi, nan),
+        margin=np.where(ell, margin, -np.inf),
+    )
+
+
+def stability_grid(eps, mu, out=None):
+    """Exact stability verdicts over the grid ``eps`` x ``mu``.
+
+    Parameters
+    ----------
+    eps : 1-D array_like
+        Finite, > 0; any order.
+    mu : 1-D array_like
+        Finite, > 0; ``mu >= 1`` rows are all unstable.
+    out : ndarray of bool, shape ``(len(mu), len(eps))``, optional
+        C-contiguous array to write into (saves allocating a fresh image when
+        grids are computed repeatedly).
+
+    Returns
+    -------
+    ndarray of bool, shape ``(len(mu), len(eps))``
+        ``grid[i, j] == is_stable(eps[j], mu[i])`` except within about 1e-13
+        relative of an edge.
+
+    Notes
+    -----
+    No per-pixel trigonometry: for each ``mu`` the edges of the zones that meet
+    the ``eps`` range are computed (:func:`zone_edges`), located in the sorted
+    ``eps`` grid by binary search, and the stable runs are painted row by row.
+    The cost is ``O(len(mu) * zones * log len(eps))`` plus writing the output.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    if eps.ndim != 1 or mu.ndim != 1:
+        raise _v.KapitzaValueError(
+            f"eps and mu must be 1-D arrays; got shapes {eps.shape} and {mu.shape}"
+        )
+    W = eps.size
+    order = None
+    if W > 1 and not np.all(eps[1:] >= eps[:-1]):
+        order = np.argsort(eps, kind="stable")
+        eps = eps[order]
+    shape = (mu.size, W)
+    if out is None:
+        out = np.zeros(shape, dtype=bool)
+    else:
+        if not (isinstance(out, np.ndarray) and out.shape == shape and out.dtype == bool
+                and out.flags.c_contiguous and out.flags.writeable):
+            raise _v.KapitzaValueError(
+                f"out must be a writeable C-contiguous bool array of shape {shape}")
+        out.fill(False)
+    target = out
+    rows = np.flatnonzero(mu < 1.0)
+    if rows.size:
+        m = mu[rows]
+        q = np.sqrt((1.0 - m) * (1.0 + m))
+        n_max = np.floor(SQRT8 * q * eps[-1] / PI).astype(np.int64)
+        counts = n_max + 1
+        r_idx = np.repeat(np.arange(rows.size), counts)
+        z_idx = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        lo, hi = _edges_eps(m[r_idx], z_idx)
+        i0 = np.searchsorted(eps, lo, side="right")  # first eps > eps_lo
+        i1 = np.searchsorted(eps, hi, side="left")  # first eps >= eps_hi
+        keep = i1 > i0
+        flat = out.reshape(-1)
+        base = rows[r_idx[keep]] * W
+        for a, b in zip((base + i0[keep]).tolist(), (base + i1[keep]).tolist()):
+            flat[a:b] = True
+    if order is not None:
+        target[:, order] = out.copy()
+    return target
+
+
+def period_edges(A, n, l=1.0, g=G_EARTH):
+    """Half-periods ``T_lo < T_hi`` bounding stability zone ``n`` for fixed ``A > g``.
+
+    Parameters
+    ----------
+    A : array_like
+        Amplitude of the pivot acceleration, ``A > g``.
+    n : int or array_like of int
+        Zone index ``>= 0``.
+    l, g : float or array_like
+        Rod length and gravity, > 0. All broadcast together.
+
+    Returns
+    -------
+    T_lo, T_hi : ndarray
+        For even ``n``: ``(T_{n+1}, T~_{n+1})``; for odd ``n``: ``(T~_{n+1}, T_{n+1})``
+        (Corollary 4.1).
+    """
+    A = _v.positive("A", A)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    n = _v.nonnegative_int("n", n)
+    mu = np.sqrt(g / A)
+    if np.any(mu >= 1.0):
+        bad = np.broadcast_to(A, mu.shape)[mu >= 1.0].flat[0]
+        raise _v.KapitzaValueError(
+            f"A must exceed g (A > g) for stability zones to exist; got A={bad!r} with g={float(np.max(g))!r}"
+        )
+    lo, hi = _edges_eps(mu, n)
+    scale = np.sqrt(8.0 * l / A)
+    return lo * scale, hi * scale
+
+
+def amplitude_edges(T, n, l=1.0, g=G_EARTH):
+    """Amplitudes ``A_lo < A_hi`` bounding stability zone ``n`` for fixed half-period ``T``.
+
+    Parameters
+    ----------
+    T : array_like
+        Half-period of the drive, > 0.
+    n : int or array_like of int
+        Zone index ``>= 0``.
+    l, g : float or array_like
+        Rod length and gravity, > 0. All broadcast together.
+
+    Returns
+    -------
+    A_lo, A_hi : ndarray
+        Zone ``n`` at this ``T`` is ``A_lo < A < A_hi``.
+
+    Notes
+    -----
+    At fixed ``T`` the elliptic phase angle ``u = T sqrt((A - g)/l)`` increases with
+    ``A`` and ``x^2 = u^2 + 2 g T^2 / l``; each edge equation ``u - n pi = alpha`` or
+    ``beta`` changes sign once on ``n pi <= u <= (n+1) pi`` and is solved there by
+    bisection to the last bit.
+    """
+    T = _v.positive("T", T)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    n = _v.nonnegative_int("n", n)
+    T, n, l, g = np.broadcast_arrays(T, n, l, g)
+    kappa = 2.0 * g * T * T / l
+
+    def solve(fn):
+        lo = n * PI + 0.0
+        hi = (n + 1.0) * PI
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if not np.any((mid > lo) & (mid < hi)):
+                break
+            x = np.sqrt(mid * mid + kappa)
+            with np.errstate(divide="ignore"):
+                F = mid - n * PI - fn(x, x / mid)
+            pos = F > 0
+            hi = np.where(pos, mid, hi)
+            lo = np.where(pos, lo, mid)
+        u = 0.5 * (lo + hi)
+        return g + l * (u / T) ** 2
+
+    return solve(X.alpha_x), solve(X.beta_x)
