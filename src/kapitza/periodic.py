@@ -1,0 +1,320 @@
+"""Periodic solutions: Theorems 3.3 and 3.4, Corollary 4.1.
+
+For fixed ``(l, g, A)`` with ``A > g`` the half-periods ``T`` at which (2.3) has a
+2T-periodic solution are the roots of (3.10) ``u = alpha + 2k pi`` and (3.11)
+``u = beta + (2k+1) pi``; a 4T-periodic (and not 2T-periodic) solution, of (3.12)
+``u = alpha + (2k+1) pi`` and (3.13) ``u = beta + 2k pi`` (``u = w_e T``).
+Corollary 4.1 numbers them ``T_1 < T~_1 < T~_2 < T_2 < T_3 < T~_3 < ...``:
+``T_{n+1}`` is the 2T-periodic edge of zone ``n`` and ``T~_{n+1}`` its 4T-periodic edge.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _exact as X
+from . import _validate as _v
+from .parameters import G_EARTH
+from .propagation import linear_motion
+from .zones import _edges_eps
+
+__all__ = [
+    "alpha",
+    "beta",
+    "boundary_periods",
+    "BoundaryPeriod",
+    "boundary_table",
+    "PeriodicSolution",
+    "periodic_solution",
+]
+
+
+def _check_A(A, g):
+    if np.any(A <= g):
+        Ab, gb = np.broadcast_arrays(A, g)
+        i = np.argwhere(Ab <= gb)[0]
+        raise _v.KapitzaValueError(
+            f"A must exceed g (A > g): with A <= g there is no elliptic phase and no periodic "
+            f"solution (always unstable); got A={float(Ab[tuple(i)])!r}, g={float(gb[tuple(i)])!r}"
+        )
+
+
+def _xD(T, A, l, g):
+    w_h = np.sqrt((A + g) / l)
+    w_e = np.sqrt((A - g) / l)
+    return w_h * T, w_e * T, w_h / w_e
+
+
+def alpha(T, A, l=1.0, g=G_EARTH):
+    """``alpha(T) = 2 atan(D (e^{w_h T} - 1) / (e^{w_h T} + 1)) = 2 atan(D tanh(w_h T / 2))``.
+
+    Parameters
+    ----------
+    T, A, l, g : array_like, broadcast together
+        Each finite and > 0, with ``A > g``.
+
+    Returns
+    -------
+    ndarray
+        Increasing and concave in ``T``, ``0 < alpha < 2 atan D``.
+
+    Notes
+    -----
+    Left-hand side of (3.10) and (3.12); section 4 of the paper.
+    """
+    T, A, l, g = (_v.positive(n, v) for n, v in zip("TAlg", (T, A, l, g)))
+    _check_A(A, g)
+    x, _, D = _xD(T, A, l, g)
+    return X.alpha_x(x, D)
+
+
+def beta(T, A, l=1.0, g=G_EARTH):
+    """``beta(T) = 2 atan(D (e^{w_h T} + 1) / (e^{w_h T} - 1)) = 2 atan(D coth(w_h T / 2))``.
+
+    Parameters
+    ----------
+    T, A, l, g : array_like, broadcast together
+        Each finite and > 0, with ``A > g``.
+
+    Returns
+    -------
+    ndarray
+        Decreasing and convex in ``T``, ``2 atan D < beta < pi``.
+
+    Notes
+    -----
+    Left-hand side of (3.11) and (3.13); section 4 of the paper.
+    """
+    T, A, l, g = (_v.positive(n, v) for n, v in zip("TAlg", (T, A, l, g)))
+    _check_A(A, g)
+    x, _, D = _xD(T, A, l, g)
+    return X.beta_x(x, D)
+
+
+def boundary_periods(A, count, l=1.0, g=G_EARTH):
+    """The first ``count`` boundary half-periods ``T_n`` and ``T~_n`` of Corollary 4.1.
+
+    Parameters
+    ----------
+    A : array_like
+        Acceleration amplitude, ``A > g``.
+    count : int
+        How many of each, ``>= 1``.
+    l, g : float or array_like
+        Rod length and gravity, > 0; broadcast with ``A``.
+
+    Returns
+    -------
+    T, T_tilde : ndarray, shape ``A.shape + (count,)``
+        ``T[..., j] = T_{j+1}`` (a 2T-periodic solution exists) and
+        ``T_tilde[..., j] = T~_{j+1}`` (a 4T-periodic one), so that
+        ``T_1 < T~_1 < T~_2 < T_2 < T_3 < T~_3 < ...``.
+
+    Notes
+    -----
+    ``T_{n+1}`` and ``T~_{n+1}`` are the edges of zone ``n`` (``docs/theory.md``
+    section 5): for even ``n`` the lower edge solves (3.10) and the upper (3.13),
+    for odd ``n`` the lower solves (3.12) and the upper (3.11), with ``k = n // 2``.
+    """
+    A = _v.positive("A", A)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    count = int(_v.nonnegative_int("count", count, minimum=1))
+    _check_A(A, g)
+    A, l, g = np.broadcast_arrays(A, l, g)
+    n = np.arange(count)
+    mu = np.sqrt(g / A)[..., None]
+    lo, hi = _edges_eps(mu, n)
+    scale = np.sqrt(8.0 * l / A)[..., None]
+    lo, hi = lo * scale, hi * scale
+    even = n % 2 == 0
+    return np.where(even, lo, hi), np.where(even, hi, lo)
+
+
+@dataclass(frozen=True)
+class BoundaryPeriod:
+    """One boundary half-period of Corollary 4.1, labelled by what produced it.
+
+    Attributes
+    ----------
+    name : str
+        ``"T_j"`` (2T-periodic) or ``"T~_j"`` (4T-periodic).
+    index : int
+        ``j`` in the name (``j = n + 1``).
+    tilde : bool
+        True for ``T~_j``.
+    T : float
+        The half-period [s].
+    period : str
+        ``"2T"`` or ``"4T"``: the period of the solution that exists there.
+    equation : str
+        ``"3.10"``, ``"3.11"``, ``"3.12"`` or ``"3.13"``.
+    k : int
+        The integer ``k >= 0`` of that equation.
+    zone : int
+        The stability zone ``n`` this period bounds.
+    edge : str
+        ``"lower"`` or ``"upper"`` edge of the zone.
+    eps, mu : float
+        Arnold's parameters of the point.
+    """
+
+    name: str
+    index: int
+    tilde: bool
+    T: float
+    period: str
+    equation: str
+    k: int
+    zone: int
+    edge: str
+    eps: float
+    mu: float
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+def _label(n: int, upper: bool):
+    """(tilde, equation, k) for the lower/upper edge of zone n."""
+    k = n // 2
+    if n % 2 == 0:
+        return (True, "3.13", k) if upper else (False, "3.10", k)
+    return (False, "3.11", k) if upper else (True, "3.12", k)
+
+
+def boundary_table(A, count, l=1.0, g=G_EARTH):
+    """``T_1 .. T_count`` and ``T~_1 .. T~_count`` in increasing order, each labelled.
+
+    Parameters
+    ----------
+    A : float
+        Acceleration amplitude, ``A > g``.
+    count : int
+        Number of zones (each gives one ``T_j`` and one ``T~_j``), ``>= 1``.
+    l, g : float
+        Rod length and gravity, > 0.
+
+    Returns
+    -------
+    list of BoundaryPeriod
+        ``2 * count`` entries in the order of Corollary 4.1.
+    """
+    A = float(_v.positive("A", A))
+    l = float(_v.positive("l", l))
+    g = float(_v.positive("g", g))
+    count = int(_v.nonnegative_int("count", count, minimum=1))
+    _check_A(A, g)
+    mu = np.sqrt(g / A)
+    n = np.arange(count)
+    lo, hi = _edges_eps(mu, n)
+    scale = np.sqrt(8.0 * l / A)
+    rows = []
+    for zn in range(count):
+        for upper, e in ((False, lo[zn]), (True, hi[zn])):
+            tilde, eq, k = _label(zn, upper)
+            rows.append(
+                BoundaryPeriod(
+                    name=("T~_" if tilde else "T_") + str(zn + 1),
+                    index=zn + 1,
+                    tilde=tilde,
+                    T=float(e * scale),
+                    period="4T" if tilde else "2T",
+                    equation=eq,
+                    k=k,
+                    zone=zn,
+                    edge="upper" if upper else "lower",
+                    eps=float(e),
+                    mu=float(mu),
+                )
+            )
+    return rows
+
+
+@dataclass(frozen=True)
+class PeriodicSolution:
+    """A 2T- or 4T-periodic solution of (2.3) at a boundary half-period.
+
+    Attributes
+    ----------
+    boundary : BoundaryPeriod
+        Where it lives.
+    A, l, g : float
+    phi0 : float
+        Initial polar angle in the hyperbolic phase variables
+        ``(x_h, y_h) = (theta, theta'/w_h)``: (3.19) for (3.10)/(3.12),
+        (3.22) for (3.11)/(3.13).
+    theta0, dtheta0 : float
+        The initial state ``(cos phi0, w_h sin phi0)`` (unit radius).
+    period : float
+        ``2T`` or ``4T`` [s].
+    sign : int
+        +1 if ``theta(t + 2T) = theta(t)``, -1 if ``theta(t + 2T) = -theta(t)``.
+    """
+
+    boundary: BoundaryPeriod
+    A: float
+    l: float
+    g: float
+    phi0: float
+    theta0: float
+    dtheta0: float
+    period: float
+    sign: int
+
+    @property
+    def T(self) -> float:
+        return self.boundary.T
+
+    def motion(self, t):
+        """``(theta, theta')`` at the times ``t >= 0``; see :func:`kapitza.linear_motion`."""
+        return linear_motion(t, self.theta0, self.dtheta0, self.T, self.A, self.l, self.g)
+
+
+def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
+    """The periodic solution at ``T_index`` (2T-periodic) or ``T~_index`` (4T-periodic).
+
+    Parameters
+    ----------
+    A : float
+        Acceleration amplitude, ``A > g``.
+    index : int
+        ``j >= 1`` of ``T_j`` / ``T~_j``.
+    tilde : bool, optional
+        False for ``T_j``, True for ``T~_j``.
+    l, g : float
+        Rod length and gravity, > 0.
+
+    Returns
+    -------
+    PeriodicSolution
+
+    Notes
+    -----
+    Proofs of Theorems 3.3 and 3.4 (sufficiency): the solution starting at the
+    angle ``phi0 = atan((1 - e^{w_h T}) / (1 + e^{w_h T}))`` (3.19) or
+    ``phi0 = -atan((e^{w_h T} + 1) / (e^{w_h T} - 1))`` (3.22) is periodic.
+    """
+    index = int(_v.nonnegative_int("index", index, minimum=1))
+    table = boundary_table(A, index, l, g)
+    entry = next(b for b in table if b.index == index and b.tilde == bool(tilde))
+    A, l, g = float(A), float(l), float(g)
+    x = np.sqrt((A + g) / l) * entry.T
+    t = np.tanh(0.5 * x)
+    if entry.equation in ("3.10", "3.12"):
+        phi0 = -np.arctan(t)  # (3.19): atan((1 - e^x)/(1 + e^x)) = -atan(tanh(x/2))
+    else:
+        phi0 = -np.arctan2(1.0, t)  # (3.22): -atan((e^x + 1)/(e^x - 1)) = -atan(coth(x/2))
+    w_h = np.sqrt((A + g) / l)
+    return PeriodicSolution(
+        boundary=entry,
+        A=A,
+        l=l,
+        g=g,
+        phi0=float(phi0),
+        theta0=float(np.cos(phi0)),
+        dtheta0=float(w_h * np.sin(phi0)),
+        period=(4.0 if entry.tilde else 2.0) * entry.T,
+        sign=-1 if entry.tilde else 1,
+    )

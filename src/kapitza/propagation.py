@@ -1,0 +1,316 @@
+"""Exact propagation of the linear equation (2.3) and its Floquet data.
+
+Over one drive period ``[0, 2T)`` the state ``(theta, theta')`` is multiplied by
+``M = E(T) H(T)`` (``docs/theory.md`` section 3). Everything here is in closed
+form: no step-size error, continuous ``theta`` and ``theta'`` across the switches
+(2.14), and Floquet data (trace, multipliers, growth, rotation number) from the
+factored trace of :mod:`kapitza._exact`, which stays finite and accurate where
+``cosh x`` overflows a double.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _exact as X
+from . import _validate as _v
+from .parameters import G_EARTH, SQRT8, _phase_angles
+
+__all__ = [
+    "Floquet",
+    "floquet",
+    "floquet_multipliers",
+    "growth_rate",
+    "rotation_number",
+    "monodromy",
+    "linear_motion",
+]
+
+PI = np.pi
+
+
+# ---------------------------------------------------------------- kernels
+def _floquet(eps, mu):
+    """(tau, growth, theta, stable, n) for trusted eps > 0, mu > 0 (any mu)."""
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    ell = mu < 1.0
+    x, u, D = _phase_angles(eps, np.where(ell, mu, 0.5))
+    n, a, b, tau, growth, theta = X.floquet_elliptic(x, u, D, np.where(ell, mu, 0.5))
+    if not ell.all():
+        xh = SQRT8 * eps * np.sqrt(1.0 + mu * mu)
+        v = SQRT8 * eps * np.sqrt(np.maximum((mu - 1.0) * (mu + 1.0), 0.0))
+        tau_h, growth_h = X.floquet_hyperbolic(xh, v)
+        tau = np.where(ell, tau, tau_h)
+        growth = np.where(ell, growth, growth_h)
+        theta = np.where(ell, theta, 0.0)
+    stable = ell & (a > 0) & (b < 0)
+    return tau, growth, theta, stable, np.where(stable, n, -1).astype(np.int64)
+
+
+def _flow(s, tau):
+    """Entries ``(c, sd, ds)`` of the flow matrix ``[[c, sd], [ds, c]]`` of ``theta'' = s theta``
+    over a time ``tau`` (``s`` of any sign; ``s = 0`` is free flight)."""
+    r = np.sqrt(np.abs(s)) * tau
+    pos, neg = s > 0, s < 0
+    rs = np.where(r > 0, r, 1.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        c = np.where(pos, np.cosh(r), np.where(neg, np.cos(r), 1.0))
+        shc = np.where(r > 0, np.where(pos, np.sinh(rs), np.sin(rs)) / rs, 1.0)  # sinh(r)/r or sin(r)/r
+        sd = tau * shc
+        ds = np.where(pos, 1.0, -1.0) * (r * r / np.where(tau > 0, tau, 1.0)) * shc
+    ds = np.where(s == 0, 0.0, ds)
+    return c, sd, ds
+
+
+def _apply(c, sd, ds, th, dth):
+    return c * th + sd * dth, ds * th + c * dth
+
+
+def _monodromy(T, A, l, g):
+    ch, sdh, dsh = _flow((g + A) / l, T)
+    ce, sde, dse = _flow((g - A) / l, T)
+    H = np.stack([np.stack([ch, sdh], -1), np.stack([dsh, ch], -1)], -2)
+    E = np.stack([np.stack([ce, sde], -1), np.stack([dse, ce], -1)], -2)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return E @ H
+
+
+# ---------------------------------------------------------------- results
+@dataclass(frozen=True)
+class Floquet:
+    """Floquet data of one drive period ``2T``; arrays of the broadcast shape of ``(eps, mu)``.
+
+    Attributes
+    ----------
+    trace : ndarray
+        ``tr M`` (``+-inf`` where it overflows a double; ``growth`` stays finite).
+    multipliers : ndarray of complex, shape ``(..., 2)``
+        Roots of ``lambda^2 - tr M lambda + 1 = 0``, largest modulus first.
+    growth : ndarray
+        ``log max|lambda|``: the exponential growth of the worst motion per period
+        ``2T`` (0 where stable).
+    rotation_number : ndarray
+        Mean clockwise turns of the phase point ``(theta, theta'/w)`` per period:
+        in ``(n/2, (n+1)/2)`` on zone ``n``, locked to a multiple of 1/2 elsewhere
+        (0 where ``A <= g``).
+    stable : ndarray of bool
+    zone : ndarray of int
+        Zone index, -1 where unstable.
+    """
+
+    trace: np.ndarray
+    multipliers: np.ndarray
+    growth: np.ndarray
+    rotation_number: np.ndarray
+    stable: np.ndarray
+    zone: np.ndarray
+
+
+def _multipliers(tau, growth, theta, stable):
+    sgn = np.where(tau < 0, -1.0, 1.0)
+    with np.errstate(over="ignore"):
+        big = sgn * np.exp(growth)
+    small = sgn * np.exp(-growth)
+    lam1 = np.where(stable, np.exp(1j * theta), big + 0j)
+    lam2 = np.where(stable, np.exp(-1j * theta), small + 0j)
+    return np.stack([lam1, lam2], axis=-1)
+
+
+def floquet(eps, mu):
+    """Trace, multipliers, growth and rotation number of one period at ``(eps, mu)``.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        Arnold's parameters, each finite and > 0; ``mu >= 1`` (``A <= g``, no
+        elliptic phase) is accepted and is always unstable.
+
+    Returns
+    -------
+    Floquet
+
+    Notes
+    -----
+    ``tr M = 2 cosh x cos u + (D - 1/D) sinh x sin u`` (``docs/theory.md`` section 3)
+    is evaluated in its factored form ``tau = tr M/2 = -sin(u - gamma)/sin(delta)``,
+    ``tau -+ 1`` as products of sines of ``(u - alpha)/2`` and ``(u - beta)/2``
+    (see :mod:`kapitza._exact`); the growth ``acosh|tau|`` is formed from
+    ``log|tau|`` far out, so it is finite for every input.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    tau, growth, theta, stable, zone = _floquet(eps, mu)
+    return Floquet(
+        trace=2.0 * tau,
+        multipliers=_multipliers(tau, growth, theta, stable),
+        growth=growth,
+        rotation_number=theta / (2.0 * PI),
+        stable=stable,
+        zone=zone,
+    )
+
+
+def floquet_multipliers(eps, mu):
+    """Floquet multipliers of one period, shape ``(..., 2)``, largest modulus first.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        As in :func:`floquet`.
+
+    Returns
+    -------
+    ndarray of complex
+        On the unit circle (``exp(+-2 pi i rho)``) where stable; real,
+        ``lambda_1 lambda_2 = 1`` otherwise. A modulus beyond a double's range
+        is ``inf``; :func:`growth_rate` gives its logarithm.
+    """
+    return floquet(eps, mu).multipliers
+
+
+def growth_rate(eps, mu):
+    """``log max|lambda|`` per drive period ``2T``; 0 where stable, finite everywhere.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        As in :func:`floquet`.
+
+    Returns
+    -------
+    ndarray
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    return _floquet(eps, mu)[1]
+
+
+def rotation_number(eps, mu):
+    """Mean clockwise turns per drive period of the phase point (see :class:`Floquet`).
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        As in :func:`floquet`.
+
+    Returns
+    -------
+    ndarray
+        In ``(n/2, (n+1)/2)`` on zone ``n``. The mean number of zeros of
+        ``theta(t)`` per period is twice this.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    return _floquet(eps, mu)[2] / (2.0 * PI)
+
+
+def monodromy(T, A, l=1.0, g=G_EARTH):
+    """The one-period matrix ``M = E(T) H(T)`` acting on ``(theta, theta')``.
+
+    Parameters
+    ----------
+    T, A, l, g : array_like, broadcast together
+        Half-period [s], acceleration amplitude, rod length, gravity; each > 0.
+        ``A <= g`` is accepted (the second phase is then hyperbolic or free flight).
+
+    Returns
+    -------
+    ndarray, shape ``(..., 2, 2)``
+        ``det M = 1``. Entries overflow to ``inf`` once ``w_h T > 710``.
+
+    Notes
+    -----
+    ``docs/theory.md`` section 3; the phase matrices solve (2.4) and (2.5).
+    """
+    T = _v.positive("T", T)
+    A = _v.positive("A", A)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    return _monodromy(*np.broadcast_arrays(T, A, l, g))
+
+
+def _chebyshev_pair(k, tau, growth, theta, stable):
+    """``U_{k-1}(tau), U_{k-2}(tau)`` so that ``M^k = U_{k-1} M - U_{k-2} I``."""
+
+    def U(m):  # U_{m-1}(tau) for integer m >= 0
+        sgn = np.where(tau < 0, -1.0, 1.0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            st = np.sin(theta)
+            s_stab = np.where(np.abs(st) > 1e-300, np.sin(m * theta) / np.where(st == 0, 1.0, st), m * np.cos((m - 1) * theta))
+            sh = np.sinh(growth)
+            s_uns = np.where(growth > 0, np.sinh(m * growth) / np.where(sh > 0, sh, 1.0), m) * sgn ** (m - 1)
+        return np.where(stable, s_stab, s_uns)
+
+    return U(k), U(k - 1.0)
+
+
+def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH):
+    """Exact solution of the linear equation (2.3) at the times ``t``.
+
+    Parameters
+    ----------
+    t : array_like
+        Times ``>= 0`` [s], any shape and order.
+    theta0, dtheta0 : array_like
+        Initial angle from the upright [rad] and angular velocity [rad/s] at ``t = 0``
+        (the start of a hyperbolic phase, as in (2.2)).
+    T, A, l, g : array_like
+        Drive half-period, acceleration amplitude, rod length, gravity; each > 0.
+        All arguments broadcast together.
+
+    Returns
+    -------
+    theta, dtheta : ndarray
+        ``theta(t)`` and ``theta'(t)``; both are continuous across the switches.
+
+    Raises
+    ------
+    OverflowError
+        Where the motion grows beyond the range of a double.
+
+    Notes
+    -----
+    Whole periods use ``M^k = U_{k-1}(tau) M - U_{k-2}(tau) I`` (Cayley-Hamilton,
+    Chebyshev polynomials of the second kind of ``tau = tr M / 2``, evaluated in
+    closed form from the exact rotation angle or growth), so the cost does not
+    depend on ``t``; the remainder of the period applies the phase flows of
+    (2.4)-(2.5).
+    """
+    t = _v.finite("t", t)
+    if np.any(t < 0):
+        raise _v.KapitzaValueError(f"t must be >= 0; got {t[t < 0].flat[0]!r}")
+    theta0 = _v.finite("theta0", theta0)
+    dtheta0 = _v.finite("dtheta0", dtheta0)
+    T = _v.positive("T", T)
+    A = _v.positive("A", A)
+    l = _v.positive("l", l)
+    g = _v.positive("g", g)
+    t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)
+    eps = T * np.sqrt(A / (8.0 * l))
+    mu = np.sqrt(g / A)
+    tau, growth, theta, stable, _ = _floquet(eps, mu)
+    k = np.floor(t / (2.0 * T))
+    r = t - 2.0 * k * T
+    # Rounding can put r a hair outside [0, 2T).
+    over = r >= 2.0 * T
+    k = np.where(over, k + 1.0, k)
+    r = np.where(over, r - 2.0 * T, np.maximum(r, 0.0))
+    M = _monodromy(T, A, l, g)
+    u1, u2 = _chebyshev_pair(k, tau, growth, theta, stable)
+    with np.errstate(over="ignore", invalid="ignore"):
+        th = (u1 * M[..., 0, 0] - u2) * theta0 + u1 * M[..., 0, 1] * dtheta0
+        dth = u1 * M[..., 1, 0] * theta0 + (u1 * M[..., 1, 1] - u2) * dtheta0
+        hyper = r < T
+        c, sd, ds = _flow((g + A) / l, np.where(hyper, r, T))
+        th, dth = _apply(c, sd, ds, th, dth)
+        c, sd, ds = _flow((g - A) / l, np.where(hyper, 0.0, r - T))
+        th, dth = _apply(c, sd, ds, th, dth)
+    bad = ~(np.isfinite(th) & np.isfinite(dth))
+    if bad.any():
+        i = np.argwhere(bad)[0]
+        raise OverflowError(
+            "the motion grows beyond the range of a double "
+            f"(growth {float(growth[tuple(i)]):.4g} per period, t = {float(t[tuple(i)]):.6g} s)"
+        )
+    return th, dth
