@@ -17,6 +17,7 @@ class KapitzaValueError(ValueError):
 
 def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
     value = arr[bad].flat[0]
+    value = value.item() if hasattr(value, "item") else value
     where = "" if arr.ndim == 0 else f" (at index {tuple(int(i) for i in np.argwhere(bad)[0])})"
     return f"{value!r}{where}"
 

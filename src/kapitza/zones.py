@@ -40,6 +40,48 @@ _MAX_NEWTON = 200
 
 
 # ---------------------------------------------------------------- kernels
+# Taylor coefficients of (tan z - z)/z^3 = sum c_k z^(2k); (y - tanh y)/y^3 = sum (-1)^k c_k y^(2k).
+_TAN3 = np.array([1 / 3, 2 / 15, 17 / 315, 62 / 2835, 1382 / 155925, 21844 / 6081075,
+                  929569 / 638512875, 6404582 / 10854718875, 443861162 / 1856156927625,
+                  18888466084 / 194896477400625, 113927491862 / 2900518163668125])
+
+
+def _tan3(z, sign):
+    """(tan z - z)/z^3 (sign=+1) or (z - tanh z)/z^3 (sign=-1), accurate for small z."""
+    z2 = z * z
+    series = np.zeros_like(z)
+    for c in _TAN3[::-1]:
+        series = series * (sign * z2) + c
+    zs = np.where(z > 0.3, z, 1.0)
+    direct = (np.tan(zs) - zs) / zs**3 if sign > 0 else (zs - np.tanh(zs)) / zs**3
+    return np.where(z > 0.3, direct, series)
+
+
+def _lower0_small_mu(mu):
+    """u on the lower edge of zone 0 for small mu, free of cancellation.
+
+    The edge ``tan z = D tanh(D z)`` (``z = u/2``, eq. 3.10 with k = 0) is rewritten as
+    ``z^2 [T3(z) + D^4 H3(D z)] = D^2 - 1 = 2 mu^2 / (1 - mu^2)`` with
+    ``T3 = (tan z - z)/z^3`` and ``H3 = (y - tanh y)/y^3`` from their series, and solved
+    by fixed-point iteration (the bracket varies slowly in z). The direct form
+    ``u - alpha(D u) = 0`` loses ``1e-16/mu^2`` relative accuracy as mu -> 0.
+    """
+    d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
+    D2 = 1.0 + d2m1
+    D = np.sqrt(D2)
+    z = np.sqrt(3.0 * d2m1 / (1.0 + D2 * D2))
+    for _ in range(60):
+        znew = np.sqrt(d2m1 / (_tan3(z, 1) + D2 * D2 * _tan3(D * z, -1)))
+        done = np.all(np.abs(znew - z) <= 8.0 * np.finfo(float).eps * znew)
+        z = znew
+        if done:
+            break
+    return 2.0 * z
+
+
+_SMALL_MU = 0.15
+
+
 def _edge_u(mu, n, upper: bool):
     """Edge of zone ``n`` in ``u = w_e T`` at fixed ``mu`` (arrays broadcast; trusted)."""
     mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, float))
@@ -51,17 +93,13 @@ def _edge_u(mu, n, upper: bool):
     D = p / q
     npi = n * PI
     u = npi + 2.0 * np.arctan(D)  # alpha < 2 atan D < beta: right of the lower root, left of the upper
-    if not upper:
-        # Zone 0's lower edge sits near u = sqrt(12 (D^2-1) / (D^4 (1+D^2))) for small mu
-        # (cubic Taylor term of u - alpha); start there when that point is still right of the root.
-        z = n == 0
-        if z.any():
-            Dz = D[z]
-            guess = 1.5 * np.sqrt(12.0 * (Dz * Dz - 1.0) / (Dz**4 * (1.0 + Dz * Dz)))
-            ok = (guess < u[z]) & (guess - X.alpha_x(Dz * guess, Dz) > 0)
-            u[np.flatnonzero(z)[ok]] = guess[ok]
-    fn, dfn = (X.beta_x, X.dbeta_dx) if upper else (X.alpha_x, X.dalpha_dx)
     active = np.arange(u.size)
+    if not upper:
+        small = (n == 0) & (mu < _SMALL_MU)
+        if small.any():
+            u[small] = _lower0_small_mu(mu[small])
+            active = np.flatnonzero(~small)
+    fn, dfn = (X.beta_x, X.dbeta_dx) if upper else (X.alpha_x, X.dalpha_dx)
     for _ in range(_MAX_NEWTON):
         ua, Da = u[active], D[active]
         xa = Da * ua

@@ -1,0 +1,165 @@
+"""One-call answers: the full stability picture of a parameter set.
+
+This is what the ``kapitza stability`` command prints: verdict, zone, Floquet
+multipliers, growth, rotation number and margins, for Arnold's ``(eps, mu)`` or
+for the physical ``(T, A)`` of a rod ``l`` under gravity ``g``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, asdict
+
+import numpy as np
+
+from . import _validate as _v
+from .parameters import G_EARTH
+from .propagation import _floquet, _multipliers
+from .zones import amplitude_edges, period_edges, stability_margin
+
+__all__ = ["StabilityReport", "analyze"]
+
+
+@dataclass(frozen=True)
+class StabilityReport:
+    """Everything about the upright position at one parameter set (scalars).
+
+    Attributes
+    ----------
+    eps, mu : float
+        Arnold's parameters.
+    stable : bool
+    verdict : str
+        A sentence: ``"stable (zone 0)"``, ``"unstable (2T-type resonance)"``,
+        or ``"always unstable: no elliptic phase (A <= g)"``.
+    zone : int
+        Zone containing the point, -1 where unstable.
+    nearest_zone : int
+        The zone the margins refer to (the containing one, or the nearest).
+    trace : float
+        ``tr M`` (may be ``+-inf``).
+    multipliers : tuple of complex
+        Largest modulus first.
+    growth : float
+        ``log max|lambda|`` per period ``2T``.
+    rotation_number : float
+        Turns per period (see :class:`kapitza.Floquet`).
+    eps_lo, eps_hi : float
+        Edges of ``nearest_zone`` in ``eps`` (NaN where ``A <= g``).
+    margin : float
+        Signed relative distance along ``eps`` (equivalently ``T`` at fixed
+        ``A``) to the nearest edge of ``nearest_zone``: > 0 inside, < 0 outside.
+    trace_margin : float
+        ``1 - |tr M| / 2``: > 0 inside a zone.
+    T, A, l, g : float or None
+        Physical parameters, when given.
+    T_lo, T_hi : float or None
+        ``nearest_zone`` as an interval of half-periods at this ``A``.
+    A_lo, A_hi : float or None
+        ``nearest_zone`` as an interval of amplitudes at this ``T``.
+    """
+
+    eps: float
+    mu: float
+    stable: bool
+    verdict: str
+    zone: int
+    nearest_zone: int
+    trace: float
+    multipliers: tuple
+    growth: float
+    rotation_number: float
+    eps_lo: float
+    eps_hi: float
+    margin: float
+    trace_margin: float
+    T: float | None = None
+    A: float | None = None
+    l: float | None = None
+    g: float | None = None
+    T_lo: float | None = None
+    T_hi: float | None = None
+    A_lo: float | None = None
+    A_hi: float | None = None
+
+    def as_dict(self) -> dict:
+        """JSON-ready dictionary (complex multipliers as ``[re, im]`` pairs)."""
+        d = asdict(self)
+        d["multipliers"] = [[float(z.real), float(z.imag)] for z in self.multipliers]
+        return {k: (None if isinstance(v, float) and not np.isfinite(v) and k not in ("trace", "margin") else v)
+                for k, v in d.items()}
+
+
+def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> StabilityReport:
+    """Stability report for one parameter set, given as ``(eps, mu)`` or ``(T, A, l, g)``.
+
+    Parameters
+    ----------
+    eps, mu : float, optional
+        Arnold's parameters (> 0; ``mu >= 1`` means ``A <= g``).
+    T, A : float, optional
+        Drive half-period [s] and acceleration amplitude [m/s^2], > 0.
+    l, g : float, optional
+        Rod length [m] and gravity [m/s^2] (used with ``T, A``), > 0.
+
+    Returns
+    -------
+    StabilityReport
+
+    Raises
+    ------
+    ValueError
+        If neither or both parameter sets are given, or a value is out of range.
+    """
+    arnold = eps is not None or mu is not None
+    physical = T is not None or A is not None
+    if arnold == physical:
+        raise _v.KapitzaValueError("give either eps and mu, or T and A (with l and g), not both or neither")
+    if arnold:
+        if eps is None or mu is None:
+            raise _v.KapitzaValueError("eps and mu must be given together")
+        eps = float(_v.positive("eps", eps))
+        mu = float(_v.positive("mu", mu))
+    else:
+        if T is None or A is None:
+            raise _v.KapitzaValueError("T and A must be given together")
+        T = float(_v.positive("T", T))
+        A = float(_v.positive("A", A))
+        l = float(_v.positive("l", l))
+        g = float(_v.positive("g", g))
+        eps = T * np.sqrt(A / (8.0 * l))
+        mu = np.sqrt(g / A)
+    tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in _floquet(eps, mu))
+    mult = _multipliers(tau, growth, theta, stable)
+    m = stability_margin(eps, mu)
+    stable = bool(stable)
+    if mu >= 1.0:
+        verdict = "always unstable: no elliptic phase (A <= g)"
+    elif stable:
+        verdict = f"stable (zone {int(zone)})"
+    else:
+        kind = "2T" if tau > 0 else "4T"
+        verdict = f"unstable ({kind}-type resonance: multipliers real, {'positive' if tau > 0 else 'negative'})"
+    phys = {}
+    if physical:
+        phys = dict(T=T, A=A, l=l, g=g)
+        nz = int(m.zone)
+        if nz >= 0:
+            Tlo, Thi = period_edges(A, nz, l, g)
+            Alo, Ahi = amplitude_edges(T, nz, l, g)
+            phys.update(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi))
+    return StabilityReport(
+        eps=float(eps),
+        mu=float(mu),
+        stable=stable,
+        verdict=verdict,
+        zone=int(zone),
+        nearest_zone=int(m.zone),
+        trace=float(2.0 * tau),
+        multipliers=tuple(complex(z) for z in mult),
+        growth=float(growth),
+        rotation_number=float(theta / (2.0 * np.pi)),
+        eps_lo=float(m.eps_lo),
+        eps_hi=float(m.eps_hi),
+        margin=float(m.margin),
+        trace_margin=float(1.0 - abs(tau)),
+        **phys,
+    )

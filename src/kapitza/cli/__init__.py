@@ -1,0 +1,71 @@
+"""The ``kapitza`` command line.
+
+Each command group lives in its own module with a ``register(subparsers)``
+function; this module only assembles them and turns user errors into a
+one-line message with exit status 2.
+"""
+from __future__ import annotations
+
+import sys
+
+from ._common import CLIError, Parser
+from .. import __version__
+
+#: Command modules, in the order their commands appear in ``kapitza --help``.
+COMMAND_MODULES = ["engine"]
+
+DESCRIPTION = """\
+Exact stability of the inverted pendulum whose pivot is shaken up and down with a
+square-wave acceleration of amplitude A and half-period T (period 2T).
+
+Parameters are given either physically, --T (s) and --A (m/s^2) with --l (m) and
+--g (m/s^2), or in Arnold's dimensionless form --eps = T sqrt(A/(8 l)) and
+--mu = sqrt(g/A). The upright position is stable exactly inside the zones
+alpha + n pi < w_e T < beta + n pi (n = 0, 1, ...).
+"""
+
+EPILOG = """\
+examples:
+  kapitza stability --T 0.15 --A 100          # stable? zone, multipliers, margins
+  kapitza stability --eps 0.5 --mu 0.3 --json
+  kapitza periods --A 100 --count 5           # T_n, T~_n of Corollary 4.1
+  kapitza zones --zones 4 --out zones.csv     # edge curves as data
+  kapitza chart --out chart                   # Figure-7-style chart: chart.png, chart.svg
+
+Run 'kapitza COMMAND --help' for each command's options.
+"""
+
+
+def build_parser() -> Parser:
+    import importlib
+
+    parser = Parser(prog="kapitza", description=DESCRIPTION, epilog=EPILOG)
+    parser.add_argument("--version", action="version", version=f"kapitza {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
+    for name in COMMAND_MODULES:
+        importlib.import_module(f".{name}", __name__).register(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "func", None) is None:
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except (CLIError, ValueError) as exc:  # KapitzaValueError is a ValueError
+        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        print(f"kapitza {args.command}: error: {msg}", file=sys.stderr)
+        return 2
+    except OverflowError as exc:
+        print(f"kapitza {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("kapitza: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,234 @@
+"""Commands of the exact engine: stability, periods, zones, chart."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from .. import _io
+from ..analysis import analyze
+from ..periodic import boundary_table
+from ._common import CLIError, add_parameters, finite_float, format_table, out_stem, parameters_from, print_json
+
+
+def register(sub):
+    p = sub.add_parser(
+        "stability",
+        help="verdict, zone, Floquet multipliers, growth and margins for one parameter set",
+        description="Is the upright position stable for these parameters, in which zone, and by what margin?\n\n"
+        "margin: signed relative distance to the nearest zone edge along eps, i.e. the fraction by which\n"
+        "the drive period may change at fixed A (> 0 inside a zone, < 0 outside). With --T/--A the zone is\n"
+        "also given as intervals of T (at this A) and of A (at this T).",
+        epilog="examples:\n  kapitza stability --T 0.15 --A 100\n  kapitza stability --eps 0.5 --mu 0.3 --json",
+    )
+    add_parameters(p)
+    p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    p.set_defaults(func=cmd_stability)
+
+    p = sub.add_parser(
+        "periods",
+        help="the boundary half-periods T_n, T~_n of Corollary 4.1 with their equations",
+        description="Boundary half-periods for fixed A > g: T_n (a 2T-periodic solution exists) and T~_n\n"
+        "(a 4T-periodic one), in the order T_1 < T~_1 < T~_2 < T_2 < T_3 < ..., each with the\n"
+        "equation (3.10)-(3.13) and the k that produce it.",
+        epilog="example:\n  kapitza periods --A 100 --count 5 --csv periods.csv",
+    )
+    p.add_argument("--A", type=finite_float, required=True, metavar="M/S^2", help="pivot acceleration amplitude (> g)")
+    p.add_argument("--l", type=finite_float, default=1.0, metavar="M", help="rod length (default 1)")
+    p.add_argument("--g", type=finite_float, default=9.81, metavar="M/S^2", help="gravity (default 9.81)")
+    p.add_argument("--count", type=int, default=4, help="number of zones, each giving one T_n and one T~_n (default 4)")
+    p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    p.add_argument("--csv", metavar="FILE", help="also write the table as CSV")
+    p.set_defaults(func=cmd_periods)
+
+    p = sub.add_parser(
+        "zones",
+        help="zone edge curves eps_lo(mu), eps_hi(mu) as CSV or JSON",
+        description="Edges of stability zones 0..N-1 at mu values spread over (mu-min, mu-max).",
+        epilog="examples:\n  kapitza zones --zones 4 --out zones.csv\n  kapitza zones --zones 2 --points 5 --json",
+    )
+    p.add_argument("--zones", type=int, default=4, metavar="N", help="number of zones (default 4)")
+    p.add_argument("--mu-min", type=finite_float, default=0.001, help="smallest mu (default 0.001)")
+    p.add_argument("--mu-max", type=finite_float, default=0.999, help="largest mu (default 0.999)")
+    p.add_argument("--points", type=int, default=200, help="mu values (default 200)")
+    p.add_argument("--out", metavar="FILE", help="write to FILE (.csv or .json)")
+    p.add_argument("--json", action="store_true", help="print JSON to standard output")
+    p.set_defaults(func=cmd_zones)
+
+    p = sub.add_parser(
+        "chart",
+        help="Figure-7-style chart of the exact stability zones (PNG, SVG, PDF)",
+        description="Draw the exact stability zones on the eps-mu plane. Edges are exact curves (each a line,\n"
+        "so thin tongues stay visible at any zoom); 2T-periodic edges (T_n) solid, 4T-periodic edges\n"
+        "(T~_n) dashed. Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.",
+        epilog="examples:\n  kapitza chart --out chart\n  kapitza chart --eps-min 2.2 --eps-max 2.4 --mu-min 0 --mu-max 0.3 --out zoom\n"
+        "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set",
+    )
+    p.add_argument("--out", default="kapitza-chart", metavar="STEM", help="output path without suffix (default kapitza-chart)")
+    p.add_argument("--eps-min", type=finite_float, default=0.0)
+    p.add_argument("--eps-max", type=finite_float, default=4.0)
+    p.add_argument("--mu-min", type=finite_float, default=0.0)
+    p.add_argument("--mu-max", type=finite_float, default=1.0)
+    p.add_argument("--no-G", dest="show_G", action="store_false", help="do not draw the curves G_m")
+    p.add_argument("--points", type=int, default=1200, help="mu samples per edge (default 1200)")
+    p.add_argument("--pdf", action="store_true", help="also write OUT.pdf")
+    p.add_argument("--mark-eps", type=finite_float, help="mark the point (eps, mu) given by --mark-eps/--mark-mu")
+    p.add_argument("--mark-mu", type=finite_float)
+    p.add_argument("--mark-T", type=finite_float, help="mark the physical point --mark-T/--mark-A (with --l, --g)")
+    p.add_argument("--mark-A", type=finite_float)
+    p.add_argument("--l", type=finite_float, default=1.0, help="rod length for --mark-T/--mark-A")
+    p.add_argument("--g", type=finite_float, default=9.81, help="gravity for --mark-T/--mark-A")
+    p.add_argument("--title", default=None)
+    p.set_defaults(func=cmd_chart)
+
+
+# ------------------------------------------------------------------ stability
+def _fmt(v, digits=12):
+    if v is None:
+        return "-"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    return str(v)
+
+
+def cmd_stability(args):
+    rep = analyze(**parameters_from(args))
+    if args.json:
+        print_json(rep.as_dict())
+        return 0
+    lines = []
+    if rep.T is not None:
+        lines.append(f"parameters       T = {_fmt(rep.T)} s, A = {_fmt(rep.A)} m/s^2, l = {_fmt(rep.l)} m, g = {_fmt(rep.g)} m/s^2")
+    lines.append(f"Arnold           eps = {_fmt(rep.eps)}, mu = {_fmt(rep.mu)}")
+    lines.append(f"verdict          {rep.verdict}")
+    lam = ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}" for z in rep.multipliers)
+    lines.append(f"trace tr M       {_fmt(rep.trace)}   (stable iff |tr M| < 2)")
+    lines.append(f"multipliers      {lam}")
+    lines.append(f"growth           {_fmt(rep.growth)} per period 2T (log of the largest |multiplier|)")
+    lines.append(f"rotation number  {_fmt(rep.rotation_number)} turns per period")
+    if rep.nearest_zone >= 0:
+        where = "in" if rep.stable else "nearest"
+        lines.append(f"zone ({where}){' ' * (9 - len(where))}n = {rep.nearest_zone}: {_fmt(rep.eps_lo)} < eps < {_fmt(rep.eps_hi)}")
+        if rep.T_lo is not None:
+            lines.append(f"                 {_fmt(rep.T_lo)} < T < {_fmt(rep.T_hi)} s at this A")
+            lines.append(f"                 {_fmt(rep.A_lo)} < A < {_fmt(rep.A_hi)} m/s^2 at this T")
+        pct = 100.0 * rep.margin
+        if rep.stable:
+            lines.append(f"margin           {pct:.4g}% (T may change by this fraction at fixed A before stability is lost)")
+        else:
+            lines.append(f"margin           {pct:.4g}% (T must change by this fraction at fixed A to reach zone {rep.nearest_zone})")
+    print("\n".join(lines))
+    return 0
+
+
+# ------------------------------------------------------------------ periods
+def cmd_periods(args):
+    if args.count < 1 or args.count > 100000:
+        raise CLIError(f"--count must be between 1 and 100000; got {args.count}")
+    table = boundary_table(args.A, args.count, args.l, args.g)
+    header = ["name", "T", "period", "equation", "k", "zone", "edge", "eps", "mu"]
+    rows = [[b.name, f"{b.T:.15g}", b.period, b.equation, b.k, b.zone, b.edge, f"{b.eps:.15g}", f"{b.mu:.15g}"] for b in table]
+    if args.csv:
+        _io.write_csv(args.csv, header, [[b.name, b.T, b.period, b.equation, b.k, b.zone, b.edge, b.eps, b.mu] for b in table],
+                      comments=[f"kapitza periods: A = {args.A!r}, l = {args.l!r}, g = {args.g!r}"])
+    if args.json:
+        print_json(dict(A=args.A, l=args.l, g=args.g, periods=[b.as_dict() for b in table]))
+    else:
+        print(f"Boundary half-periods for A = {args.A:g} m/s^2, l = {args.l:g} m, g = {args.g:g} m/s^2")
+        print("(2T: a 2T-periodic solution exists; 4T: a 4T-periodic one; zone n lies between its two edges)\n")
+        print(format_table(header, rows))
+    return 0
+
+
+# ------------------------------------------------------------------ zones
+def _zone_rows(n_zones, mu):
+    from ..zones import zone_edges
+
+    n = np.arange(n_zones)
+    lo, hi = zone_edges(mu[None, :], n[:, None])
+    return n, lo, hi
+
+
+def cmd_zones(args):
+    if args.zones < 1 or args.zones > 10000:
+        raise CLIError(f"--zones must be between 1 and 10000; got {args.zones}")
+    if args.points < 1 or args.points > 10_000_000:
+        raise CLIError(f"--points must be between 1 and 10000000; got {args.points}")
+    if not (0.0 < args.mu_min <= args.mu_max < 1.0):
+        raise CLIError(f"need 0 < mu-min <= mu-max < 1; got mu-min={args.mu_min:g}, mu-max={args.mu_max:g}")
+    if args.out and Path(args.out).suffix.lower() not in (".csv", ".json"):
+        raise CLIError(f"--out must end in .csv or .json; got {args.out!r}")
+    mu = np.linspace(args.mu_min, args.mu_max, args.points)
+    n, lo, hi = _zone_rows(args.zones, mu)
+    kinds = lambda k: ("2T", "4T") if k % 2 == 0 else ("4T", "2T")  # noqa: E731
+    records = [
+        dict(n=int(k), lower_edge=kinds(k)[0], upper_edge=kinds(k)[1], mu=mu, eps_lo=lo[i], eps_hi=hi[i])
+        for i, k in enumerate(n)
+    ]
+    if args.out:
+        if args.out.lower().endswith(".json"):
+            _io.write_json(args.out, dict(zones=records))
+        else:
+            rows = ([int(k), m, lo[i, j], hi[i, j], *kinds(k)] for i, k in enumerate(n) for j, m in enumerate(mu))
+            _io.write_csv(args.out, ["n", "mu", "eps_lo", "eps_hi", "lower_edge", "upper_edge"], rows,
+                          comments=["zone n is eps_lo < eps < eps_hi at fixed mu; eps = T sqrt(A/(8 l)), mu = sqrt(g/A)"])
+    if args.json:
+        print_json(dict(zones=records))
+    elif not args.out:
+        j = np.unique(np.linspace(0, mu.size - 1, min(mu.size, 6)).astype(int))
+        rows = [[int(k), f"{mu[jj]:.6g}", f"{lo[i, jj]:.15g}", f"{hi[i, jj]:.15g}"] for i, k in enumerate(n) for jj in j]
+        print(format_table(["n", "mu", "eps_lo", "eps_hi"], rows))
+        print("\n(a sample; use --out FILE.csv or --json for every point)")
+    else:
+        print(f"wrote {args.out} ({args.zones} zones x {mu.size} mu values)")
+    return 0
+
+
+# ------------------------------------------------------------------ chart
+def cmd_chart(args):
+    from ..figures._style import caption, new_figure, save
+    from ..figures.chart import plot_zones
+
+    if not (0.0 <= args.eps_min < args.eps_max):
+        raise CLIError(f"need 0 <= eps-min < eps-max; got {args.eps_min:g}, {args.eps_max:g}")
+    if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
+        raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
+    if not (2 <= args.points <= 200000):
+        raise CLIError(f"--points must be between 2 and 200000; got {args.points}")
+    mark = None
+    if args.mark_eps is not None or args.mark_mu is not None:
+        if args.mark_eps is None or args.mark_mu is None:
+            raise CLIError("--mark-eps and --mark-mu must be given together")
+        mark = (args.mark_eps, args.mark_mu, None)
+    if args.mark_T is not None or args.mark_A is not None:
+        if mark is not None:
+            raise CLIError("give --mark-eps/--mark-mu or --mark-T/--mark-A, not both")
+        if args.mark_T is None or args.mark_A is None:
+            raise CLIError("--mark-T and --mark-A must be given together")
+        rep = analyze(T=args.mark_T, A=args.mark_A, l=args.l, g=args.g)
+        mark = (rep.eps, rep.mu, f"T = {args.mark_T:g} s, A = {args.mark_A:g} m/s$^2$")
+    stem = out_stem(args.out)
+    fig = new_figure(7.0, 5.2)
+    ax = fig.add_subplot()
+    curves = plot_zones(ax, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), show_G=args.show_G, points=args.points)
+    if mark is not None:
+        e, m, label = mark
+        rep = analyze(eps=e, mu=m)
+        ax.plot([e], [m], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
+                label=(label or f"eps = {e:g}, mu = {m:g}") + f": {rep.verdict.split(':')[0].split(' (')[0]}")
+        ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
+    ax.set_title(args.title or "Exact stability zones of the upright pendulum (square-wave pivot)")
+    caption(fig, "Shaded: the upright position is stable (alpha + n pi < w_e T < beta + n pi, zone n labelled). "
+                 "Solid blue: 2T-periodic edges T_n (eqs. 3.10, 3.11); dashed red: 4T-periodic edges T~_n (3.12, 3.13)"
+                 + ("; dotted: the curves G_m." if args.show_G else "."))
+    formats = ("png", "svg", "pdf") if args.pdf else ("png", "svg")
+    paths = save(fig, stem, formats)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    data = stem.with_suffix(".csv")
+    _io.write_csv(data, ["n", "mu", "eps_lo", "eps_hi"], curves.rows(),
+                  comments=["exact zone edges drawn in " + ", ".join(p.name for p in paths)])
+    print("wrote " + ", ".join(str(p) for p in [*paths, data]))
+    return 0

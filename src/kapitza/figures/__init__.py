@@ -1,0 +1,1 @@
+"""Figures (matplotlib). Imported only on demand: ``import kapitza`` stays free of matplotlib."""

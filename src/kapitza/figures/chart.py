@@ -1,0 +1,132 @@
+"""Figure 7: the exact stability zones on Arnold's ``eps``-``mu`` plane."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate as _v
+from ..parameters import SQRT8
+from ..zones import _edges_eps
+from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL
+
+__all__ = ["ZoneCurves", "zone_curves", "plot_zones"]
+
+
+@dataclass(frozen=True)
+class ZoneCurves:
+    """Edge curves of the zones visible in a window: for zone ``n[i]``,
+    ``eps_lo[i]``, ``eps_hi[i]`` sampled at ``mu`` (arrays ``(zones, points)``)."""
+
+    n: np.ndarray
+    mu: np.ndarray
+    eps_lo: np.ndarray
+    eps_hi: np.ndarray
+
+    def rows(self):
+        """``(n, mu, eps_lo, eps_hi)`` rows for CSV export."""
+        for i, n in enumerate(self.n):
+            for j, m in enumerate(self.mu):
+                yield int(n), m, self.eps_lo[i, j], self.eps_hi[i, j]
+
+
+def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zones=400):
+    """Sample the edges of every zone that meets the window.
+
+    Parameters
+    ----------
+    eps_range, mu_range : (float, float)
+        The window; ``0 <= eps_min < eps_max``, ``0 <= mu_min < mu_max <= 1``.
+    points : int
+        Samples of ``mu`` across the window (>= 2). The edges are exact at
+        every sample; nothing is interpolated on a pixel grid.
+    max_zones : int
+        Refuse windows that would need more zones than this.
+
+    Returns
+    -------
+    ZoneCurves
+    """
+    e0, e1 = (float(v) for v in eps_range)
+    m0, m1 = (float(v) for v in mu_range)
+    if not (np.isfinite(e0) and np.isfinite(e1) and 0.0 <= e0 < e1):
+        raise _v.KapitzaValueError(f"eps range must satisfy 0 <= eps_min < eps_max < inf; got ({e0:g}, {e1:g})")
+    if not (0.0 <= m0 < m1 <= 1.0):
+        raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= 1; got ({m0:g}, {m1:g})")
+    points = int(_v.nonnegative_int("points", points, minimum=2))
+    tiny = 1e-9
+    # Cluster samples towards the ends where the edges bend fastest (mu -> 0, mu -> 1).
+    s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, points))
+    mu = np.clip(m0 + (m1 - m0) * s, tiny, 1.0 - tiny)
+    q = np.sqrt((1.0 - mu) * (1.0 + mu))
+    n_hi = int(np.floor(SQRT8 * q.max() * e1 / np.pi))
+    # Zone n needs eps >= n pi / (SQRT8 q) at least; the lowest zone that can reach e0:
+    n_lo = max(0, int(np.floor(SQRT8 * q.min() * e0 / np.pi)) - 1)
+    if n_hi - n_lo + 1 > max_zones:
+        raise _v.KapitzaValueError(
+            f"the window holds {n_hi - n_lo + 1} zones (more than {max_zones}); narrow eps range or mu range"
+        )
+    n = np.arange(n_lo, n_hi + 1)
+    lo, hi = _edges_eps(mu[None, :], n[:, None])
+    visible = ((hi >= e0) & (lo <= e1)).any(axis=1)
+    return ZoneCurves(n=n[visible], mu=mu, eps_lo=lo[visible], eps_hi=hi[visible])
+
+
+def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, points=1200, label_zones=True):
+    """Draw the exact stability zones in the ``eps``-``mu`` plane.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes, optional
+        Where to draw; a new figure is made if None.
+    eps_range, mu_range : (float, float)
+        The window.
+    show_G : bool
+        Also draw the curves ``G_m`` along which the tongues lie.
+    points : int
+        ``mu`` samples per edge.
+    label_zones : bool
+        Write the zone index beside each tongue.
+
+    Returns
+    -------
+    ZoneCurves
+        What was drawn.
+
+    Notes
+    -----
+    2T-periodic edges (``T_n``; lower edge of even zones, upper edge of odd ones)
+    and 4T-periodic edges (``T~_n``) are styled apart. Each edge is drawn as a
+    line, so a tongue thinner than a pixel still shows.
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(layout="constrained")
+    curves = zone_curves(eps_range, mu_range, points)
+    for i, n in enumerate(curves.n):
+        lo, hi = curves.eps_lo[i], curves.eps_hi[i]
+        ax.fill_betweenx(curves.mu, lo, hi, color=ZONE_FILL, linewidth=0, label="stable zone" if i == 0 else None)
+        lower_2t = n % 2 == 0
+        ax.plot(lo, curves.mu, **(EDGE_2T if lower_2t else EDGE_4T))
+        ax.plot(hi, curves.mu, **(EDGE_4T if lower_2t else EDGE_2T))
+        if label_zones:
+            j = int(np.argmin(np.abs(curves.mu - (0.35 * mu_range[0] + 0.65 * mu_range[1]))))
+            xm = 0.5 * (lo[j] + hi[j])
+            if eps_range[0] < xm < eps_range[1]:
+                ax.annotate(f"{n}", (hi[j], curves.mu[j]), xytext=(4, 0), textcoords="offset points",
+                            fontsize=8, va="center", color="0.2")
+    ax.plot([], [], label=r"2T-periodic edge ($T_n$)", **EDGE_2T)
+    ax.plot([], [], label=r"4T-periodic edge ($\tilde T_n$)", **EDGE_4T)
+    if show_G:
+        mu = curves.mu
+        q = np.sqrt((1.0 - mu) * (1.0 + mu))
+        m_max = int(np.floor((2.0 * SQRT8 * q.max() * eps_range[1] / np.pi - 1.0) / 2.0))
+        for m in range(0, max(m_max, -1) + 1):
+            ax.plot((2 * m + 1) * np.pi / (2.0 * SQRT8 * q), mu, **G_STYLE, label=r"$G_m$" if m == 0 else None)
+    ax.set_xlim(*eps_range)
+    ax.set_ylim(*mu_range)
+    ax.set_xlabel(r"$\varepsilon = T\sqrt{A}/\sqrt{8l}$")
+    ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
+    ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
+    return curves
