@@ -209,7 +209,7 @@ def cmd_chart(args):
         rep = analyze(T=args.mark_T, A=args.mark_A, l=args.l, g=args.g)
         mark = (rep.eps, rep.mu, f"T = {args.mark_T:g} s, A = {args.mark_A:g} m/s$^2$")
     stem = out_stem(args.out)
-    fig = new_figure(7.0, 5.2)
+    fig = new_figure(8.6, 5.2)
     ax = fig.add_subplot()
     curves = plot_zones(ax, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), show_G=args.show_G, points=args.points)
     if mark is not None:
@@ -217,11 +217,11 @@ def cmd_chart(args):
         rep = analyze(eps=e, mu=m)
         ax.plot([e], [m], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
                 label=(label or f"eps = {e:g}, mu = {m:g}") + f": {rep.verdict.split(':')[0].split(' (')[0]}")
-        ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
-    ax.set_title(args.title or "Exact stability zones of the upright pendulum (square-wave pivot)")
-    caption(fig, "Shaded: the upright position is stable (alpha + n pi < w_e T < beta + n pi, zone n labelled). "
-                 "Solid blue: 2T-periodic edges T_n (eqs. 3.10, 3.11); dashed red: 4T-periodic edges T~_n (3.12, 3.13)"
-                 + ("; dotted: the curves G_m." if args.show_G else "."))
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    ax.set_title(args.title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
+    caption(fig, r"Shaded: the upright position is stable, $\alpha + n\pi < \omega_e T < \beta + n\pi$ (zone $n$). "
+                 r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
+                 + (r"; dotted: the curves $G_m$." if args.show_G else "."))
     formats = ("png", "svg", "pdf") if args.pdf else ("png", "svg")
     paths = save(fig, stem, formats)
     import matplotlib.pyplot as plt

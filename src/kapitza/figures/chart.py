@@ -111,11 +111,13 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
         ax.plot(lo, curves.mu, **(EDGE_2T if lower_2t else EDGE_4T))
         ax.plot(hi, curves.mu, **(EDGE_4T if lower_2t else EDGE_2T))
         if label_zones:
-            j = int(np.argmin(np.abs(curves.mu - (0.35 * mu_range[0] + 0.65 * mu_range[1]))))
-            xm = 0.5 * (lo[j] + hi[j])
-            if eps_range[0] < xm < eps_range[1]:
-                ax.annotate(f"{n}", (hi[j], curves.mu[j]), xytext=(4, 0), textcoords="offset points",
-                            fontsize=8, va="center", color="0.2")
+            # Label each tongue just right of its upper edge, at the lowest visible height.
+            inside = (hi > eps_range[0]) & (hi < eps_range[1])
+            if inside.any():
+                j = int(np.flatnonzero(inside)[min(np.count_nonzero(inside) - 1, len(curves.mu) // 8)])
+                ax.annotate(f"n={n}", (hi[j], curves.mu[j]), xytext=(3, 0), textcoords="offset points",
+                            fontsize=8, va="center", ha="left", color="0.15",
+                            bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.7))
     ax.plot([], [], label=r"2T-periodic edge ($T_n$)", **EDGE_2T)
     ax.plot([], [], label=r"4T-periodic edge ($\tilde T_n$)", **EDGE_4T)
     if show_G:
@@ -128,5 +130,5 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
     ax.set_ylim(*mu_range)
     ax.set_xlabel(r"$\varepsilon = T\sqrt{A}/\sqrt{8l}$")
     ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
-    ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     return curves
