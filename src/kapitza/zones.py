@@ -108,7 +108,10 @@ def _edge_u(mu, n, upper: bool):
         step = F / dF
         unew = ua - step
         u[active] = unew
-        keep = np.abs(step) > 4.0 * np.finfo(float).eps * np.abs(unew)
+        # The exact iterates move monotonically (down for the lower edge, up for the upper):
+        # a step against that direction means rounding noise has been reached.
+        moving = (step < 0) if upper else (step > 0)
+        keep = moving & (np.abs(step) > 4.0 * np.finfo(float).eps * np.abs(unew))
         active = active[keep]
         if active.size == 0:
             break
