@@ -99,6 +99,55 @@ def reduced(u):
     return n, u - n * PI
 
 
+# Taylor coefficients of (tan z - z)/z^3 = sum c_k z^(2k); (y - tanh y)/y^3 = sum (-1)^k c_k y^(2k).
+_TAN3 = np.array([1 / 3, 2 / 15, 17 / 315, 62 / 2835, 1382 / 155925, 21844 / 6081075,
+                  929569 / 638512875, 6404582 / 10854718875, 443861162 / 1856156927625,
+                  18888466084 / 194896477400625, 113927491862 / 2900518163668125])
+
+
+def tan3(z, sign):
+    """(tan z - z)/z^3 (sign=+1) or (z - tanh z)/z^3 (sign=-1), accurate for small z."""
+    z2 = z * z
+    series = np.zeros_like(z)
+    for c in _TAN3[::-1]:
+        series = series * (sign * z2) + c
+    zs = np.where(z > 0.3, z, 1.0)
+    direct = (np.tan(zs) - zs) / zs**3 if sign > 0 else (zs - np.tanh(zs)) / zs**3
+    return np.where(z > 0.3, direct, series)
+
+
+def sin_half_a0(u, D, mu):
+    """sin((u - alpha)/2) on zone 0's branch (``n = 0``) for small ``u``, free of cancellation.
+
+    ``sin(z - atan(D t)) = cos z cos(atan(D t)) (tan z - D t)`` with ``z = u/2``,
+    ``t = tanh(D z)``, and ``tan z - D t = z^3 [T3(z) + D^4 H3(D z)] - z (D^2 - 1)``
+    (``T3``, ``H3`` as in :func:`tan3`; ``D^2 - 1 = 2 mu^2 / (1 - mu^2)`` exactly). The
+    direct ``u - alpha`` subtracts two numbers of size ``u`` whose difference is
+    ``O(u max(mu^2, u^2))``.
+    """
+    z = 0.5 * u
+    y = D * z
+    d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
+    diff = z**3 * (tan3(z, 1) + D**4 * tan3(y, -1)) - z * d2m1
+    Dt = D * np.tanh(y)
+    return diff * np.cos(z) / np.sqrt(1.0 + Dt * Dt)
+
+
+def lower_gap(x, u, w, n, D, mu):
+    """``a = w - alpha(x)``: > 0 above the lower edge of zone ``n = floor(u/pi)``.
+
+    On zone 0's branch at small ``u`` (where ``u`` and ``alpha`` nearly cancel) ``a`` is
+    taken from :func:`sin_half_a0`, so that the verdict near zone 0's lower edge is
+    right as ``mu -> 0`` and ``a`` keeps its relative accuracy as ``eps -> 0``.
+    """
+    a = w - alpha_x(x, D)
+    small = (n == 0) & (u < 1.0) & (np.abs(a) < 2.0)
+    if np.any(small):
+        s = sin_half_a0(np.where(small, u, 0.5), D, mu)
+        a = np.where(small, 2.0 * np.arcsin(np.clip(s, -1.0, 1.0)), a)
+    return a
+
+
 def acosh_excess(e):
     """acosh(1 + e) for e >= 0, accurate for small e."""
     return np.log1p(e + np.sqrt(e * (e + 2.0)))
@@ -123,10 +172,8 @@ def floquet_elliptic(x, u, D, mu):
         locked to ``n pi`` (below zone n) or ``(n + 1) pi`` (above) off the zones.
     """
     n, w = reduced(u)
-    alpha = alpha_x(x, D)
-    beta = beta_x(x, D)
-    a = w - alpha
-    b = w - beta
+    a = lower_gap(x, u, w, n, D, mu)
+    b = w - beta_x(x, D)
     s4 = s4_of(mu)
     with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
         sd = np.sin(delta_x(x, s4))
@@ -136,7 +183,9 @@ def floquet_elliptic(x, u, D, mu):
         # P has the sign of a, Q the sign of b (|a/2|, |b/2| < pi/2 so the cosines are > 0).
         # n even: tau - 1 = -P, tau + 1 = -Q;  n odd: tau - 1 = Q, tau + 1 = P.
         sdp = np.where(sd > 0, sd, np.inf)
-        P = 2.0 * np.sin(0.5 * a) * np.cos(0.5 * b) / sdp
+        # cos(b/2) = sin((w + pi - beta)/2): accurate where b is near -pi (x and w small).
+        cos_half_b = np.sin(0.5 * (w + 2.0 * np.arctan2(np.tanh(0.5 * x), D)))
+        P = 2.0 * np.sin(0.5 * a) * cos_half_b / sdp
         Q = 2.0 * np.cos(0.5 * a) * np.sin(0.5 * b) / sdp
     stable = (a > 0) & (b < 0)
     below = a <= 0

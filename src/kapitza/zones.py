@@ -40,21 +40,7 @@ _MAX_NEWTON = 200
 
 
 # ---------------------------------------------------------------- kernels
-# Taylor coefficients of (tan z - z)/z^3 = sum c_k z^(2k); (y - tanh y)/y^3 = sum (-1)^k c_k y^(2k).
-_TAN3 = np.array([1 / 3, 2 / 15, 17 / 315, 62 / 2835, 1382 / 155925, 21844 / 6081075,
-                  929569 / 638512875, 6404582 / 10854718875, 443861162 / 1856156927625,
-                  18888466084 / 194896477400625, 113927491862 / 2900518163668125])
-
-
-def _tan3(z, sign):
-    """(tan z - z)/z^3 (sign=+1) or (z - tanh z)/z^3 (sign=-1), accurate for small z."""
-    z2 = z * z
-    series = np.zeros_like(z)
-    for c in _TAN3[::-1]:
-        series = series * (sign * z2) + c
-    zs = np.where(z > 0.3, z, 1.0)
-    direct = (np.tan(zs) - zs) / zs**3 if sign > 0 else (zs - np.tanh(zs)) / zs**3
-    return np.where(z > 0.3, direct, series)
+_tan3 = X.tan3  # (tan z - z)/z^3 and (z - tanh z)/z^3 by their series for small z
 
 
 def _lower0_small_mu(mu):
@@ -132,7 +118,7 @@ def _verdict(eps, mu):
     mus = np.where(ell, mu, 0.5)
     x, u, D = _phase_angles(eps, mus)
     n, w = X.reduced(u)
-    stable = ell & (w > X.alpha_x(x, D)) & (w < X.beta_x(x, D))
+    stable = ell & (X.lower_gap(x, u, w, n, D, mus) > 0) & (w < X.beta_x(x, D))
     return stable, n
 
 
@@ -339,7 +325,7 @@ def stability_margin(eps, mu):
     stable &= ell
     x, u, D = _phase_angles(eps, mus)
     w = u - n * PI
-    below = w <= X.alpha_x(x, D)
+    below = X.lower_gap(x, u, w, n, D, mus) <= 0
     # Candidate zones: n itself, and the neighbour across the gap the point sits in.
     lo_n, hi_n = _edges_eps(mus, n)
     nb = np.where(below, np.maximum(n - 1, 0), n + 1)
