@@ -129,6 +129,8 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> Stability
         mu = np.sqrt(g / A)
     tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in _floquet(eps, mu))
     mult = _multipliers(tau, growth, theta, stable)
+    with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double
+        trace = float(2.0 * tau)
     m = stability_margin(eps, mu)
     stable = bool(stable)
     if mu >= 1.0:
@@ -153,7 +155,7 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> Stability
         verdict=verdict,
         zone=int(zone),
         nearest_zone=int(m.zone),
-        trace=float(2.0 * tau),
+        trace=trace,
         multipliers=tuple(complex(z) for z in mult),
         growth=float(growth),
         rotation_number=float(theta / (2.0 * np.pi)),

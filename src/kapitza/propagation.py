@@ -141,8 +141,10 @@ def floquet(eps, mu):
     eps = _v.positive("eps", eps)
     mu = _v.positive("mu", mu)
     tau, growth, theta, stable, zone = _floquet(eps, mu)
+    with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double (documented)
+        trace = 2.0 * tau
     return Floquet(
-        trace=2.0 * tau,
+        trace=trace,
         multipliers=_multipliers(tau, growth, theta, stable),
         growth=growth,
         rotation_number=theta / (2.0 * PI),
