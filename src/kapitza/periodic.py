@@ -125,7 +125,7 @@ def boundary_periods(A, count, l=1.0, g=G_EARTH):
     A, l, g = np.broadcast_arrays(A, l, g)
     n = np.arange(count)
     mu = np.sqrt(g / A)[..., None]
-    lo, hi = _edges_eps(mu, n)
+    lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A)[..., None])  # A - g is exact as A -> g
     scale = np.sqrt(8.0 * l / A)[..., None]
     lo, hi = lo * scale, hi * scale
     even = n % 2 == 0
@@ -208,7 +208,7 @@ def boundary_table(A, count, l=1.0, g=G_EARTH):
     _check_A(A, g)
     mu = np.sqrt(g / A)
     n = np.arange(count)
-    lo, hi = _edges_eps(mu, n)
+    lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A))  # A - g is exact as A -> g
     scale = np.sqrt(8.0 * l / A)
     rows = []
     for zn in range(count):

@@ -68,14 +68,20 @@ def _lower0_small_mu(mu):
 _SMALL_MU = 0.15
 
 
-def _edge_u(mu, n, upper: bool):
-    """Edge of zone ``n`` in ``u = w_e T`` at fixed ``mu`` (arrays broadcast; trusted)."""
-    mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, float))
+def _edge_u(mu, n, upper: bool, q=None):
+    """Edge of zone ``n`` in ``u = w_e T`` at fixed ``mu`` (arrays broadcast; trusted).
+
+    ``q = sqrt(1 - mu^2)`` may be passed when it is known better than ``mu`` allows:
+    from ``(A - g) / A`` as ``A -> g``, where ``1 - mu^2`` formed from a rounded ``mu``
+    loses ``1e-16 / (1 - mu)`` of relative accuracy.
+    """
+    mu, n, q = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, float),
+                                   np.asarray(np.nan if q is None else q, float))
     shape = mu.shape
     mu = mu.ravel()
     n = n.ravel()
     p = np.sqrt(1.0 + mu * mu)
-    q = np.sqrt((1.0 - mu) * (1.0 + mu))
+    q = np.sqrt((1.0 - mu) * (1.0 + mu)) if np.isnan(q).all() else q.ravel().copy()
     D = p / q
     npi = n * PI
     u = npi + 2.0 * np.arctan(D)  # alpha < 2 atan D < beta: right of the lower root, left of the upper
@@ -104,10 +110,10 @@ def _edge_u(mu, n, upper: bool):
     return u.reshape(shape), q.reshape(shape)
 
 
-def _edges_eps(mu, n):
-    """(eps_lo, eps_hi) of zone n (trusted input, 0 < mu < 1)."""
-    ulo, q = _edge_u(mu, n, upper=False)
-    uhi, _ = _edge_u(mu, n, upper=True)
+def _edges_eps(mu, n, q=None):
+    """(eps_lo, eps_hi) of zone n (trusted input, 0 < mu < 1; ``q`` as in :func:`_edge_u`)."""
+    ulo, q = _edge_u(mu, n, upper=False, q=q)
+    uhi, _ = _edge_u(mu, n, upper=True, q=q)
     return ulo / (SQRT8 * q), uhi / (SQRT8 * q)
 
 
@@ -443,7 +449,7 @@ def period_edges(A, n, l=1.0, g=G_EARTH):
         raise _v.KapitzaValueError(
             f"A must exceed g (A > g) for stability zones to exist; got A={bad!r} with g={float(np.max(g))!r}"
         )
-    lo, hi = _edges_eps(mu, n)
+    lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A))  # A - g is exact as A -> g
     scale = np.sqrt(8.0 * l / A)
     return lo * scale, hi * scale
 
