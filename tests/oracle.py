@@ -267,8 +267,8 @@ def boundary_periods(A, count, l=1.0, g=9.81):
     return out
 
 
-def monodromy(T, A, l=1.0, g=9.81, dps=BASE_DPS):
-    """M = E(T) H(T) on (theta, theta') as a 2x2 mp.matrix (A > g)."""
+def monodromy(T, A, l=1.0, g=9.81, dps=BASE_DPS, factors=False):
+    """M = E(T) H(T) on (theta, theta') as a 2x2 mp.matrix (A > g); (M, E, H) if ``factors``."""
     with mp.workdps(dps):
         T, A, l, g = (mpf(v) for v in (T, A, l, g))
         wh = mp.sqrt((A + g) / l)
@@ -276,7 +276,7 @@ def monodromy(T, A, l=1.0, g=9.81, dps=BASE_DPS):
         x, u = wh * T, we * T
         H = mp.matrix([[mp.cosh(x), mp.sinh(x) / wh], [wh * mp.sinh(x), mp.cosh(x)]])
         E = mp.matrix([[mp.cos(u), mp.sin(u) / we], [-we * mp.sin(u), mp.cos(u)]])
-        return E * H
+        return (E * H, E, H) if factors else E * H
 
 
 def rel_err(value, ref):
