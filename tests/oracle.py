@@ -283,3 +283,23 @@ def rel_err(value, ref):
     """|value - ref| / |ref| as a float (ref an mpf, value a double)."""
     ref = mp.mpf(ref)
     return float(abs(mpf(value) - ref) / abs(ref))
+
+
+def motion(t, theta0, dtheta0, T, A, l=1.0, g=9.81, dps=BASE_DPS):
+    """(theta, theta') at time t >= 0 by M^k and the partial phase flow (mpfs, A > g)."""
+    with mp.workdps(dps + 20):
+        t, T, A, l, g = (mpf(v) for v in (t, T, A, l, g))
+        M = monodromy(T, A, l, g, dps + 20)
+        k = int(mp.floor(t / (2 * T)))
+        r = t - 2 * k * T
+        y = (M ** k) * mp.matrix([mpf(theta0), mpf(dtheta0)])
+        wh = mp.sqrt((A + g) / l)
+        we = mp.sqrt((A - g) / l)
+        s = min(r, T)
+        H = mp.matrix([[mp.cosh(wh * s), mp.sinh(wh * s) / wh], [wh * mp.sinh(wh * s), mp.cosh(wh * s)]])
+        y = H * y
+        if r > T:
+            s = r - T
+            E = mp.matrix([[mp.cos(we * s), mp.sin(we * s) / we], [-we * mp.sin(we * s), mp.cos(we * s)]])
+            y = E * y
+        return y[0], y[1]
