@@ -114,6 +114,8 @@ def _edges_eps(mu, n, q=None):
     """(eps_lo, eps_hi) of zone n (trusted input, 0 < mu < 1; ``q`` as in :func:`_edge_u`)."""
     ulo, q = _edge_u(mu, n, upper=False, q=q)
     uhi, _ = _edge_u(mu, n, upper=True, q=q)
+    # Each edge is good to a few ulps; where the zone is thinner than that, keep lo <= hi.
+    uhi = np.maximum(uhi, ulo)
     return ulo / (SQRT8 * q), uhi / (SQRT8 * q)
 
 
