@@ -53,8 +53,13 @@ def f(phi, d):
     """
     phi = _v.finite("phi", phi)
     d = _v.positive("d", d)
-    s = np.sin(phi)
-    return np.sqrt(1.0 + (d * d - 1.0) * s * s)
+    return _f(phi, d)
+
+
+def _f(phi, d):
+    # |(cos phi, d sin phi)|: equal to sqrt(1 + (d^2 - 1) sin^2 phi) without its cancellation
+    # (relative error ~ 1e-16 / f^2) when d < 1 and phi is near pi/2.
+    return np.hypot(np.cos(phi), d * np.sin(phi))
 
 
 def angle_map(phi, d):
@@ -149,13 +154,15 @@ def h(phi, D):
     Returns
     -------
     ndarray
-        Even and ``pi/2``-periodic in ``phi``.
+        Even and ``pi``-periodic in ``phi``.
 
     Notes
     -----
     Used in the proof of Lemma 3.1: a 2T-periodic solution needs
-    ``h(phi_0) = h(phi_1)``. ``h`` increases on ``[m pi/2, pi/4 + m pi/2]`` and
-    decreases on ``[pi/4 + m pi/2, pi/2 + m pi/2]``.
+    ``h(phi_0) = h(phi_1)``. ``h`` decreases strictly on ``[m pi, pi/4 + m pi]`` (from 1
+    to 0) and increases strictly on ``[pi/4 + m pi, pi/2 + m pi]`` (from 0 to ``1/D^2``);
+    by evenness the other way round on ``[-pi/2, 0]``. The paper calls ``h`` periodic
+    of period ``pi/2``; that holds only for ``D = 1`` (``h(0) = 1``, ``h(pi/2) = 1/D^2``).
     """
     phi = _v.finite("phi", phi)
     D = _v.positive("D", D)
@@ -245,7 +252,10 @@ def notable_points(phi0, T, A, r0=1.0, l=1.0, g=G_EARTH):
     Notes
     -----
     The four steps of section 2: ``phi_1 = phi_h(T; phi_0)`` (2.10) with
-    ``r_1 = r_0 sqrt(|cos 2 phi_0| / |cos 2 phi_1|)`` (3.5); the stretch
+    ``r_1 = r_0 sqrt(|cos 2 phi_0| / |cos 2 phi_1|)`` (3.5), evaluated as
+    ``r_0 e^x |(cos psi_0, e^{-2x} sin psi_0)|`` with ``psi_0 = phi_0 - pi/4 (mod pi)``
+    (the components along the asymptotes scale by ``e^{+-x}``), which stays accurate
+    where ``phi_1`` nears the asymptote and ``cos 2 phi_1`` cancels; the stretch
     ``r_2 = f(phi_1; D) r_1``, ``phi_2 = phi(phi_1; D)``; the clockwise rotation
     ``r_3 = r_2``, ``phi_3 = phi_2 - w_e T`` (2.13); the contraction
     ``r_4 = f(phi_3; 1/D) r_3``, ``phi_4 = phi(phi_3; 1/D)``.
@@ -264,18 +274,13 @@ def notable_points(phi0, T, A, r0=1.0, l=1.0, g=G_EARTH):
     D = w_h / w_e
     x = w_h * T
     phi1 = _phi_h(T, phi0, w_h)
-    c0 = np.abs(np.cos(2.0 * phi0))
-    c1 = np.abs(np.cos(2.0 * phi1))
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        r1 = r0 * np.sqrt(c0 / c1)
-    # On an asymptote (cos 2 phi0 = 0) (3.5) degenerates: the radius scales by e^{+-x}.
-    on_asym = (c0 < 1e-15) | ~np.isfinite(r1)
-    unstable_dir = np.abs(np.sin(phi0 - QPI)) < 1e-7
-    r1 = np.where(on_asym, r0 * np.exp(np.where(unstable_dir, x, -x)), r1)
+    psi0 = phi0 - QPI - np.round((phi0 - QPI) / PI) * PI
+    with np.errstate(over="ignore", under="ignore"):
+        r1 = r0 * np.exp(x) * np.hypot(np.cos(psi0), np.exp(-2.0 * x) * np.sin(psi0))
     phi2 = _angle_map(phi1, D)
-    r2 = np.sqrt(1.0 + (D * D - 1.0) * np.sin(phi1) ** 2) * r1
+    r2 = _f(phi1, D) * r1
     phi3 = phi2 - w_e * T
     r3 = r2
     phi4 = _angle_map(phi3, 1.0 / D)
-    r4 = np.sqrt(1.0 + (1.0 / (D * D) - 1.0) * np.sin(phi3) ** 2) * r3
+    r4 = _f(phi3, 1.0 / D) * r3
     return NotablePoints(r=np.stack([r0, r1, r2, r3, r4], -1), phi=np.stack([phi0, phi1, phi2, phi3, phi4], -1))
