@@ -89,7 +89,7 @@ def log_sin_delta(x, s4):
 
 
 def gamma_x(x, mu, s4):
-    """Centre gamma = (alpha + beta)/2 = pi/2 + atan(mu^2 tanh x / s4)."""
+    """Centre gamma = (alpha + beta)/2 = pi/2 + atan(mu^2 tanh x / s4) (= pi - atan2(s4, mu^2 tanh x))."""
     return 0.5 * PI + np.arctan(mu * mu * np.tanh(x) / s4)
 
 
@@ -178,7 +178,9 @@ def floquet_elliptic(x, u, D, mu):
     with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
         sd = np.sin(delta_x(x, s4))
         lsd = log_sin_delta(x, s4)
-        num = -np.sin(u - gamma_x(x, mu, s4))
+        # -sin(u - gamma) = sin(u + pi - gamma), pi - gamma = atan2(s4, mu^2 tanh x): as mu -> 1
+        # gamma -> pi and u -> 0, and forming u - gamma would leave only ulp(pi) / |u - gamma + pi|.
+        num = np.sin(u + np.arctan2(s4, mu * mu * np.tanh(x)))
         tau = np.where(sd > 0, num / np.where(sd > 0, sd, 1.0), np.copysign(np.inf, num))
         # P has the sign of a, Q the sign of b (|a/2|, |b/2| < pi/2 so the cosines are > 0).
         # n even: tau - 1 = -P, tau + 1 = -Q;  n odd: tau - 1 = Q, tau + 1 = P.
