@@ -31,6 +31,7 @@ examples:
   kapitza periods --A 100 --count 5           # T_n, T~_n of Corollary 4.1
   kapitza zones --zones 4 --out zones.csv     # edge curves as data
   kapitza chart --out chart                   # Figure-7-style chart: chart.png, chart.svg
+  kapitza chart --plane physical --l 0.5 --out rod   # zones as T vs A for a 0.5 m rod
 
 Run 'kapitza COMMAND --help' for each command's options.
 """

@@ -63,13 +63,20 @@ def register(sub):
         "so thin tongues stay visible at any zoom); 2T-periodic edges (T_n) solid, 4T-periodic edges\n"
         "(T~_n) dashed. Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.",
         epilog="examples:\n  kapitza chart --out chart\n  kapitza chart --eps-min 2.2 --eps-max 2.4 --mu-min 0 --mu-max 0.3 --out zoom\n"
-        "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set",
+        "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set\n"
+        "  kapitza chart --plane physical --l 0.5 --mark-T 0.1 --mark-A 150 --out rod",
     )
     p.add_argument("--out", default="kapitza-chart", metavar="STEM", help="output path without suffix (default kapitza-chart)")
-    p.add_argument("--eps-min", type=finite_float, default=0.0)
+    p.add_argument("--plane", choices=("arnold", "physical"), default="arnold",
+                   help="arnold: eps-mu plane (default); physical: half-period T vs amplitude A for the rod --l under --g")
+    p.add_argument("--eps-min", type=finite_float, default=0.0, help="arnold plane window (default 0..4)")
     p.add_argument("--eps-max", type=finite_float, default=4.0)
-    p.add_argument("--mu-min", type=finite_float, default=0.0)
+    p.add_argument("--mu-min", type=finite_float, default=0.0, help="arnold plane window (default 0..1)")
     p.add_argument("--mu-max", type=finite_float, default=1.0)
+    p.add_argument("--T-min", type=finite_float, default=0.0, help="physical plane window in s (default 0 .. 2.5 sqrt(l/g))")
+    p.add_argument("--T-max", type=finite_float, default=None)
+    p.add_argument("--A-min", type=finite_float, default=None, help="physical plane window in m/s^2 (default g .. 50 g)")
+    p.add_argument("--A-max", type=finite_float, default=None)
     p.add_argument("--no-G", dest="show_G", action="store_false", help="do not draw the curves G_m")
     p.add_argument("--points", type=int, default=1200, help="mu samples per edge (default 1200)")
     p.add_argument("--pdf", action="store_true", help="also write OUT.pdf")
@@ -77,8 +84,8 @@ def register(sub):
     p.add_argument("--mark-mu", type=finite_float)
     p.add_argument("--mark-T", type=finite_float, help="mark the physical point --mark-T/--mark-A (with --l, --g)")
     p.add_argument("--mark-A", type=finite_float)
-    p.add_argument("--l", type=finite_float, default=1.0, help="rod length for --mark-T/--mark-A")
-    p.add_argument("--g", type=finite_float, default=9.81, help="gravity for --mark-T/--mark-A")
+    p.add_argument("--l", type=finite_float, default=1.0, help="rod length in m, for --plane physical and --mark-T/--mark-A")
+    p.add_argument("--g", type=finite_float, default=9.81, help="gravity in m/s^2, for --plane physical and --mark-T/--mark-A")
     p.add_argument("--title", default=None)
     p.set_defaults(func=cmd_chart)
 
@@ -188,47 +195,68 @@ def cmd_zones(args):
 # ------------------------------------------------------------------ chart
 def cmd_chart(args):
     from ..figures._style import caption, new_figure, save
-    from ..figures.chart import plot_zones
+    from ..figures.chart import plot_zones, plot_zones_physical
 
-    if not (0.0 <= args.eps_min < args.eps_max):
-        raise CLIError(f"need 0 <= eps-min < eps-max; got {args.eps_min:g}, {args.eps_max:g}")
-    if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
-        raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
     if not (2 <= args.points <= 200000):
         raise CLIError(f"--points must be between 2 and 200000; got {args.points}")
     mark = None
     if args.mark_eps is not None or args.mark_mu is not None:
         if args.mark_eps is None or args.mark_mu is None:
             raise CLIError("--mark-eps and --mark-mu must be given together")
-        mark = (args.mark_eps, args.mark_mu, None)
+        rep = analyze(eps=args.mark_eps, mu=args.mark_mu)
+        mark = (rep, f"eps = {args.mark_eps:g}, mu = {args.mark_mu:g}")
     if args.mark_T is not None or args.mark_A is not None:
         if mark is not None:
             raise CLIError("give --mark-eps/--mark-mu or --mark-T/--mark-A, not both")
         if args.mark_T is None or args.mark_A is None:
             raise CLIError("--mark-T and --mark-A must be given together")
         rep = analyze(T=args.mark_T, A=args.mark_A, l=args.l, g=args.g)
-        mark = (rep.eps, rep.mu, f"T = {args.mark_T:g} s, A = {args.mark_A:g} m/s$^2$")
+        mark = (rep, f"T = {args.mark_T:g} s, A = {args.mark_A:g} m/s$^2$")
     stem = out_stem(args.out)
     fig = new_figure(8.6, 5.2)
     ax = fig.add_subplot()
-    curves = plot_zones(ax, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), show_G=args.show_G, points=args.points)
+    if args.plane == "arnold":
+        if not (0.0 <= args.eps_min < args.eps_max):
+            raise CLIError(f"need 0 <= eps-min < eps-max; got {args.eps_min:g}, {args.eps_max:g}")
+        if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
+            raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
+        curves = plot_zones(ax, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), show_G=args.show_G,
+                            points=args.points)
+        header = ["n", "mu", "eps_lo", "eps_hi"]
+        xy = (lambda r: (r.eps, r.mu))
+        what = r"$\alpha + n\pi < \omega_e T < \beta + n\pi$ (zone $n$)"
+        extra = r"; dotted: the curves $G_m$." if args.show_G else "."
+    else:
+        l, g = args.l, args.g
+        if l <= 0 or g <= 0:
+            raise CLIError(f"--l and --g must be > 0; got l={l:g}, g={g:g}")
+        T_max = args.T_max if args.T_max is not None else 2.5 * (l / g) ** 0.5
+        A_min = args.A_min if args.A_min is not None else g
+        A_max = args.A_max if args.A_max is not None else 50.0 * g
+        curves = plot_zones_physical(ax, (args.T_min, T_max), (A_min, A_max), l=l, g=g, points=args.points)
+        header = ["n", "A", "T_lo", "T_hi"]
+        xy = (lambda r: (r.T, r.A))
+        what = rf"for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$ (zone $n$)"
+        extra = r"; below $A = g$ the upright is always unstable."
     if mark is not None:
-        e, m, label = mark
-        rep = analyze(eps=e, mu=m)
-        ax.plot([e], [m], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
-                label=(label or f"eps = {e:g}, mu = {m:g}") + f": {rep.verdict.split(':')[0].split(' (')[0]}")
+        rep, label = mark
+        x, y = xy(rep) if (args.plane == "arnold" or rep.T is not None) else (None, None)
+        if x is None:
+            raise CLIError("on the physical plane mark a point with --mark-T and --mark-A")
+        ax.plot([x], [y], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
+                label=f"{label}: {rep.verdict.split(':')[0].split(' (')[0]}")
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     ax.set_title(args.title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
-    caption(fig, r"Shaded: the upright position is stable, $\alpha + n\pi < \omega_e T < \beta + n\pi$ (zone $n$). "
+    caption(fig, rf"Shaded: the upright position is stable, {what}. "
                  r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
-                 + (r"; dotted: the curves $G_m$." if args.show_G else "."))
+                 + extra)
     formats = ("png", "svg", "pdf") if args.pdf else ("png", "svg")
     paths = save(fig, stem, formats)
     import matplotlib.pyplot as plt
 
     plt.close(fig)
     data = stem.with_suffix(".csv")
-    _io.write_csv(data, ["n", "mu", "eps_lo", "eps_hi"], curves.rows(),
+    _io.write_csv(data, header, curves.rows(),
                   comments=["exact zone edges drawn in " + ", ".join(p.name for p in paths)])
     print("wrote " + ", ".join(str(p) for p in [*paths, data]))
     return 0
