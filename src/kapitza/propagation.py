@@ -73,7 +73,21 @@ def _monodromy(T, A, l, g):
     H = np.stack([np.stack([ch, sdh], -1), np.stack([dsh, ch], -1)], -2)
     E = np.stack([np.stack([ce, sde], -1), np.stack([dse, ce], -1)], -2)
     with np.errstate(over="ignore", invalid="ignore"):
-        return E @ H
+        M = E @ H
+    bad = np.isnan(M)
+    if np.any(bad):
+        # cosh overflowed and inf - inf appeared. A hyperbolic flow over r is (e^r / 2) P + O(e^-r),
+        # P = [[1, 1/w], [w, 1]], so those entries are infinite with the sign of the leading product.
+        def lead(s, F):
+            w = np.sqrt(np.abs(s))
+            one = np.ones_like(w)
+            P = np.stack([np.stack([one, 1.0 / np.where(w > 0, w, 1.0)], -1), np.stack([w, one], -1)], -2)
+            return np.where((s > 0)[..., None, None] & ~np.isfinite(F), P, F)
+
+        with np.errstate(over="ignore", invalid="ignore"):
+            sign = np.sign(lead((g - A) / l, E) @ lead((g + A) / l, H))
+        M = np.where(bad, sign * np.inf, M)
+    return M
 
 
 # ---------------------------------------------------------------- results
