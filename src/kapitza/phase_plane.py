@@ -137,7 +137,8 @@ def G_inverse(s, branch=0):
     s = _v.finite("s", s)
     if branch not in (0, -1):
         raise _v.KapitzaValueError(f"branch must be 0 or -1; got {branch!r}")
-    e = np.exp(-2.0 * s)
+    with np.errstate(over="ignore"):  # e = inf gives atan(e) = pi/2, the limit
+        e = np.exp(-2.0 * s)
     return QPI - np.arctan(e) if branch == 0 else -3.0 * QPI + np.arctan(e)
 
 
@@ -166,8 +167,8 @@ def h(phi, D):
     """
     phi = _v.finite("phi", phi)
     D = _v.positive("D", D)
-    s = np.sin(phi)
-    return np.abs(np.cos(2.0 * phi)) / (1.0 + (D * D - 1.0) * s * s)
+    # 1 + (D^2 - 1) sin^2 phi = f(phi; D)^2, formed without cancellation (D < 1, phi near pi/2)
+    return np.abs(np.cos(2.0 * phi)) / _f(phi, D) ** 2
 
 
 def phi_h(t, phi0, w_h):
@@ -208,7 +209,10 @@ def _phi_h(t, phi0, w_h):
     psi0 = phi0 - QPI - m * PI  # in [-pi/2, pi/2]
     with np.errstate(over="ignore"):
         e = np.exp(-2.0 * w_h * t)
-    return QPI + m * PI + np.arctan2(e * np.sin(psi0), np.cos(psi0))
+    sp = np.sin(psi0)
+    with np.errstate(invalid="ignore"):
+        y = np.where(sp == 0.0, 0.0, e * sp)  # on the asymptote the angle stays put for every t
+    return QPI + m * PI + np.arctan2(y, np.cos(psi0))
 
 
 @dataclass(frozen=True)

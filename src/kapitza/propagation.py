@@ -317,6 +317,9 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH):
     with np.errstate(over="ignore", invalid="ignore"):
         th = (u1 * M[..., 0, 0] - u2) * theta0 + u1 * M[..., 0, 1] * dtheta0
         dth = u1 * M[..., 1, 0] * theta0 + (u1 * M[..., 1, 1] - u2) * dtheta0
+        # M^0 = I: keep 0 * M out of the first period (M may be inf there)
+        th = np.where(k == 0, theta0, th)
+        dth = np.where(k == 0, dtheta0, dth)
         hyper = r < T
         c, sd, ds = _flow((g + A) / l, np.where(hyper, r, T))
         th, dth = _apply(c, sd, ds, th, dth)
