@@ -295,7 +295,7 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH):
     """
     t = _v.finite("t", t)
     if np.any(t < 0):
-        raise _v.KapitzaValueError(f"t must be >= 0; got {t[t < 0].flat[0]!r}")
+        raise _v.KapitzaValueError(f"t must be >= 0; got {float(t[t < 0].flat[0])!r}")
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     T = _v.positive("T", T)
