@@ -1,0 +1,190 @@
+"""Speed of the exact engine: stability_grid and zone_edges.
+
+Run by hand (``python benchmarks/bench_engine.py``); ``--tiny`` is a seconds-long smoke run
+for CI. Every figure is the median over repeats, and each comparison is measured in the
+same run:
+
+* ``stability_grid`` on 4096 x 4096 over eps in (0, 4], mu in (0, 1) -- the default call
+  (a fresh result array each repeat, discarded) and the ``out=`` variant (one buffer
+  reused) -- against a vectorised numpy evaluation of the plain trace formula
+  ``|2 cosh x cos u + (D - 1/D) sinh x sin u| < 2`` over the full grid, and against
+  numerical Floquet analysis (solve_ivp, DOP853, per point, timed on a sample and
+  extrapolated);
+* ``zone_edges`` for 10 zones x 10,000 mu values.
+"""
+from __future__ import annotations
+
+import argparse
+import datetime
+import os
+import platform
+import statistics
+import sys
+import time
+
+import numpy as np
+import scipy
+from scipy.integrate import solve_ivp
+
+import kapitza as K
+
+GRID_TARGET_S = 0.050
+EDGES_TARGET_S = 0.050
+BASELINE_MIN_RATIO = 10.0
+
+
+def median_time(fn, repeats, warmup=1):
+    """Median wall time of ``fn()`` over ``repeats`` calls (after ``warmup`` calls)."""
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), min(times), max(times)
+
+
+def grid_axes(n_eps, n_mu):
+    eps = np.linspace(0.0, 4.0, n_eps + 1)[1:]       # (0, 4]
+    mu = np.linspace(0.0, 1.0, n_mu + 2)[1:-1]       # (0, 1), both ends excluded
+    return eps, mu
+
+
+def trace_baseline(eps, mu, rows_per_chunk=256):
+    """|tr M| < 2 from the plain formula, vectorised with numpy over the whole grid
+    (in row blocks so that the temporaries stay in memory)."""
+    out = np.empty((mu.size, eps.size), dtype=bool)
+    e = eps[None, :]
+    for r0 in range(0, mu.size, rows_per_chunk):
+        m = mu[r0:r0 + rows_per_chunk, None]
+        x = 2.0 * np.sqrt(2.0) * e * np.sqrt(1.0 + m * m)
+        u = 2.0 * np.sqrt(2.0) * e * np.sqrt(1.0 - m * m)
+        D = x / u
+        tr = 2.0 * np.cosh(x) * np.cos(u) + (D - 1.0 / D) * np.sinh(x) * np.sin(u)
+        out[r0:r0 + rows_per_chunk] = np.abs(tr) < 2.0
+    return out
+
+
+def floquet_ivp(eps, mu, rtol=1e-10, atol=1e-12):
+    """|tr M| < 2 with M from solve_ivp (DOP853), one solve per column and half-period.
+
+    Time unit T = 1: theta'' = x^2 theta on [0, 1), theta'' = -u^2 theta on [1, 2)."""
+    x = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 + mu * mu)
+    u = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 - mu * mu)
+    tr = 0.0
+    for j, y0 in enumerate(([1.0, 0.0], [0.0, 1.0])):
+        y = np.array(y0)
+        for k, s in enumerate((x * x, -u * u)):
+            sol = solve_ivp(lambda t, z, s=s: [z[1], s * z[0]], (k, k + 1), y, method="DOP853", rtol=rtol, atol=atol)
+            y = sol.y[:, -1]
+        tr += y[j]
+    return abs(tr) < 2.0
+
+
+def fresh_pages(nbytes):
+    """Fill a bool array on newly mapped memory: the cost of first-touch page faults."""
+    import mmap
+
+    mm = mmap.mmap(-1, nbytes)
+    a = np.frombuffer(mm, dtype=bool)
+    a.fill(True)
+    del a
+    mm.close()
+
+
+def machine():
+    return (f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
+            f"{platform.machine()}, {os.cpu_count()} logical CPUs, {platform.platform()}")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--tiny", action="store_true", help="a seconds-long smoke run (small sizes, few repeats)")
+    args = ap.parse_args(argv)
+    tiny = args.tiny
+
+    n_grid = 64 if tiny else 4096
+    repeats = 3 if tiny else 21
+    base_repeats = 1 if tiny else 3
+    n_ivp = 4 if tiny else 40
+    n_mu_edges = 100 if tiny else 10_000
+    edge_repeats = 3 if tiny else 21
+
+    print(f"kapitza {K.__version__} engine benchmark{' (--tiny)' if tiny else ''}, "
+          f"{datetime.datetime.now().isoformat(timespec='seconds')}")
+    print(machine())
+    print()
+
+    # ------------------------------------------------------------ stability grid
+    eps, mu = grid_axes(n_grid, n_grid)
+    px = eps.size * mu.size
+    print(f"stability_grid: {mu.size} x {eps.size} = {px:,} pixels, eps in (0, 4], mu in (0, 1); "
+          f"median of {repeats} repeats")
+    t0 = time.perf_counter()
+    K.stability_grid(eps, mu)
+    t_cold = time.perf_counter() - t0
+    t_def = median_time(lambda: K.stability_grid(eps, mu), repeats)
+    buf = np.empty((mu.size, eps.size), dtype=bool)
+    t_out = median_time(lambda: K.stability_grid(eps, mu, out=buf), repeats)
+    t_alloc = median_time(lambda: np.ones((mu.size, eps.size), dtype=bool), repeats)
+    t_fresh = median_time(lambda: fresh_pages(px), min(repeats, 7), warmup=0)
+    print(f"  default call (new result array each repeat, discarded): {t_def[0] * 1e3:8.2f} ms"
+          f"  (min {t_def[1] * 1e3:.2f}, max {t_def[2] * 1e3:.2f})")
+    print(f"  out= buffer reused:                                      {t_out[0] * 1e3:8.2f} ms"
+          f"  (min {t_out[1] * 1e3:.2f}, max {t_out[2] * 1e3:.2f})")
+    print(f"  first call in this process (cold):                       {t_cold * 1e3:8.2f} ms")
+    print(f"  for scale, {px / 2**20:.0f} MiB of bools: np.ones (allocator reuses pages): {t_alloc[0] * 1e3:6.2f} ms;"
+          f" filling never-touched pages: {t_fresh[0] * 1e3:.2f} ms")
+    print("    (repeated default calls get their result memory back from the allocator; a result on")
+    print("     fresh pages -- a first call, or a new process -- pays the second figure in page faults)")
+
+    t_base = median_time(lambda: trace_baseline(eps, mu), base_repeats, warmup=0 if not tiny else 1)
+    grid = K.stability_grid(eps, mu)
+    base = trace_baseline(eps, mu)
+    differ = int(np.count_nonzero(grid != base))
+    print(f"  baseline: numpy trace formula over the full grid:        {t_base[0] * 1e3:8.2f} ms"
+          f"  (median of {base_repeats})")
+    print(f"    pixels where the baseline disagrees with the exact grid: {differ} of {px:,} "
+          f"(stable fraction {grid.mean():.4f})")
+    r_def, r_out = t_base[0] / t_def[0], t_base[0] / t_out[0]
+    print(f"  speed-up over the baseline: {r_def:.1f}x (default call), {r_out:.1f}x (out=)")
+
+    rng = np.random.default_rng(0)
+    sample = [(float(rng.choice(eps)), float(rng.choice(mu))) for _ in range(n_ivp)]
+    t0 = time.perf_counter()
+    ivp_verdicts = [floquet_ivp(e, m) for e, m in sample]
+    t_ivp = (time.perf_counter() - t0) / n_ivp
+    agree = sum(v == bool(K.is_stable(e, m)) for v, (e, m) in zip(ivp_verdicts, sample))
+    print(f"  numerical Floquet (solve_ivp DOP853, rtol 1e-10, 4 solves per point): "
+          f"{t_ivp * 1e3:.2f} ms per point on a sample of {n_ivp} ({agree}/{n_ivp} verdicts agree)")
+    print(f"    extrapolated to the grid: {t_ivp * px:,.0f} s; speed-up of stability_grid: "
+          f"{t_ivp * px / t_def[0]:,.0f}x (default call)")
+
+    # ------------------------------------------------------------ zone edges
+    mu_e = np.linspace(0.0, 1.0, n_mu_edges + 2)[1:-1]
+    n = np.arange(10)
+    print()
+    print(f"zone_edges: 10 zones x {mu_e.size:,} mu values; median of {edge_repeats} repeats")
+    t_edges = median_time(lambda: K.zone_edges(mu_e[None, :], n[:, None]), edge_repeats)
+    print(f"  zone_edges: {t_edges[0] * 1e3:8.2f} ms  (min {t_edges[1] * 1e3:.2f}, max {t_edges[2] * 1e3:.2f})"
+          f"  = {t_edges[0] / (2 * 10 * mu_e.size) * 1e9:.0f} ns per edge")
+
+    # ------------------------------------------------------------ targets
+    print()
+    if tiny:
+        print("(--tiny: sizes too small for the targets to mean anything; not checked)")
+        return 0
+    checks = [
+        (f"stability_grid 4096^2 default call <= {GRID_TARGET_S * 1e3:.0f} ms", t_def[0] <= GRID_TARGET_S),
+        (f"stability_grid 4096^2 out= <= {GRID_TARGET_S * 1e3:.0f} ms", t_out[0] <= GRID_TARGET_S),
+        (f"speed-up over the numpy trace baseline >= {BASELINE_MIN_RATIO:.0f}x (default call)", r_def >= BASELINE_MIN_RATIO),
+        (f"zone_edges 10 x 10,000 <= {EDGES_TARGET_S * 1e3:.0f} ms", t_edges[0] <= EDGES_TARGET_S),
+    ]
+    for text, ok in checks:
+        print(f"  [{'met' if ok else 'NOT MET'}] {text}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
