@@ -200,3 +200,14 @@ def test_analyze_physical_parameters_agree_with_arnold_form():
     # the zone as intervals of T (at this A) is (T_1, T~_1) of theory.md
     assert abs(rep.T_lo - 0.10910018565) < 5e-12 and abs(rep.T_hi - 0.20086632659) < 5e-12
     assert rep.A_lo < 100.0 < rep.A_hi
+
+
+@pytest.mark.slow
+def test_growth_rotation_and_verdicts_dense_sweep():
+    eps, mu = _points(99, 4000, eps_lo=1e-8, eps_hi=1000.0)
+    F = K.floquet(eps, mu)
+    for i in range(eps.size):
+        r = O.FloquetRef(eps[i], mu[i])
+        assert F.stable[i] == r.stable, (eps[i], mu[i])
+        assert _rel(F.growth[i], r.growth) <= GROWTH_RTOL, (eps[i], mu[i])
+        assert _rel(F.rotation_number[i], r.rotation_number) <= ROTATION_RTOL, (eps[i], mu[i])
