@@ -1,0 +1,41 @@
+"""Phase maps of both models, with the data the survival test needs.
+
+Twins: :func:`_linear_step` (the linear phase flows of ``docs/theory.md`` section 3,
+from :mod:`kapitza.propagation`) and :func:`kapitza.motion._elliptic._phase_step`
+(the full equation) share one signature ``(theta, dtheta, s, t) -> (theta, dtheta)``;
+the tests run one against the other at small amplitude.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..propagation import _apply, _flow
+from ._elliptic import _phase_step
+
+
+def _linear_step(theta, dtheta, s, t):
+    """Exact flow of ``theta'' = s theta`` over the time ``t``."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        c, sd, ds = _flow(np.asarray(s, float), np.asarray(t, float))
+        return _apply(c, sd, ds, theta, dtheta)
+
+
+def _linear_amplitude(theta, dtheta, w):
+    """Largest ``|theta|`` of the linear oscillation ``theta'' = -w^2 theta`` through this state."""
+    return np.hypot(theta, dtheta / w)
+
+
+def _nonlinear_amplitude(theta, dtheta, w):
+    """Largest ``|theta|`` of the libration of ``theta'' = -w^2 sin(theta)`` through this state
+    (``pi`` for a rotation): ``2 asin k`` with ``k^2 = sin^2(theta/2) + (theta'/(2w))^2``."""
+    k = np.hypot(np.sin(0.5 * theta), dtheta / (2.0 * w))
+    return 2.0 * np.arcsin(np.minimum(k, 1.0))
+
+
+STEPS = {"nonlinear": _phase_step, "linear": _linear_step}
+AMPLITUDES = {"nonlinear": _nonlinear_amplitude, "linear": _linear_amplitude}
+
+
+def phases(T, A, l, g):
+    """``(s, duration)`` of the two phases of one period: ``s = (g + a)/l``."""
+    return (((g + A) / l, T), ((g - A) / l, T))

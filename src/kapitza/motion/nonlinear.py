@@ -1,0 +1,451 @@
+"""The motion itself: ``theta(t)`` of the full and the linearised equation, exact or integrated.
+
+The full equation is ``theta'' = (g + a(t))/l sin(theta) - c theta'`` with ``theta``
+the angle from the upright, counted counter-clockwise, and ``a(t)`` the square wave
+(2.2). Without damping each phase is solved exactly in Jacobi elliptic functions
+(:mod:`kapitza.motion._elliptic`, ``docs/theory.md`` section 6): the result at any
+time is a finite sequence of closed-form phase maps, with no step-size error. The
+general path (damping, and the independent cross-check) integrates each phase with
+:func:`scipy.integrate.solve_ivp` (DOP853) and restarts at every switch, never
+stepping across the jump of ``a``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .. import _validate as _v
+from ..parameters import G_EARTH
+from ..propagation import linear_motion
+from ._elliptic import _phase_step
+from .pivot import _acceleration, _displacement, _phase_index
+
+__all__ = [
+    "phase_flow",
+    "nonlinear_motion",
+    "phase_energy",
+    "Trajectory",
+    "simulate",
+    "MODELS",
+    "METHODS",
+]
+
+#: The equations of motion: the full one and its linearisation (2.3) about the upright.
+MODELS = ("nonlinear", "linear")
+#: ``exact``: closed-form phase maps (undamped only); ``dop853``: solve_ivp, phase by phase.
+METHODS = ("exact", "dop853")
+
+_EPS = np.finfo(float).eps
+
+
+# ------------------------------------------------------------------ validation helpers
+def _choice(name, value, allowed):
+    if value not in allowed:
+        raise _v.KapitzaValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
+    return value
+
+
+def _damping(c):
+    c = _v.finite("c", c)
+    if np.any(c < 0):
+        raise _v.KapitzaValueError(f"c must be finite and >= 0 (0 <= c < inf); got {c[c < 0].flat[0]!r}")
+    return c
+
+
+def _tolerances(rtol, atol):
+    rtol = float(_v.in_range("rtol", rtol, 1e-13, 1.0, lo_open=False))
+    atol = float(_v.positive("atol", atol))
+    return rtol, atol
+
+
+def _method(method, c, model="nonlinear"):
+    if method is None:
+        return "exact" if not np.any(c > 0) else "dop853"
+    _choice("method", method, METHODS)
+    if method == "exact" and np.any(c > 0):
+        raise _v.KapitzaValueError(
+            f"method='exact' solves the undamped motion only; got c = {float(np.max(c))!r} "
+            "(use method='dop853' for damping)")
+    return method
+
+
+def _physical(T, A, l, g):
+    return (_v.positive("T", T), _v.positive("A", A), _v.positive("l", l), _v.positive("g", g))
+
+
+def _times(t):
+    t = _v.finite("t", t)
+    if np.any(t < 0):
+        raise _v.KapitzaValueError(f"t must be >= 0 (0 <= t < inf); got {t[t < 0].flat[0]!r}")
+    return t
+
+
+# ------------------------------------------------------------------ one phase
+def phase_flow(t, theta0, dtheta0, s):
+    """Exact flow of one phase, the autonomous pendulum ``theta'' = s sin(theta)``.
+
+    Parameters
+    ----------
+    t : array_like
+        Duration [s], any sign (the flow is reversible).
+    theta0, dtheta0 : array_like
+        Initial angle from the upright [rad] (any real; turns are kept, not
+        wrapped) and angular velocity [rad/s].
+    s : array_like
+        ``(g + a)/l`` [1/s^2]: ``w_h^2 > 0`` in the hyperbolic phase (the upright
+        is a saddle), ``-w_e^2 < 0`` in the elliptic one (the upright is the
+        bottom of the potential), 0 for free flight. All arguments broadcast.
+
+    Returns
+    -------
+    theta, dtheta : ndarray
+        The state after the time ``t``.
+
+    Notes
+    -----
+    ``docs/theory.md`` section 6. With ``q = theta`` (``s < 0``) or
+    ``q = theta + pi`` (``s > 0``) this is ``q'' = -w^2 sin q``; the state
+    ``(sin(q/2), q'/(2w), cos(q/2)) = (k sn a, k cn a, dn a)`` is advanced by the
+    addition theorems of the Jacobi functions of ``w t``. Librating (``k < 1``),
+    rotating (``k > 1``, reciprocal modulus) and separatrix (``k = 1``,
+    ``tanh``/``sech``) motions are all covered; ``1 - k^2`` is computed as a
+    product and drives the functions near ``k = 1`` through the complementary
+    nome (see :mod:`kapitza.motion._elliptic`).
+    """
+    t = _v.finite("t", t)
+    theta0 = _v.finite("theta0", theta0)
+    dtheta0 = _v.finite("dtheta0", dtheta0)
+    s = _v.finite("s", s)
+    t, theta0, dtheta0, s = np.broadcast_arrays(t, theta0, dtheta0, s)
+    back = t < 0
+    # Time reversal: run the mirrored state forward and mirror back.
+    om = np.where(back, -dtheta0, dtheta0)
+    th1, om1 = _phase_step(theta0, om, s, np.abs(t))
+    return th1, np.where(back, -om1, om1)
+
+
+# ------------------------------------------------------------------ exact, piecewise
+def _exact_motion(t, theta0, dtheta0, T, A, l, g):
+    """Trusted input, broadcast together; undamped, closed-form phase maps."""
+    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape, T.shape, A.shape, l.shape, g.shape)
+    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape, T.shape, A.shape, l.shape, g.shape)
+    th, om, Tp, Ap, lp, gp = (np.broadcast_to(a, traj).ravel() for a in (theta0, dtheta0, T, A, l, g))
+    th, om = th.copy(), om.copy()
+    s_h = (gp + Ap) / lp
+    s_e = (gp - Ap) / lp
+    ic = np.broadcast_to(np.arange(th.size).reshape(traj), full).ravel()
+    tf = np.broadcast_to(t, full).ravel()
+    j, r = _phase_index(tf, Tp[ic])
+    order = np.argsort(j, kind="stable")
+    js = j[order]
+    last = int(js[-1]) if js.size else 0
+    out_th = np.empty(tf.size)
+    out_om = np.empty(tf.size)
+    lo = 0
+    for p in range(last + 1):
+        hi = int(np.searchsorted(js, p, side="right"))
+        s = s_h if p % 2 == 0 else s_e
+        if hi > lo:
+            sel = order[lo:hi]
+            k = ic[sel]
+            th1, om1 = _phase_step(th[k], om[k], s[k], r[sel])
+            # At a switch itself the state is the boundary state, not a zero-length step of it.
+            at = r[sel] == 0.0
+            out_th[sel] = np.where(at, th[k], th1)
+            out_om[sel] = np.where(at, om[k], om1)
+            lo = hi
+        if p < last:
+            th, om = _phase_step(th, om, s, Tp)
+    return out_th.reshape(full), out_om.reshape(full)
+
+
+# ------------------------------------------------------------------ DOP853, piecewise
+def _chunk_size(rtol):
+    """Trajectories per solve_ivp call such that the solver's RMS error norm over the
+    ``2n`` components bounds every component by ``rtol`` (it is ``sqrt(2n)`` looser),
+    while keeping the tolerance handed to scipy above its floor of ``100 eps``."""
+    n = int((rtol / (100.0 * _EPS)) ** 2 / 2.0)
+    return max(1, min(256, n))
+
+
+def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
+    """DOP853 phase by phase. ``t``: sorted unique 1-D times >= 0; ``theta0``, ``dtheta0``:
+    1-D; parameters scalars. Returns arrays ``(len(t), n)``."""
+    n_all = theta0.size
+    out_th = np.empty((t.size, n_all))
+    out_om = np.empty((t.size, n_all))
+    if t.size == 0:
+        return out_th, out_om
+    t_end = float(t[-1])
+    n_phases = int(np.floor(t_end / T)) + 1
+    chunk = _chunk_size(rtol)
+    for a in range(0, n_all, chunk):
+        b = min(a + chunk, n_all)
+        n = b - a
+        scale = 1.0 / np.sqrt(2.0 * n)
+        y = np.concatenate([theta0[a:b], dtheta0[a:b]])
+        for p in range(n_phases):
+            t0 = p * T
+            t1 = min((p + 1) * T, t_end) if p == n_phases - 1 else (p + 1) * T
+            s = (g + A) / l if p % 2 == 0 else (g - A) / l
+            lo = np.searchsorted(t, t0, side="left")
+            hi = np.searchsorted(t, t1, side="right") if p == n_phases - 1 else np.searchsorted(t, t1, side="left")
+            if linear:
+                def rhs(_, z, s=s):
+                    return np.concatenate([z[n:], s * z[:n] - c * z[n:]])
+            else:
+                def rhs(_, z, s=s):
+                    return np.concatenate([z[n:], s * np.sin(z[:n]) - c * z[n:]])
+            if t1 > t0:
+                sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol * scale, atol=atol * scale,
+                                t_eval=t[lo:hi] if hi > lo else None)
+                if sol.status != 0:
+                    raise RuntimeError(f"DOP853 failed on [{t0:g}, {t1:g}] s: {sol.message}")
+                if hi > lo:
+                    out_th[lo:hi, a:b] = sol.y[:n].T
+                    out_om[lo:hi, a:b] = sol.y[n:].T
+                y = sol.y[:, -1] if hi <= lo or sol.t[-1] == t1 else _last_state(rhs, t0, t1, y, rtol * scale, atol * scale)
+            elif hi > lo:
+                out_th[lo:hi, a:b] = y[:n]
+                out_om[lo:hi, a:b] = y[n:]
+    return out_th, out_om
+
+
+def _last_state(rhs, t0, t1, y, rtol, atol):
+    sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol, atol=atol)
+    return sol.y[:, -1]
+
+
+def _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
+    """Any broadcastable ``t`` and initial states; scalar parameters."""
+    for name, v in (("T", T), ("A", A), ("l", l), ("g", g), ("c", c)):
+        if np.size(v) != 1:
+            raise _v.KapitzaValueError(f"method='dop853' needs a single parameter set; got {name} of shape {np.shape(v)}")
+    T, A, l, g, c = (float(np.asarray(v).flat[0]) for v in (T, A, l, g, c))
+    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape)
+    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape)
+    th0 = np.broadcast_to(theta0, traj).ravel()
+    om0 = np.broadcast_to(dtheta0, traj).ravel()
+    tu, inv = np.unique(np.broadcast_to(t, full).ravel(), return_inverse=True)
+    Y, W = _integrate(tu, th0, om0, T, A, l, g, c, rtol, atol, linear)
+    ic = np.broadcast_to(np.arange(th0.size).reshape(traj), full).ravel()
+    return Y[inv.ravel(), ic].reshape(full), W[inv.ravel(), ic].reshape(full)
+
+
+def nonlinear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, c=0.0, method=None, rtol=1e-10, atol=1e-12):
+    """Motion of the full equation ``theta'' = (g + a(t))/l sin(theta) - c theta'``.
+
+    Parameters
+    ----------
+    t : array_like
+        Times ``>= 0`` [s], any shape and order.
+    theta0, dtheta0 : array_like
+        Angle from the upright [rad] and angular velocity [rad/s] at ``t = 0``, the
+        start of a hyperbolic phase (``a = +A``).
+    T, A, l, g : array_like
+        Drive half-period [s], acceleration amplitude [m/s^2], rod length [m],
+        gravity [m/s^2]; each > 0 (``A <= g`` is accepted: the second phase is then
+        hyperbolic or free flight). All arguments broadcast together.
+    c : float, optional
+        Linear damping coefficient [1/s], ``>= 0``.
+    method : {None, 'exact', 'dop853'}
+        ``'exact'``: closed-form phase maps (``c = 0`` only). ``'dop853'``: scipy's
+        DOP853 restarted at every switch (scalar parameters only). ``None``:
+        ``'exact'`` when ``c = 0``, else ``'dop853'``.
+    rtol, atol : float, optional
+        Tolerances of ``'dop853'``, met by every component: for an ensemble the
+        solver's RMS norm is tightened by ``sqrt(2n)``. ``rtol >= 1e-13``.
+
+    Returns
+    -------
+    theta, dtheta : ndarray
+        Of the broadcast shape. ``theta`` is not wrapped: a full turn adds
+        ``2 pi``.
+
+    Notes
+    -----
+    ``docs/theory.md`` sections 1 and 6. The exact path maps the state through
+    each whole phase with :func:`phase_flow` and finishes the current phase from
+    its start, so the error does not grow with the number of steps taken: there
+    are none.
+    """
+    t = _times(t)
+    theta0 = _v.finite("theta0", theta0)
+    dtheta0 = _v.finite("dtheta0", dtheta0)
+    T, A, l, g = _physical(T, A, l, g)
+    c = _damping(c)
+    method = _method(method, c)
+    if method == "exact":
+        return _exact_motion(t, theta0, dtheta0, T, A, l, g)
+    rtol, atol = _tolerances(rtol, atol)
+    return _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol)
+
+
+def phase_energy(t, theta, dtheta, T, A, l=1.0, g=G_EARTH):
+    """The energy of the current phase, ``theta'^2/2 + (g + a(t))/l cos(theta)`` [1/s^2].
+
+    Parameters
+    ----------
+    t : array_like
+        Times [s].
+    theta, dtheta : array_like
+        States at those times.
+    T, A, l, g : array_like
+        As in :func:`nonlinear_motion`. All arguments broadcast.
+
+    Returns
+    -------
+    ndarray
+        Constant within each undamped phase; with damping ``c`` its rate is
+        ``-c theta'^2 <= 0``. It jumps at the switches, where ``a`` does.
+
+    Notes
+    -----
+    Energy per unit ``m l^2`` in the frame of the pivot, where gravity is
+    ``g + a(t)``: ``d/dt (theta'^2/2 + s cos theta) = theta' (theta'' - s sin theta)``.
+    """
+    t = _v.finite("t", t)
+    theta = _v.finite("theta", theta)
+    dtheta = _v.finite("dtheta", dtheta)
+    T, A, l, g = _physical(T, A, l, g)
+    s = (g + _acceleration(t, T, A)) / l
+    return 0.5 * dtheta * dtheta + s * np.cos(theta)
+
+
+# ------------------------------------------------------------------ a trajectory
+@dataclass(frozen=True)
+class Trajectory:
+    """One simulated motion, sampled at the times ``t``.
+
+    Attributes
+    ----------
+    t, theta, dtheta : ndarray, shape ``(n,)``
+        Times [s], angle from the upright [rad, unwrapped] and angular velocity [rad/s].
+    theta0, dtheta0 : float
+        Initial state at ``t = 0`` (start of a hyperbolic phase).
+    T, A, l, g, c : float
+        Parameters (``c``: damping [1/s]).
+    model : str
+        ``'nonlinear'`` or ``'linear'``.
+    method : str
+        ``'exact'`` or ``'dop853'``.
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    dtheta: np.ndarray
+    theta0: float
+    dtheta0: float
+    T: float
+    A: float
+    l: float
+    g: float
+    c: float = 0.0
+    model: str = "nonlinear"
+    method: str = "exact"
+    rtol: float = field(default=1e-10, repr=False)
+    atol: float = field(default=1e-12, repr=False)
+
+    @property
+    def pivot(self) -> np.ndarray:
+        """Pivot height above its mean position [m] at ``t`` (:func:`pivot_displacement`)."""
+        return _displacement(self.t, self.T, self.A)
+
+    @property
+    def energy(self) -> np.ndarray:
+        """:func:`phase_energy` along the samples (nonlinear model)."""
+        s = (self.g + _acceleration(self.t, self.T, self.A)) / self.l
+        return 0.5 * self.dtheta**2 + s * np.cos(self.theta)
+
+    @property
+    def periods(self) -> float:
+        """Duration in drive periods ``2T``."""
+        return float(self.t[-1] / (2.0 * self.T)) if self.t.size else 0.0
+
+    def at(self, t):
+        """The same motion (same model and method) at other times ``t >= 0``."""
+        return _motion(self.model, self.method, _times(t), self.theta0, self.dtheta0,
+                       self.T, self.A, self.l, self.g, self.c, self.rtol, self.atol)
+
+    def strobe(self):
+        """``(t_k, theta_k, dtheta_k)`` at ``t_k = 2 k T`` within the sampled span."""
+        k = np.arange(int(np.floor(self.t[-1] / (2.0 * self.T) + 1e-12)) + 1)
+        tk = 2.0 * self.T * k
+        th, om = self.at(tk)
+        return tk, th, om
+
+    def as_rows(self):
+        """``(t, theta, dtheta, pivot)`` rows for CSV."""
+        return zip(self.t, self.theta, self.dtheta, self.pivot)
+
+
+def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol):
+    if model == "linear":
+        if method == "exact":
+            return linear_motion(t, theta0, dtheta0, T, A, l, g)
+        return _integrated_motion(t, np.asarray(theta0, float), np.asarray(dtheta0, float),
+                                  T, A, l, g, c, rtol, atol, linear=True)
+    if method == "exact":
+        return _exact_motion(t, *(np.asarray(v, float) for v in (theta0, dtheta0, T, A, l, g)))
+    return _integrated_motion(t, np.asarray(theta0, float), np.asarray(dtheta0, float),
+                              T, A, l, g, c, rtol, atol)
+
+
+def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_per_period=200, t=None,
+             model="nonlinear", c=0.0, method=None, rtol=1e-10, atol=1e-12) -> Trajectory:
+    """Simulate one motion from ``(theta0, dtheta0)`` and sample it.
+
+    Parameters
+    ----------
+    theta0, dtheta0 : float
+        Initial angle from the upright [rad] and angular velocity [rad/s].
+    T, A, l, g : float
+        As in :func:`nonlinear_motion`.
+    periods : float, optional
+        Duration in drive periods ``2T`` (ignored when ``t`` is given); > 0.
+    points_per_period : int, optional
+        Samples per period ``2T``, evenly spaced (>= 4).
+    t : array_like, optional
+        Explicit sample times ``>= 0``, increasing.
+    model : {'nonlinear', 'linear'}
+        The full equation, or its linearisation (2.3) (exact:
+        :func:`kapitza.linear_motion`).
+    c : float, optional
+        Damping [1/s], ``>= 0`` (then ``method='dop853'``).
+    method : {None, 'exact', 'dop853'}
+        As in :func:`nonlinear_motion`.
+    rtol, atol : float, optional
+        Tolerances of ``'dop853'``.
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    OverflowError
+        For the linear model, where the motion grows beyond a double.
+    """
+    theta0 = float(_v.finite("theta0", theta0))
+    dtheta0 = float(_v.finite("dtheta0", dtheta0))
+    T, A, l, g = (float(v) for v in _physical(T, A, l, g))
+    c = float(_damping(c))
+    _choice("model", model, MODELS)
+    method = _method(method, c, model)
+    rtol, atol = _tolerances(rtol, atol)
+    if t is None:
+        periods = float(_v.positive("periods", periods))
+        ppp = int(_v.nonnegative_int("points_per_period", points_per_period, minimum=4))
+        n = int(np.ceil(periods * ppp))
+        if n > 20_000_000:
+            raise _v.KapitzaValueError(f"periods * points_per_period must be <= 2e7; got {n}")
+        t = np.linspace(0.0, 2.0 * T * periods, n + 1)
+    else:
+        t = _times(t).ravel()
+        if t.size and np.any(np.diff(t) < 0):
+            raise _v.KapitzaValueError("t must be increasing")
+    th, om = _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol)
+    return Trajectory(t=t, theta=np.asarray(th), dtheta=np.asarray(om), theta0=theta0, dtheta0=dtheta0,
+                      T=T, A=A, l=l, g=g, c=c, model=model, method=method, rtol=rtol, atol=atol)

@@ -1,0 +1,133 @@
+"""Where the pivot is: the square-wave acceleration (2.2) and its integrals.
+
+The pivot moves vertically with acceleration ``a(t) = +A`` on ``[2kT, (2k+1)T)`` and
+``-A`` on ``[(2k+1)T, (2k+2)T)``. Its velocity and displacement are the periodic,
+zero-mean integrals of ``a``: the displacement is a parabola in each phase, lowest
+(``-A T^2/8``) at the middle of the hyperbolic phase and highest (``+A T^2/8``) at
+the middle of the elliptic one, so the stroke is ``A T^2 / 4``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _validate as _v
+
+__all__ = ["pivot_acceleration", "pivot_velocity", "pivot_displacement", "pivot_stroke"]
+
+
+def _phase_index(t, T):
+    """Phase index ``j = floor(t/T)`` (even: ``a = +A``) and the time ``r`` into it, ``0 <= r < T``.
+
+    The one rule by which every part of the package decides which phase a time is in,
+    so that a time a rounding error from a switch is never put in two phases.
+    """
+    j = np.floor(t / T)
+    r = t - j * T
+    over = r >= T
+    j = np.where(over, j + 1.0, j)
+    r = np.where(over, r - T, np.maximum(r, 0.0))
+    return j, r
+
+
+def _phase_time(t, T):
+    """Time in ``[0, 2T)`` since the start of the current period, consistent with :func:`_phase_index`."""
+    j, r = _phase_index(t, T)
+    return np.where(np.mod(j, 2.0) == 0.0, r, r + T)
+
+
+def _acceleration(t, T, A):
+    j, _ = _phase_index(t, T)
+    return np.where(np.mod(j, 2.0) == 0.0, A, -A)
+
+
+def _velocity(t, T, A):
+    r = _phase_time(t, T)
+    return np.where(r < T, A * (r - 0.5 * T), -A * (r - 1.5 * T))
+
+
+def _displacement(t, T, A):
+    r = _phase_time(t, T)
+    quarter = 0.125 * A * T * T
+    return np.where(r < T, 0.5 * A * (r - 0.5 * T) ** 2 - quarter, quarter - 0.5 * A * (r - 1.5 * T) ** 2)
+
+
+def _checked(t, T, A):
+    t = _v.finite("t", t)
+    T = _v.positive("T", T)
+    A = _v.positive("A", A)
+    return np.broadcast_arrays(t, T, A)
+
+
+def pivot_acceleration(t, T, A):
+    """The pivot's acceleration ``a(t)`` [m/s^2] (eq. 2.2).
+
+    Parameters
+    ----------
+    t : array_like
+        Times [s] (any real; the drive is periodic).
+    T, A : array_like
+        Half-period [s] and amplitude [m/s^2], each > 0. All arguments broadcast.
+
+    Returns
+    -------
+    ndarray
+        ``+A`` on ``[2kT, (2k+1)T)``, ``-A`` on ``[(2k+1)T, (2k+2)T)``.
+    """
+    return _acceleration(*_checked(t, T, A))
+
+
+def pivot_velocity(t, T, A):
+    """The pivot's velocity [m/s]: periodic, zero mean, ``d/dt`` of it is ``a(t)``.
+
+    Parameters
+    ----------
+    t, T, A : array_like
+        As in :func:`pivot_acceleration`.
+
+    Returns
+    -------
+    ndarray
+        ``A (t - T/2)`` on the hyperbolic phase, ``-A (t - 3T/2)`` on the elliptic one
+        (``t`` taken modulo ``2T``).
+    """
+    return _velocity(*_checked(t, T, A))
+
+
+def pivot_displacement(t, T, A):
+    """The pivot's height [m] above its mean position: periodic, zero mean, piecewise parabolic.
+
+    Parameters
+    ----------
+    t, T, A : array_like
+        As in :func:`pivot_acceleration`.
+
+    Returns
+    -------
+    ndarray
+        ``A (t - T/2)^2 / 2 - A T^2/8`` on ``[0, T)`` and ``A T^2/8 - A (t - 3T/2)^2 / 2``
+        on ``[T, 2T)`` (``t`` modulo ``2T``); continuous with a continuous first
+        derivative, second derivative ``a(t)``.
+
+    Notes
+    -----
+    The two integration constants are fixed by periodicity of the velocity and a
+    zero mean of the displacement over one period.
+    """
+    return _displacement(*_checked(t, T, A))
+
+
+def pivot_stroke(T, A):
+    """Peak-to-peak travel of the pivot, ``A T^2 / 4`` [m].
+
+    Parameters
+    ----------
+    T, A : array_like
+        Each > 0; broadcast together.
+
+    Returns
+    -------
+    ndarray
+    """
+    T = _v.positive("T", T)
+    A = _v.positive("A", A)
+    return 0.25 * A * T * T

@@ -1,0 +1,182 @@
+"""The stroboscopic map: ensembles of initial states, seen once per drive period ``2T``.
+
+Sampled at ``t = 2kT`` the motion is a map of the plane. For the undamped pendulum
+it is the composition of the two exact phase flows (``docs/theory.md`` section 6),
+evaluated on whole numpy arrays at once; its linearisation at the upright is the
+monodromy matrix ``M`` (section 3). Large ensembles are cut into cache-sized chunks,
+optionally spread over worker processes.
+"""
+from __future__ import annotations
+
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate as _v
+from ..parameters import G_EARTH
+from ._maps import STEPS, phases
+from .nonlinear import MODELS, _choice, _damping, _integrated_motion, _method, _physical, _tolerances
+
+__all__ = ["StrobeOrbits", "stroboscopic_map"]
+
+
+@dataclass(frozen=True)
+class StrobeOrbits:
+    """Ensemble states at the recorded periods.
+
+    Attributes
+    ----------
+    n : ndarray of int, shape ``(m,)``
+        Period numbers ``k`` recorded (times ``2kT``), starting with 0.
+    theta, dtheta : ndarray, shape ``(m, *shape)``
+        Angle [rad, unwrapped] and angular velocity [rad/s] of every member at
+        each recorded period; ``shape`` is that of the initial states.
+    T, A, l, g, c : float
+        Parameters.
+    model : str
+    """
+
+    n: np.ndarray
+    theta: np.ndarray
+    dtheta: np.ndarray
+    T: float
+    A: float
+    l: float
+    g: float
+    c: float = 0.0
+    model: str = "nonlinear"
+
+    @property
+    def t(self) -> np.ndarray:
+        """Times ``2 k T`` of the records [s]."""
+        return 2.0 * self.T * self.n
+
+    @property
+    def final(self):
+        """``(theta, dtheta)`` after the last period."""
+        return self.theta[-1], self.dtheta[-1]
+
+
+def _record_list(periods, every):
+    if every is None:
+        n = [0, periods] if periods > 0 else [0]
+    else:
+        n = list(range(0, periods + 1, every))
+        if n[-1] != periods:
+            n.append(periods)
+    return np.asarray(n, dtype=np.int64)
+
+
+def _map_chunk(theta, dtheta, plan, record, model):
+    """Iterate the period map on one chunk; ``plan``: the two ``(s, duration)`` phases."""
+    step = STEPS[model]
+    out_th = np.empty((record.size, theta.size))
+    out_om = np.empty((record.size, theta.size))
+    th, om = theta.copy(), dtheta.copy()
+    i = 0
+    if record[0] == 0:
+        out_th[0], out_om[0] = th, om
+        i = 1
+    for k in range(1, int(record[-1]) + 1):
+        for s, dur in plan:
+            th, om = step(th, om, s, dur)
+        if k == record[i]:
+            out_th[i], out_om[i] = th, om
+            i += 1
+    return out_th, out_om
+
+
+def stroboscopic_map(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=1, every=None, model="nonlinear",
+                     c=0.0, method=None, rtol=1e-10, atol=1e-12, chunk=16384, workers=1, progress=None):
+    """Map an ensemble of initial states over ``periods`` drive periods ``2T``.
+
+    Parameters
+    ----------
+    theta0, dtheta0 : array_like
+        Initial angles from the upright [rad] and angular velocities [rad/s] at
+        ``t = 0``; broadcast together to the ensemble's shape.
+    T, A, l, g : float
+        Half-period [s], amplitude [m/s^2], rod length [m], gravity [m/s^2]; > 0.
+    periods : int, optional
+        Number of periods, ``>= 0``.
+    every : int, optional
+        Record every ``every``-th period (and the last); by default only the
+        initial and the final states are kept.
+    model : {'nonlinear', 'linear'}
+    c : float, optional
+        Damping [1/s]; ``c > 0`` uses DOP853 (``method='dop853'``).
+    method : {None, 'exact', 'dop853'}
+        As in :func:`kapitza.motion.nonlinear_motion`.
+    rtol, atol : float, optional
+        Tolerances of ``'dop853'``.
+    chunk : int, optional
+        Members mapped together (the arrays then stay in cache).
+    workers : int, optional
+        Worker processes for the exact map (1: none).
+    progress : callable, optional
+        ``progress(done, total)`` is called as chunks finish.
+
+    Returns
+    -------
+    StrobeOrbits
+
+    Raises
+    ------
+    OverflowError
+        For the linear model, where a member grows beyond the range of a double.
+
+    Notes
+    -----
+    Each period is ``H`` then ``E`` (the hyperbolic, then the elliptic phase,
+    (2.4)-(2.5) for the linear model and their nonlinear counterparts); with
+    ``method='exact'`` it has no step-size error, so the map may be iterated for
+    as long as the motion's own sensitivity allows.
+    """
+    theta0 = _v.finite("theta0", theta0)
+    dtheta0 = _v.finite("dtheta0", dtheta0)
+    theta0, dtheta0 = np.broadcast_arrays(theta0, dtheta0)
+    T, A, l, g = (float(np.asarray(v).flat[0]) if np.size(v) == 1 else v for v in _physical(T, A, l, g))
+    for name, v in (("T", T), ("A", A), ("l", l), ("g", g)):
+        if not isinstance(v, float):
+            raise _v.KapitzaValueError(f"{name} must be a single value for the stroboscopic map; got shape {np.shape(v)}")
+    periods = int(_v.nonnegative_int("periods", periods))
+    if every is not None:
+        every = int(_v.nonnegative_int("every", every, minimum=1))
+    _choice("model", model, MODELS)
+    c = float(_damping(c))
+    method = _method(method, c)
+    chunk = int(_v.nonnegative_int("chunk", chunk, minimum=1))
+    workers = int(_v.nonnegative_int("workers", workers, minimum=1))
+    shape = theta0.shape
+    th0 = np.ascontiguousarray(theta0, dtype=float).ravel()
+    om0 = np.ascontiguousarray(dtheta0, dtype=float).ravel()
+    record = _record_list(periods, every)
+    if method == "dop853":
+        rtol, atol = _tolerances(rtol, atol)
+        th, om = _integrated_motion(2.0 * T * record[:, None], th0[None, :], om0[None, :], T, A, l, g, c,
+                                    rtol, atol, linear=(model == "linear"))
+    else:
+        plan = phases(T, A, l, g)
+        bounds = [(a, min(a + chunk, th0.size)) for a in range(0, th0.size, chunk)]
+        th = np.empty((record.size, th0.size))
+        om = np.empty((record.size, th0.size))
+        total = len(bounds)
+        if workers > 1 and total > 1:
+            with ProcessPoolExecutor(max_workers=workers) as pool:
+                futures = [pool.submit(_map_chunk, th0[a:b], om0[a:b], plan, record, model) for a, b in bounds]
+                for i, ((a, b), f) in enumerate(zip(bounds, futures)):
+                    th[:, a:b], om[:, a:b] = f.result()
+                    if progress is not None:
+                        progress(i + 1, total)
+        else:
+            for i, (a, b) in enumerate(bounds):
+                th[:, a:b], om[:, a:b] = _map_chunk(th0[a:b], om0[a:b], plan, record, model)
+                if progress is not None:
+                    progress(i + 1, total)
+    bad = ~(np.isfinite(th) & np.isfinite(om))
+    if bad.any():
+        k, i = np.argwhere(bad)[0]
+        raise OverflowError(f"the motion grows beyond the range of a double (member {int(i)}, period {int(record[k])})")
+    return StrobeOrbits(n=record, theta=th.reshape((record.size,) + shape), dtheta=om.reshape((record.size,) + shape),
+                        T=T, A=A, l=l, g=g, c=c, model=model)
