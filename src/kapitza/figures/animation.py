@@ -1,0 +1,289 @@
+"""Animation of the pendulum on its vibrating pivot (GIF, or MP4 when ffmpeg is present).
+
+The state at every frame is evaluated exactly at the frame's time (for the undamped
+pendulum: the closed-form phase maps), never interpolated between samples. The
+pivot moves on its zero-mean parabolic path (:func:`kapitza.motion.pivot_displacement`);
+``theta`` is counted counter-clockwise from the upright, so ``theta > 0`` leans the
+rod to the left, as in the paper's figure of the pendulum.
+"""
+from __future__ import annotations
+
+import shutil
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import matplotlib.pyplot as plt
+from matplotlib import animation as mpl_animation
+
+from .. import _validate as _v
+from .._io import atomic_path
+from ..motion.pivot import _acceleration, _displacement
+from .motion import LINEAR_STYLE, NONLINEAR_STYLE, WINDOW_STYLE, parameter_label
+
+__all__ = ["ProgressBar", "AnimationResult", "animate", "ffmpeg_available", "frame_times", "MAX_FRAMES"]
+
+#: Refuse renders longer than this many frames.
+MAX_FRAMES = 20000
+
+
+class ProgressBar:
+    """A one-line progress bar on standard error: ``label [#####.....]  45%  90/200``.
+
+    Call it as ``bar(done, total)`` (``done`` counts from 1) or pass it as
+    matplotlib's ``progress_callback`` through :meth:`frame_callback`.
+    """
+
+    def __init__(self, label="", stream=None, width=30, enabled=True):
+        self.label = label
+        self.stream = stream if stream is not None else sys.stderr
+        self.width = width
+        self.enabled = enabled
+        self._last = -1
+        self._start = time.monotonic()
+        self._shown = -1.0
+
+    def __call__(self, done, total):
+        if not self.enabled or total <= 0:
+            return
+        pct = int(100 * done / total)
+        now = time.monotonic()
+        # Redraw on each new percent but at most ~5 times a second, and always at the end.
+        if done != total and (pct == self._last or now - self._shown < 0.2):
+            return
+        self._last = pct
+        self._shown = now
+        fill = int(self.width * done / total)
+        elapsed = now - self._start
+        eta = elapsed / done * (total - done) if done else 0.0
+        tail = f" ~{eta:.0f} s left" if done < total else f" {elapsed:.1f} s"
+        self.stream.write(f"\r{self.label} [{'#' * fill}{'.' * (self.width - fill)}] {pct:3d}%  {done}/{total}{tail}   ")
+        if done >= total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+    def frame_callback(self, current, total):
+        """matplotlib's ``progress_callback(current_frame, total_frames)`` (0-based)."""
+        self(current + 1, total)
+
+
+@dataclass(frozen=True)
+class AnimationResult:
+    """What was written.
+
+    Attributes
+    ----------
+    path : Path
+        The file (``.gif`` or ``.mp4``).
+    frames : int
+        Frames in the file.
+    fps : float
+        Frames per second of playback.
+    slowdown : float
+        Seconds of playback per second of motion.
+    format : str
+        ``'gif'`` or ``'mp4'``.
+    message : str
+        Empty, or why the format differs from the one asked for.
+    """
+
+    path: Path
+    frames: int
+    fps: float
+    slowdown: float
+    format: str
+    message: str = ""
+
+
+class _BlitPillowWriter(mpl_animation.PillowWriter):
+    """:class:`matplotlib.animation.PillowWriter` that takes each frame from the canvas as
+    drawn (static background plus the moving artists) instead of re-rendering the figure."""
+
+    def grab_frame(self, **savefig_kwargs):
+        from PIL import Image
+
+        canvas = self.fig.canvas
+        w, h = canvas.get_width_height(physical=True)
+        self._frames.append(Image.frombuffer("RGBA", (w, h), bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1))
+
+
+def ffmpeg_available() -> bool:
+    """Whether matplotlib can write MP4 here (an ``ffmpeg`` executable is found)."""
+    return bool(mpl_animation.writers.is_available("ffmpeg")) and shutil.which(plt.rcParams["animation.ffmpeg_path"]) is not None
+
+
+def default_slowdown(T, fps):
+    """Playback seconds per second of motion so that one drive period ``2T`` spans >= 24 frames."""
+    return max(1.0, 24.0 / (2.0 * T * fps))
+
+
+def frame_times(duration, fps, slowdown):
+    """Times of the frames [s of motion]: ``k / (fps * slowdown)`` up to ``duration``."""
+    n = int(np.floor(duration * fps * slowdown + 1e-9)) + 1
+    return np.arange(n) / (fps * slowdown)
+
+
+def _scene_limits(l, stroke):
+    half = 0.5 * stroke
+    r = 1.12 * l
+    return (-r, r), (-r - half, r + half)
+
+
+def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, format=None, linear=None,
+            tol=None, title=None) -> AnimationResult:
+    """Render a :class:`kapitza.motion.Trajectory` as an animation.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        The motion; its whole duration is rendered.
+    path : str or Path
+        Output file; ``.gif`` or ``.mp4`` (MP4 needs ffmpeg: without it a GIF is
+        written beside, and :attr:`AnimationResult.message` says so).
+    fps : float, optional
+        Playback frames per second (1 to 60).
+    slowdown : float, optional
+        Playback seconds per second of motion (>= 1 slows it down); by default one
+        drive period spans at least 24 frames, so the vibration is not aliased.
+    dpi : int, optional
+        Resolution (the figure is 9 x 4.6 inches).
+    progress : callable or bool, optional
+        ``True``: a :class:`ProgressBar` on standard error; a callable is called
+        as ``progress(done, total)``.
+    format : {None, 'gif', 'mp4'}
+        Overrides the suffix of ``path``.
+    linear : Trajectory, optional
+        A linear motion to draw in the time panel for comparison.
+    tol : float, optional
+        Draw the window ``|theta| <= tol`` in the time panel.
+    title : str, optional
+
+    Returns
+    -------
+    AnimationResult
+    """
+    path = Path(path)
+    fmt = format or (path.suffix.lower().lstrip(".") or "gif")
+    if fmt not in ("gif", "mp4"):
+        raise _v.KapitzaValueError(f"animation format must be 'gif' or 'mp4'; got {fmt!r}")
+    fps = float(_v.in_range("fps", fps, 1.0, 60.0, lo_open=False, hi_open=False))
+    slowdown = default_slowdown(traj.T, fps) if slowdown is None else float(_v.positive("slowdown", slowdown))
+    dpi = int(_v.nonnegative_int("dpi", dpi, minimum=20))
+    duration = float(traj.t[-1])
+    times = frame_times(duration, fps, slowdown)
+    if times.size > MAX_FRAMES:
+        raise _v.KapitzaValueError(
+            f"the animation would need {times.size} frames (> {MAX_FRAMES}); shorten the motion or lower "
+            f"fps * slowdown (now {fps:g} * {slowdown:.3g})")
+    message = ""
+    if fmt == "mp4" and not ffmpeg_available():
+        message = "ffmpeg was not found, so MP4 cannot be written; wrote a GIF instead (install ffmpeg for MP4)"
+        fmt = "gif"
+    path = path.with_suffix("." + fmt)
+
+    th, _ = traj.at(times)
+    yp = _displacement(times, traj.T, traj.A)
+    acc = _acceleration(times, traj.T, traj.A)
+    l = traj.l
+    bx = -l * np.sin(th)
+    by = yp + l * np.cos(th)
+
+    fig = plt.figure(figsize=(9.0, 4.6), dpi=dpi, layout="constrained")
+    gs = fig.add_gridspec(1, 2, width_ratios=[1.0, 1.35])
+    ax = fig.add_subplot(gs[0])
+    axt = fig.add_subplot(gs[1])
+    stroke = 0.25 * traj.A * traj.T**2
+    xlim, ylim = _scene_limits(l, stroke)
+    ax.set_xlim(*xlim)
+    ax.set_ylim(*ylim)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x  (m)")
+    ax.set_ylabel("height  (m, pivot's mean at 0)")
+    ax.plot([0, 0], [-0.5 * stroke, 0.5 * stroke], color="0.6", linewidth=6, solid_capstyle="butt", alpha=0.5,
+            label="pivot's travel")
+    upright, = ax.plot([], [], color="0.55", linestyle=":", linewidth=1.0, label="upright")
+    trail, = ax.plot([], [], color="#e67e22", linewidth=1.0, alpha=0.6, label="bob's recent path")
+    rod, = ax.plot([], [], color="k", linewidth=2.2, solid_capstyle="round")
+    bob, = ax.plot([], [], marker="o", markersize=13, color="#1f4e9c", markeredgecolor="k")
+    pivot, = ax.plot([], [], marker="s", markersize=8, color="0.2")
+    clock = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", fontsize=8, family="monospace")
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=6.5, frameon=False,
+              handlelength=1.5, columnspacing=1.0)
+
+    axt.plot([], [], label=f"θ(t), {traj.model}", **NONLINEAR_STYLE)
+    line, = axt.plot([], [], **NONLINEAR_STYLE)
+    if linear is not None:
+        lin_t, lin_th = linear.t, linear.theta
+        axt.plot([], [], label="θ(t), linear (2.3)", **LINEAR_STYLE)
+        lline, = axt.plot([], [], **LINEAR_STYLE)
+    else:
+        lline = None
+    now, = axt.plot([], [], marker="o", markersize=5, color="#1f4e9c")
+    lo, hi = float(np.min(traj.theta)), float(np.max(traj.theta))
+    if tol is not None:
+        for s in (-1, 1):
+            axt.axhline(s * tol, **WINDOW_STYLE)
+        axt.plot([], [], label=f"window |θ| ≤ {tol:g} rad", **WINDOW_STYLE)
+        lo, hi = min(lo, -tol), max(hi, tol)
+    pad = 0.08 * (hi - lo) or 0.1
+    axt.set_xlim(0.0, duration)
+    axt.set_ylim(lo - pad, hi + pad)
+    axt.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
+    axt.set_xlabel("t  (s)")
+    axt.set_ylabel("θ  (rad from upright)")
+    axt.grid(True, linewidth=0.4, color="0.88")  # opaque: GIF palettes dither translucent lines
+    axt.legend(loc="upper left", fontsize=7, framealpha=0.85)
+    fig.suptitle(title or parameter_label(traj.T, traj.A, traj.l, traj.g), fontsize=8.5)
+
+    trail_n = max(2, int(round(2.0 * traj.T * fps * slowdown)))  # about one drive period
+    dense_t = traj.t
+
+    def draw(k):
+        x, y, p = bx[k], by[k], yp[k]
+        rod.set_data([0.0, x], [p, y])
+        bob.set_data([x], [y])
+        pivot.set_data([0.0], [p])
+        upright.set_data([0.0, 0.0], [p, p + l])
+        a = max(0, k - trail_n)
+        trail.set_data(bx[a:k + 1], by[a:k + 1])
+        j = int(np.searchsorted(dense_t, times[k], side="right"))
+        line.set_data(np.append(dense_t[:j], times[k]), np.append(traj.theta[:j], th[k]))
+        if lline is not None:
+            jl = int(np.searchsorted(lin_t, times[k], side="right"))
+            lline.set_data(lin_t[:jl], np.clip(lin_th[:jl], *axt.get_ylim()))
+        now.set_data([times[k]], [th[k]])
+        phase = "a = +A (hyperbolic)" if acc[k] > 0 else "a = -A (elliptic)"
+        clock.set_text(f"t = {times[k]:7.3f} s  ({times[k] / (2 * traj.T):6.2f} periods)\n"
+                       f"θ = {th[k]:+8.3f} rad\n{phase}")
+        return dynamic
+
+    dynamic = [rod, bob, pivot, upright, trail, line, now, clock] + ([lline] if lline is not None else [])
+    for a in dynamic:
+        a.set_animated(True)
+    # Lay the figure out once (on the last frame, whose texts are widest), freeze it and keep
+    # the static part as a bitmap: each frame then redraws only the moving artists, instead of
+    # every tick label and the constrained layout.
+    draw(times.size - 1)
+    fig.canvas.draw()
+    fig.set_layout_engine("none")
+    fig.canvas.draw()
+    background = fig.canvas.copy_from_bbox(fig.bbox)
+
+    if progress is True:
+        progress = ProgressBar(f"rendering {path.name}")
+    writer = _BlitPillowWriter(fps=fps) if fmt == "gif" else mpl_animation.FFMpegWriter(fps=fps)
+    try:
+        with atomic_path(path) as tmp:
+            with writer.saving(fig, str(tmp), dpi):
+                for k in range(times.size):
+                    fig.canvas.restore_region(background)
+                    for a in draw(k):
+                        a.axes.draw_artist(a)
+                    writer.grab_frame()
+                    if progress:
+                        progress(k + 1, times.size)
+    finally:
+        plt.close(fig)
+    return AnimationResult(path=path, frames=int(times.size), fps=fps, slowdown=slowdown, format=fmt, message=message)

@@ -1,0 +1,311 @@
+"""Pictures of the motion: time series, phase portrait, stroboscopic map, basin.
+
+Each ``plot_*`` function takes ``ax=None`` and returns what it drew; the
+``*_figure`` functions lay out a captioned figure for the command line.
+Angles are in radians, measured from the upright and counted counter-clockwise.
+"""
+from __future__ import annotations
+
+import numpy as np
+import matplotlib.pyplot as plt
+from matplotlib.colors import BoundaryNorm, ListedColormap
+
+from ..analysis import analyze
+from ..motion.pivot import _displacement
+from ._style import caption, new_figure
+
+__all__ = [
+    "wrap_angle",
+    "plot_time_series",
+    "plot_pivot",
+    "plot_phase_portrait",
+    "plot_strobe",
+    "plot_basin",
+    "time_series_figure",
+    "phase_portrait_figure",
+    "strobe_figure",
+    "basin_figure",
+    "parameter_label",
+]
+
+NONLINEAR_STYLE = dict(color="#1f4e9c", linewidth=1.2)
+LINEAR_STYLE = dict(color="#c0392b", linewidth=1.0, linestyle="--")
+PIVOT_STYLE = dict(color="0.3", linewidth=1.0)
+WINDOW_STYLE = dict(color="0.55", linewidth=0.8, linestyle=":")
+STROBE_MARK = dict(marker="o", markersize=3.5, linestyle="none", color="#e67e22", markeredgecolor="k",
+                   markeredgewidth=0.4)
+
+
+def _ax(ax):
+    if ax is None:
+        fig = new_figure()
+        ax = fig.add_subplot()
+    return ax
+
+
+def wrap_angle(theta):
+    """``theta`` wrapped into ``(-pi, pi]``."""
+    return np.pi - np.mod(np.pi - np.asarray(theta, float), 2.0 * np.pi)
+
+
+def _broken(x, y, jump=np.pi):
+    """Insert NaN where ``y`` jumps by more than ``jump`` so wrapped curves are not joined across."""
+    x = np.asarray(x, float)
+    y = np.asarray(y, float)
+    cut = np.flatnonzero(np.abs(np.diff(y)) > jump) + 1
+    return np.insert(x, cut, np.nan), np.insert(y, cut, np.nan)
+
+
+def parameter_label(T, A, l, g):
+    """One-line parameter description with the stability verdict of the upright."""
+    rep = analyze(T=T, A=A, l=l, g=g)
+    return (f"T = {T:g} s, A = {A:g} m/s², l = {l:g} m, g = {g:g} m/s² "
+            f"(ε = {rep.eps:.4g}, μ = {rep.mu:.4g}): upright {rep.verdict}")
+
+
+def _model_label(traj):
+    label = "nonlinear" if traj.model == "nonlinear" else "linear (2.3)"
+    if traj.c > 0:
+        label += f", c = {traj.c:g}/s"
+    return label
+
+
+# ------------------------------------------------------------------ plot functions
+def plot_time_series(traj, ax=None, *, linear=None, tol=None):
+    """``theta(t)`` of a :class:`kapitza.motion.Trajectory` (and a linear one beside it).
+
+    Parameters
+    ----------
+    traj : Trajectory
+    ax : matplotlib Axes, optional
+    linear : Trajectory, optional
+        Drawn dashed for comparison.
+    tol : float, optional
+        Draw the window ``|theta| <= tol`` [rad].
+
+    Returns
+    -------
+    dict of artists
+    """
+    ax = _ax(ax)
+    out = {"theta": ax.plot(traj.t, traj.theta, label=_model_label(traj), **NONLINEAR_STYLE)[0]}
+    lo, hi = float(np.min(traj.theta)), float(np.max(traj.theta))
+    if tol is not None:
+        lo, hi = min(lo, -tol), max(hi, tol)
+    pad = 0.08 * (hi - lo) or 0.1
+    lo, hi = lo - pad, hi + pad
+    if linear is not None:
+        label = _model_label(linear)
+        off = np.flatnonzero((linear.theta < lo) | (linear.theta > hi))
+        end = linear.t.size
+        if off.size:
+            # An unstable linear motion grows without bound; keep the axes on the motion
+            # drawn in full, stop the linear curve where it leaves and say when.
+            label += f", grows without bound: off the plot from t = {linear.t[off[0]]:.3g} s"
+            end = off[0] + 1
+        out["linear"] = ax.plot(linear.t[:end], linear.theta[:end], label=label, **LINEAR_STYLE)[0]
+    ax.set_ylim(lo, hi)
+    if tol is not None:
+        out["window"] = [ax.axhline(s * tol, **WINDOW_STYLE) for s in (-1, 1)]
+        out["window"][0].set_label(f"window |θ| ≤ {tol:g} rad")
+    ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
+    ax.set_xlim(traj.t[0], traj.t[-1])
+    ax.set_ylabel("θ  (rad from upright)")
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    return out
+
+
+def plot_pivot(traj, ax=None):
+    """Pivot height ``y(t)`` [mm] above its mean position."""
+    ax = _ax(ax)
+    line = ax.plot(traj.t, 1e3 * traj.pivot, **PIVOT_STYLE)[0]
+    ax.set_ylabel("pivot y  (mm)")
+    ax.set_xlabel("t  (s)")
+    ax.set_xlim(traj.t[0], traj.t[-1])
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    return {"pivot": line}
+
+
+def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None):
+    """The curve ``(theta, theta')`` with the stroboscopic points ``t = 2kT`` marked.
+
+    Parameters
+    ----------
+    traj : Trajectory
+    ax : matplotlib Axes, optional
+    strobe : bool
+        Mark the states at ``t = 2kT``.
+    wrap : bool, optional
+        Wrap ``theta`` into ``(-pi, pi]``; by default only when the motion turns over.
+
+    Returns
+    -------
+    dict of artists
+    """
+    ax = _ax(ax)
+    if wrap is None:
+        wrap = bool(np.max(np.abs(traj.theta)) > np.pi)
+    th = wrap_angle(traj.theta) if wrap else traj.theta
+    x, y = _broken(th, traj.dtheta) if wrap else (th, traj.dtheta)
+    out = {"curve": ax.plot(x, y, label=f"motion ({_model_label(traj)})", **{**NONLINEAR_STYLE, "linewidth": 0.7})[0]}
+    if strobe:
+        _, sth, som = traj.strobe()
+        sth = wrap_angle(sth) if wrap else sth
+        out["strobe"] = ax.plot(sth, som, label="t = 2kT (stroboscopic)", **STROBE_MARK)[0]
+    out["start"] = ax.plot([th[0]], [traj.dtheta[0]], marker="*", markersize=11, color="gold",
+                           markeredgecolor="k", linestyle="none", label="start", zorder=5)[0]
+    ax.set_xlabel("θ  (rad from upright)" + (", wrapped to (−π, π]" if wrap else ""))
+    ax.set_ylabel("θ'  (rad/s)")
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    return out
+
+
+def plot_strobe(orbits, ax=None, *, wrap=True, max_members=200, colorbar=True):
+    """Stroboscopic points ``(theta(2kT), theta'(2kT))`` of each member of an ensemble.
+
+    Parameters
+    ----------
+    orbits : StrobeOrbits
+        From :func:`kapitza.motion.stroboscopic_map` with ``every=1``, members along
+        the last axis.
+    ax : matplotlib Axes, optional
+    wrap : bool
+        Wrap ``theta`` into ``(-pi, pi]``.
+    max_members : int
+        Draw at most this many members.
+    colorbar : bool
+        Add a colour bar of the members' initial angle ``theta(0)``.
+
+    Returns
+    -------
+    dict of artists
+    """
+    ax = _ax(ax)
+    th = orbits.theta.reshape(orbits.theta.shape[0], -1)[:, :max_members]
+    om = orbits.dtheta.reshape(orbits.dtheta.shape[0], -1)[:, :max_members]
+    if wrap:
+        th = wrap_angle(th)
+    m = th.shape[1]
+    start = orbits.theta.reshape(orbits.theta.shape[0], -1)[0, :max_members]
+    lo, hi = float(start.min()), float(start.max())
+    norm = plt.Normalize(lo, hi if hi > lo else lo + 1.0)
+    cmap = plt.get_cmap("viridis")
+    # Later members are drawn first so the innermost (small-angle) curves stay on top.
+    order = np.argsort(-np.abs(start))
+    pts = [ax.plot(th[:, i], om[:, i], linestyle="none", marker=".", markersize=1.6,
+                   color=cmap(norm(start[i])))[0] for i in order]
+    out = {"points": pts}
+    if colorbar and m > 1:
+        sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
+        out["colorbar"] = ax.figure.colorbar(sm, ax=ax, fraction=0.05, pad=0.02)
+        out["colorbar"].set_label("initial angle θ(0)  (rad)", fontsize=8)
+    ax.set_xlabel("θ(2kT)  (rad from upright)" + (", wrapped" if wrap else ""))
+    ax.set_ylabel("θ'(2kT)  (rad/s)")
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    return out
+
+
+def plot_basin(basin, ax=None, *, colorbar=True):
+    """Periods survived on the grid of initial states, with the basin's edge.
+
+    Parameters
+    ----------
+    basin : Basin
+    ax : matplotlib Axes, optional
+    colorbar : bool
+
+    Returns
+    -------
+    dict of artists
+    """
+    ax = _ax(ax)
+    N = basin.periods
+    edges = np.unique(np.concatenate([[0, 1], np.geomspace(1, N, 6).round(), [N, N + 1]])).astype(float)
+    cmap = ListedColormap(plt.get_cmap("magma")(np.linspace(0.08, 0.78, edges.size - 2)).tolist() + [(0.62, 0.79, 0.88, 1.0)])
+    norm = BoundaryNorm(edges, cmap.N)
+    dx = basin.theta0[1] - basin.theta0[0]
+    dy = basin.dtheta0[1] - basin.dtheta0[0]
+    extent = (basin.theta0[0] - dx / 2, basin.theta0[-1] + dx / 2, basin.dtheta0[0] - dy / 2, basin.dtheta0[-1] + dy / 2)
+    im = ax.imshow(basin.periods_survived, origin="lower", extent=extent, aspect="auto", cmap=cmap, norm=norm,
+                   interpolation="nearest")
+    out = {"image": im}
+    if basin.survived.any() and not basin.survived.all():
+        out["edge"] = ax.contour(basin.theta0, basin.dtheta0, basin.survived.astype(float), levels=[0.5],
+                                 colors="k", linewidths=0.8)
+    if colorbar:
+        cb = ax.figure.colorbar(im, ax=ax, ticks=edges[:-1] + 0.5 * np.diff(edges), fraction=0.05, pad=0.02)
+        labels = [f"{int(a)}" if b - a <= 1 else f"{int(a)}–{int(b) - 1}" for a, b in zip(edges[:-1], edges[1:])]
+        labels[-1] = f"all {N}"
+        cb.ax.set_yticklabels(labels, fontsize=7)
+        cb.set_label("whole periods 2T within the window", fontsize=8)
+        out["colorbar"] = cb
+    ax.set_xlabel("θ(0)  (rad from upright)")
+    ax.set_ylabel("θ'(0)  (rad/s)")
+    ax.set_title(f"{basin.model}: {100 * basin.fraction:.3g}% of the grid stays up", fontsize=9)
+    return out
+
+
+# ------------------------------------------------------------------ captioned figures
+def time_series_figure(traj, *, linear=None, tol=None, title=None):
+    """Angle and pivot height against time, with a caption."""
+    fig = new_figure(7.5, 5.0, caption_lines=3)
+    gs = fig.add_gridspec(2, 1, height_ratios=[3, 1])
+    ax = fig.add_subplot(gs[0])
+    axp = fig.add_subplot(gs[1], sharex=ax)
+    plot_time_series(traj, ax, linear=linear, tol=tol)
+    plot_pivot(traj, axp)
+    ax.tick_params(labelbottom=False)
+    ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
+    ax.set_title(title or "Pendulum on a square-wave vibrating pivot: angle from the upright", fontsize=10)
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g) + f". Start θ = {traj.theta0:g} rad, θ' = "
+            f"{traj.dtheta0:g} rad/s at the start of a hyperbolic phase (a = +A). Lower panel: the pivot's height, "
+            "parabolic in each phase, stroke A T²/4.")
+    return fig
+
+
+def phase_portrait_figure(traj, *, title=None):
+    """Phase portrait ``(theta, theta')`` with stroboscopic points, with a caption."""
+    fig = new_figure(6.5, 5.2, caption_lines=3)
+    ax = fig.add_subplot()
+    plot_phase_portrait(traj, ax)
+    ax.legend(loc="best", fontsize=8, framealpha=0.9)
+    ax.set_title(title or "Phase portrait", fontsize=10)
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g) + f". {traj.periods:g} periods 2T; dots: the "
+            "state once per period (t = 2kT), i.e. the stroboscopic map. θ' jumps in slope, not in value, at the "
+            "switches.")
+    return fig
+
+
+def strobe_figure(orbits, *, title=None, highlight=None):
+    """Stroboscopic map of an ensemble (one colour per initial state), with a caption."""
+    fig = new_figure(6.5, 5.2, caption_lines=3)
+    ax = fig.add_subplot()
+    plot_strobe(orbits, ax)
+    if highlight is not None:
+        th, om = highlight
+        ax.plot(wrap_angle(th), om, **{**STROBE_MARK, "markersize": 2.5}, label="the simulated motion")
+        ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    ax.set_title(title or "Stroboscopic map (one point per drive period 2T)", fontsize=10)
+    m = orbits.theta.reshape(orbits.theta.shape[0], -1).shape[1]
+    caption(fig, parameter_label(orbits.T, orbits.A, orbits.l, orbits.g) + f". {m} initial states (colour: θ(0)), "
+            f"{int(orbits.n[-1])} periods each; closed curves are quasi-periodic motions about the upright, "
+            "scattered points chaotic ones, θ wrapped to (−π, π].")
+    return fig
+
+
+def basin_figure(basins, *, title=None):
+    """Basins side by side (e.g. linear and nonlinear), with a caption."""
+    basins = list(basins)
+    fig = new_figure(5.2 * len(basins) + 0.8, 4.8, caption_lines=3)
+    axes = fig.subplots(1, len(basins), squeeze=False)[0]
+    for i, (ax, b) in enumerate(zip(axes, basins)):
+        plot_basin(b, ax, colorbar=(i == len(basins) - 1))
+        if i > 0:
+            ax.set_ylabel("")
+    b = basins[0]
+    fig.suptitle(title or f"Which starts keep the pendulum within {b.tol:g} rad of the upright for "
+                 f"{b.periods} periods?", fontsize=10)
+    caption(fig, parameter_label(b.T, b.A, b.l, b.g) + ". Light blue: |θ(t)| ≤ window for the whole time "
+            "(checked on the continuous motion, not only at t = 2kT); darker: whole periods completed before "
+            "leaving. Black line: the basin's edge.")
+    return fig
