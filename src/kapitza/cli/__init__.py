@@ -12,7 +12,7 @@ from ._common import CLIError, Parser
 from .. import __version__
 
 #: Command modules, in the order their commands appear in ``kapitza --help``.
-COMMAND_MODULES = ["engine"]
+COMMAND_MODULES = ["engine", "motion"]
 
 DESCRIPTION = """\
 Exact stability of the inverted pendulum whose pivot is shaken up and down with a
@@ -32,6 +32,9 @@ examples:
   kapitza zones --zones 4 --out zones.csv     # edge curves as data
   kapitza chart --out chart                   # Figure-7-style chart: chart.png, chart.svg
   kapitza chart --plane physical --l 0.5 --out rod   # zones as T vs A for a 0.5 m rod
+  kapitza simulate --T 0.15 --A 100 --theta0 0.1 --out run   # motion: data + figures
+  kapitza animate --T 0.15 --A 100 --out upright.gif         # the pendulum stays up (zone 0)
+  kapitza basin --T 0.3 --A 100 --out basin                  # which starts stay up
 
 Run 'kapitza COMMAND --help' for each command's options.
 """

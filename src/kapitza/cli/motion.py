@@ -1,0 +1,295 @@
+"""Commands of the motion: simulate, animate, basin."""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from .. import _io
+from ..analysis import analyze
+from ..parameters import to_physical
+from ._common import CLIError, add_parameters, finite_float, format_table, out_stem, parameters_from, print_json
+
+
+def register(sub):
+    p = sub.add_parser(
+        "simulate",
+        help="simulate the motion (nonlinear and linear): time series, phase portrait, stroboscopic map",
+        description="Simulate the pendulum from an initial angle and angular velocity (at the start of a\n"
+        "hyperbolic phase, a = +A). The undamped nonlinear motion is exact (Jacobi elliptic functions in each\n"
+        "phase); the linear one is the exact solution of (2.3); damping --damping C uses DOP853 phase by phase.\n"
+        "With --out STEM writes STEM.csv (the motion), STEM-strobe.csv (an ensemble's stroboscopic map),\n"
+        "STEM.json (summary) and the figures STEM-series, STEM-phase, STEM-strobe (.png and .svg).",
+        epilog="examples:\n  kapitza simulate --T 0.15 --A 100 --theta0 0.1\n"
+        "  kapitza simulate --T 0.3 --A 100 --theta0 0.05 --periods 30 --out fall\n"
+        "  kapitza simulate --eps 0.53 --mu 0.31 --theta0 0.2 --damping 0.5 --json",
+    )
+    add_parameters(p)
+    _add_start(p)
+    p.add_argument("--periods", type=finite_float, default=20.0, help="duration in drive periods 2T (default 20)")
+    p.add_argument("--points-per-period", type=int, default=200, help="samples per period (default 200)")
+    p.add_argument("--model", choices=["nonlinear", "linear", "both"], default="both",
+                   help="equation of motion; 'both': nonlinear, with the linear one for comparison (default)")
+    _add_solver(p)
+    p.add_argument("--tol", type=finite_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
+    p.add_argument("--orbits", type=int, default=12, help="initial states in the stroboscopic-map ensemble (default 12)")
+    p.add_argument("--strobe-periods", type=int, default=300, help="periods each orbit of the map is followed (default 300)")
+    p.add_argument("--out", metavar="STEM", help="write data and figures under this stem")
+    p.add_argument("--no-figures", dest="figures", action="store_false", help="with --out: data only")
+    p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.set_defaults(func=cmd_simulate)
+
+    p = sub.add_parser(
+        "animate",
+        help="animate the pendulum on its vibrating pivot (GIF; MP4 when ffmpeg is present)",
+        description="Render the motion as an animation: the pendulum on its moving pivot beside theta(t).\n"
+        "Each frame is the exact state at its time. MP4 needs ffmpeg; without it a GIF is written and a\n"
+        "message says so. A progress bar is shown on standard error (--quiet hides it).",
+        epilog="examples:\n  kapitza animate --T 0.15 --A 100 --theta0 0.1 --out upright.gif   # stays up (zone 0)\n"
+        "  kapitza animate --T 0.3 --A 100 --theta0 0.1 --out falls.gif      # falls\n"
+        "  kapitza animate --T 0.15 --A 100 --theta0 0.1 --out upright.mp4 --fps 30",
+    )
+    add_parameters(p)
+    _add_start(p)
+    p.add_argument("--periods", type=finite_float, default=10.0, help="duration in drive periods 2T (default 10)")
+    p.add_argument("--model", choices=["nonlinear", "linear"], default="nonlinear")
+    p.add_argument("--compare-linear", action="store_true", help="also draw the linear theta(t) in the time panel")
+    _add_solver(p)
+    p.add_argument("--tol", type=finite_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
+    p.add_argument("--fps", type=finite_float, default=25.0, help="playback frames per second (default 25)")
+    p.add_argument("--slowdown", type=finite_float, default=None,
+                   help="playback seconds per second of motion (default: 24 frames per drive period)")
+    p.add_argument("--dpi", type=int, default=100, help="resolution (default 100: 900 x 460 pixels)")
+    p.add_argument("--out", default="kapitza-motion.gif", metavar="FILE", help="FILE.gif or FILE.mp4 (default kapitza-motion.gif)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.set_defaults(func=cmd_animate)
+
+    p = sub.add_parser(
+        "basin",
+        help="which initial states keep the pendulum within a window of the upright for N periods",
+        description="The basin of the upright: initial (theta, theta') whose motion keeps |theta| <= --tol on the\n"
+        "whole of [0, 2NT] (checked on the continuous motion). Linear and nonlinear side by side by default:\n"
+        "inside a stability zone both keep a region about the upright, outside one both lose it. Writes\n"
+        "OUT.png, OUT.svg, OUT.csv (every grid point) and OUT.json (summary).",
+        epilog="examples:\n  kapitza basin --T 0.15 --A 100 --out basin-zone0      # stable: the upright keeps a basin\n"
+        "  kapitza basin --T 0.3 --A 100 --out basin-unstable     # unstable: nothing stays\n"
+        "  kapitza basin --T 0.15 --A 100 --model nonlinear --resolution 301 --workers 2 --json",
+    )
+    add_parameters(p)
+    p.add_argument("--tol", type=finite_float, default=0.5, metavar="RAD", help="window half-width (default 0.5 rad)")
+    p.add_argument("--periods", type=int, default=50, help="periods 2T to follow (default 50)")
+    p.add_argument("--theta-max", type=finite_float, default=None, metavar="RAD", help="grid half-width in theta (default tol)")
+    p.add_argument("--dtheta-max", type=finite_float, default=None, metavar="RAD/S",
+                   help="grid half-width in theta' (default 2 tol / T)")
+    p.add_argument("--resolution", type=int, default=121, help="grid points per axis (default 121)")
+    p.add_argument("--model", choices=["nonlinear", "linear", "both"], default="both")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--out", default="kapitza-basin", metavar="STEM", help="output stem (default kapitza-basin)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.set_defaults(func=cmd_basin)
+
+
+def _add_start(p):
+    g = p.add_argument_group("initial state (at t = 0, the start of a hyperbolic phase)")
+    g.add_argument("--theta0", type=finite_float, default=0.1, metavar="RAD",
+                   help="angle from the upright, counter-clockwise (default 0.1)")
+    g.add_argument("--dtheta0", type=finite_float, default=0.0, metavar="RAD/S", help="angular velocity (default 0)")
+
+
+def _add_solver(p):
+    g = p.add_argument_group("solver")
+    g.add_argument("--damping", type=finite_float, default=0.0, metavar="C", help="linear damping c [1/s] (default 0)")
+    g.add_argument("--method", choices=["exact", "dop853"], default=None,
+                   help="exact phase maps (undamped) or DOP853 (default: exact unless damped)")
+    g.add_argument("--rtol", type=finite_float, default=1e-10, help="DOP853 relative tolerance (default 1e-10)")
+    g.add_argument("--atol", type=finite_float, default=1e-12, help="DOP853 absolute tolerance (default 1e-12)")
+
+
+def _physical_from(args):
+    """``(T, A, l, g)`` from --T/--A or --eps/--mu (with --l, --g), validated."""
+    kw = parameters_from(args)
+    if "eps" in kw:
+        T, A = to_physical(kw["eps"], kw["mu"], args.l, args.g)
+        kw = dict(T=float(T), A=float(A), l=args.l, g=args.g)
+    rep = analyze(**kw)
+    return kw["T"], kw["A"], kw["l"], kw["g"], rep
+
+
+def _parameters_dict(T, A, l, g, rep):
+    return dict(T=T, A=A, l=l, g=g, eps=rep.eps, mu=rep.mu, verdict=rep.verdict, stable=rep.stable, zone=rep.zone)
+
+
+def _motion_summary(traj):
+    return dict(model=traj.model, method=traj.method, c=traj.c, duration=float(traj.t[-1]), periods=traj.periods,
+                samples=int(traj.t.size), final=dict(t=float(traj.t[-1]), theta=float(traj.theta[-1]),
+                                                      dtheta=float(traj.dtheta[-1])),
+                max_abs_theta=float(np.max(np.abs(traj.theta))),
+                turns=int(np.trunc(traj.theta[-1] / (2 * np.pi))))
+
+
+def _check_count(name, value, lo, hi):
+    if not (lo <= value <= hi):
+        raise CLIError(f"--{name} must be between {lo} and {hi}; got {value}")
+
+
+# ------------------------------------------------------------------ simulate
+def cmd_simulate(args):
+    from ..motion import simulate, stroboscopic_map
+
+    T, A, l, g, rep = _physical_from(args)
+    _check_count("orbits", args.orbits, 1, 1000)
+    _check_count("strobe-periods", args.strobe_periods, 1, 100000)
+    model = "nonlinear" if args.model == "both" else args.model
+    common = dict(periods=args.periods, points_per_period=args.points_per_period, c=args.damping,
+                  method=args.method, rtol=args.rtol, atol=args.atol)
+    traj = simulate(args.theta0, args.dtheta0, T, A, l, g, model=model, **common)
+    linear, linear_note = None, None
+    if args.model == "both":
+        try:
+            linear = simulate(args.theta0, args.dtheta0, T, A, l, g, model="linear", **common)
+        except OverflowError as exc:
+            linear_note = f"linear motion not shown: {exc}"
+    summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
+                   motion=_motion_summary(traj))
+    if linear is not None:
+        summary["linear"] = _motion_summary(linear)
+    elif linear_note:
+        summary["linear"] = linear_note
+    files = []
+    if args.out:
+        stem = out_stem(args.out)
+        header = ["t", "theta", "dtheta", "pivot_y"] + (["theta_linear", "dtheta_linear"] if linear is not None else [])
+        cols = [traj.t, traj.theta, traj.dtheta, traj.pivot] + ([linear.theta, linear.dtheta] if linear is not None else [])
+        files.append(_io.write_csv(stem.with_suffix(".csv"), header, zip(*cols), comments=[
+            f"kapitza simulate: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2, c = {args.damping!r} 1/s",
+            f"{traj.model} model ({traj.method}); theta from the upright [rad], dtheta [rad/s], pivot_y [m]"]))
+        # An ensemble on the theta axis from near the upright out to the start (or 0.6 rad) for the map.
+        reach = max(abs(args.theta0), 0.6) if args.theta0 else 0.6
+        th_ens = np.linspace(reach / args.orbits, reach, args.orbits)
+        orbits = stroboscopic_map(th_ens, 0.0, T, A, l, g, periods=args.strobe_periods, every=1,
+                                  model=model, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol)
+        rows = ((i, int(k), orbits.theta[j, i], orbits.dtheta[j, i]) for i in range(args.orbits)
+                for j, k in enumerate(orbits.n))
+        files.append(_io.write_csv(stem.parent / (stem.name + "-strobe.csv"), ["orbit", "k", "theta", "dtheta"], rows,
+                                   comments=["states at t = 2kT of orbits started at theta0 = " +
+                                             ", ".join(f"{v:.6g}" for v in th_ens) + " rad, dtheta0 = 0"]))
+        if args.figures:
+            files += _simulate_figures(stem, traj, linear, orbits, args.tol)
+        summary["files"] = [str(f) for f in files] + [str(stem.with_suffix(".json"))]
+        files.append(_io.write_json(stem.with_suffix(".json"), summary))
+    if args.json:
+        print_json(summary)
+        return 0
+    print(f"parameters   T = {T:.6g} s, A = {A:.6g} m/s^2, l = {l:g} m, g = {g:g} m/s^2 (eps = {rep.eps:.6g}, mu = {rep.mu:.6g})")
+    print(f"upright      {rep.verdict}")
+    print(f"start        theta0 = {args.theta0:g} rad, dtheta0 = {args.dtheta0:g} rad/s")
+    rows = []
+    for tr in [traj] + ([linear] if linear is not None else []):
+        s = _motion_summary(tr)
+        rows.append([tr.model, tr.method, f"{s['duration']:.6g}", f"{s['final']['theta']:.10g}",
+                     f"{s['final']['dtheta']:.10g}", f"{s['max_abs_theta']:.6g}", s["turns"]])
+    print()
+    print(format_table(["model", "method", "t_end [s]", "theta(t_end)", "dtheta(t_end)", "max |theta|", "turns"], rows))
+    if linear_note:
+        print(linear_note)
+    if files:
+        print("\nwrote " + ", ".join(str(f) for f in files))
+    return 0
+
+
+def _simulate_figures(stem, traj, linear, orbits, tol):
+    import matplotlib.pyplot as plt
+
+    from ..figures._style import save
+    from ..figures.motion import phase_portrait_figure, strobe_figure, time_series_figure
+
+    paths = []
+    for suffix, fig in (("-series", time_series_figure(traj, linear=linear, tol=tol)),
+                        ("-phase", phase_portrait_figure(traj)),
+                        ("-strobe", strobe_figure(orbits, highlight=traj.strobe()[1:]))):
+        paths += save(fig, stem.parent / (stem.name + suffix))
+        plt.close(fig)
+    return paths
+
+
+# ------------------------------------------------------------------ animate
+def cmd_animate(args):
+    from ..figures.animation import animate
+    from ..motion import simulate
+
+    T, A, l, g, rep = _physical_from(args)
+    common = dict(periods=args.periods, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol)
+    traj = simulate(args.theta0, args.dtheta0, T, A, l, g, model=args.model, **common)
+    linear = None
+    if args.compare_linear and args.model != "linear":
+        try:
+            linear = simulate(args.theta0, args.dtheta0, T, A, l, g, model="linear", **common)
+        except OverflowError:
+            linear = None
+    res = animate(traj, args.out, fps=args.fps, slowdown=args.slowdown, dpi=args.dpi, progress=not args.quiet,
+                  linear=linear, tol=args.tol)
+    if res.message:
+        print(f"kapitza animate: {res.message}", file=sys.stderr)
+    summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
+                   motion=_motion_summary(traj), file=str(res.path), format=res.format, frames=res.frames,
+                   fps=res.fps, slowdown=res.slowdown, message=res.message)
+    if args.json:
+        print_json(summary)
+    else:
+        print(f"wrote {res.path} ({res.frames} frames at {res.fps:g} fps, {res.slowdown:.3g} s of video per s of "
+              f"motion); upright {rep.verdict}")
+    return 0
+
+
+# ------------------------------------------------------------------ basin
+def cmd_basin(args):
+    import matplotlib.pyplot as plt
+
+    from ..figures._style import save
+    from ..figures.animation import ProgressBar
+    from ..figures.motion import basin_figure
+    from ..motion import basin, survival
+
+    T, A, l, g, rep = _physical_from(args)
+    _check_count("resolution", args.resolution, 2, 5000)
+    _check_count("workers", args.workers, 1, 256)
+    models = ["linear", "nonlinear"] if args.model == "both" else [args.model]
+    basins = []
+    for m in models:
+        bar = ProgressBar(f"basin ({m})", enabled=not args.quiet)
+        basins.append(basin(T, A, l, g, periods=args.periods, tol=args.tol, theta_max=args.theta_max,
+                            dtheta_max=args.dtheta_max, n_theta=args.resolution, n_dtheta=args.resolution, model=m,
+                            workers=args.workers, progress=bar))
+    # The demonstration: a small tilt from rest, a tenth of the window.
+    probe = 0.1 * args.tol
+    demo = {m: int(survival(probe, 0.0, T, A, l, g, periods=args.periods, tol=args.tol, model=m)) for m in models}
+    stem = out_stem(args.out)
+    fig = basin_figure(basins)
+    paths = save(fig, stem)
+    plt.close(fig)
+    header = ["model", "theta0", "dtheta0", "survived", "periods_survived"]
+    rows = ((b.model, *r) for b in basins for r in b.rows())
+    paths.append(_io.write_csv(stem.with_suffix(".csv"), header, rows, comments=[
+        f"kapitza basin: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2; window |theta| <= {args.tol!r} rad "
+        f"for {args.periods} periods 2T (survived = 1)"]))
+    summary = dict(parameters=_parameters_dict(T, A, l, g, rep), tol=args.tol, periods=args.periods,
+                   basins=[b.summary() for b in basins],
+                   small_tilt=dict(theta0=probe, dtheta0=0.0, periods_survived=demo,
+                                   stays_up={m: v >= args.periods for m, v in demo.items()}))
+    summary["files"] = [str(p) for p in paths] + [str(stem.with_suffix(".json"))]
+    paths.append(_io.write_json(stem.with_suffix(".json"), summary))
+    if args.json:
+        print_json(summary)
+        return 0
+    print(f"parameters   T = {T:.6g} s, A = {A:.6g} m/s^2, l = {l:g} m, g = {g:g} m/s^2 (eps = {rep.eps:.6g}, mu = {rep.mu:.6g})")
+    print(f"upright      {rep.verdict}")
+    for b in basins:
+        print(f"{b.model:10s}   {100 * b.fraction:.3g}% of the {b.survived.shape[1]} x {b.survived.shape[0]} grid stays "
+              f"within {args.tol:g} rad for {args.periods} periods")
+    for m, v in demo.items():
+        verdict = "stays up" if v >= args.periods else f"falls (leaves the window in period {v + 1})"
+        print(f"{m:10s}   start {probe:g} rad from the upright at rest: {verdict}")
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
