@@ -178,7 +178,8 @@ def main(argv=None):
     checks = [
         (f"stability_grid 4096^2 default call <= {GRID_TARGET_S * 1e3:.0f} ms", t_def[0] <= GRID_TARGET_S),
         (f"stability_grid 4096^2 out= <= {GRID_TARGET_S * 1e3:.0f} ms", t_out[0] <= GRID_TARGET_S),
-        (f"speed-up over the numpy trace baseline >= {BASELINE_MIN_RATIO:.0f}x (default call)", r_def >= BASELINE_MIN_RATIO),
+        (f"speed-up over the numpy trace baseline >= {BASELINE_MIN_RATIO:.0f}x (default call)",
+         r_def >= BASELINE_MIN_RATIO),
         (f"zone_edges 10 x 10,000 <= {EDGES_TARGET_S * 1e3:.0f} ms", t_edges[0] <= EDGES_TARGET_S),
     ]
     for text, ok in checks:

@@ -1,6 +1,5 @@
 """The engine commands through the real entry point ``kapitza.cli.main`` (and once as a process)."""
 import csv
-import io
 import json
 import math
 import subprocess
@@ -222,7 +221,8 @@ def test_module_entry_point_in_a_subprocess():
 
 
 def test_import_kapitza_does_not_import_matplotlib():
-    code = "import sys, kapitza; print(sorted(m for m in ('matplotlib', 'PIL', 'mpmath', 'hypothesis') if m in sys.modules))"
+    code = ("import sys, kapitza; "
+            "print(sorted(m for m in ('matplotlib', 'PIL', 'mpmath', 'hypothesis') if m in sys.modules))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"

@@ -110,7 +110,7 @@ def test_G_inverse_inverts_G_on_branch_0(phi):
     if abs(abs(phi) - math.pi / 4) < 1e-12:
         return
     s = PP.G(phi)
-    assert abs(PP.G_inverse(s, 0) - phi) <= 4 * ULP * (1 + abs(s)) / abs(math.cos(2 * phi)) ** 0 + 1e-15
+    assert abs(PP.G_inverse(s, 0) - phi) <= 8 * ULP * (1 + abs(s)) + 1e-15
     assert abs(PP.G(PP.G_inverse(s, 0)) - s) <= 1e-12 * (1 + abs(s))
 
 

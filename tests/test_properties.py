@@ -41,7 +41,8 @@ def test_det_M_is_1(T, A, l, g):
         E = np.abs([[math.cos(we * T), math.sin(we * T) / we], [we * math.sin(we * T), math.cos(we * T)]])
     else:
         v = math.sqrt((g - A) / l) * T
-        E = np.array([[math.cosh(v), T * (math.sinh(v) / v if v else 1.0)], [abs(g - A) / l * T * (math.sinh(v) / v if v else 1.0), math.cosh(v)]])
+        shc = math.sinh(v) / v if v else 1.0  # sinh(v)/v; free flight (A = g) has v = 0
+        E = np.array([[math.cosh(v), T * shc], [abs(g - A) / l * T * shc, math.cosh(v)]])
     H = np.array([[math.cosh(x), math.sinh(x) / wh], [wh * math.sinh(x), math.cosh(x)]])
     S = E @ H
     assert abs((a * d - b * c) - 1.0) <= 16 * ULP * (S[0, 0] * S[1, 1] + S[0, 1] * S[1, 0])

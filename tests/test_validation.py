@@ -92,10 +92,12 @@ def test_bad_values_raise_naming_parameter_and_value(f, kw, param, kind):
         f(**dict(kw, **{param: "abc"}))
 
 
-@pytest.mark.parametrize("f,kw", [(K.period_edges, dict(A=9.81, n=0)), (K.boundary_periods, dict(A=5.0, count=2)),
-                                  (K.boundary_table, dict(A=9.0, count=2)), (K.periodic_solution, dict(A=9.81, index=1)),
-                                  (K.alpha, dict(T=0.1, A=9.0)), (K.beta, dict(T=0.1, A=9.81)),
-                                  (PP.notable_points, dict(phi0=-0.3, T=0.1, A=9.0))])
+@pytest.mark.parametrize("f,kw", [
+    (K.period_edges, dict(A=9.81, n=0)), (K.boundary_periods, dict(A=5.0, count=2)),
+    (K.boundary_table, dict(A=9.0, count=2)), (K.periodic_solution, dict(A=9.81, index=1)),
+    (K.alpha, dict(T=0.1, A=9.0)), (K.beta, dict(T=0.1, A=9.81)),
+    (PP.notable_points, dict(phi0=-0.3, T=0.1, A=9.0)),
+])
 def test_A_at_most_g_is_refused_where_an_elliptic_phase_is_needed(f, kw):
     with pytest.raises(K.KapitzaValueError, match=r"A must exceed g"):
         f(**kw)
