@@ -230,6 +230,10 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     pad = 0.08 * (hi - lo) or 0.1
     axt.set_xlim(0.0, duration)
     axt.set_ylim(lo - pad, hi + pad)
+    if linear is not None:
+        # An unstable linear motion is drawn until it leaves the axes (then one step beyond).
+        off = np.flatnonzero(np.abs(lin_th) > max(abs(lo), abs(hi)) + pad)
+        lin_end = off[0] + 1 if off.size else lin_t.size
     axt.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
     axt.set_xlabel("t  (s)")
     axt.set_ylabel("θ  (rad from upright)")
@@ -251,8 +255,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
         j = int(np.searchsorted(dense_t, times[k], side="right"))
         line.set_data(np.append(dense_t[:j], times[k]), np.append(traj.theta[:j], th[k]))
         if lline is not None:
-            jl = int(np.searchsorted(lin_t, times[k], side="right"))
-            lline.set_data(lin_t[:jl], np.clip(lin_th[:jl], *axt.get_ylim()))
+            jl = min(int(np.searchsorted(lin_t, times[k], side="right")), lin_end)
+            lline.set_data(lin_t[:jl], lin_th[:jl])
         now.set_data([times[k]], [th[k]])
         phase = "a = +A (hyperbolic)" if acc[k] > 0 else "a = -A (elliptic)"
         clock.set_text(f"t = {times[k]:7.3f} s  ({times[k] / (2 * traj.T):6.2f} periods)\n"
