@@ -11,7 +11,6 @@ import matplotlib.pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from ..analysis import analyze
-from ..motion.pivot import _displacement
 from ._style import caption, new_figure
 
 __all__ = [
