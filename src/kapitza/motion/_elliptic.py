@@ -37,7 +37,6 @@ function is evaluated where it is small and must be found by cancellation.
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import ellipj, ellipk
 
 PI = np.pi
 TWO_PI = 2.0 * np.pi
@@ -123,6 +122,10 @@ def _series(t, m1):
 
 def _ellipj_reduced(u, m):
     """``sn, cn, dn, K, j`` from :func:`scipy.special.ellipj` at ``u - j K``, ``|u - j K| <= K/2``."""
+    # Imported here: scipy.special costs a quarter of a second at import, and
+    # ``import kapitza.motion`` should stay as light as ``import kapitza``.
+    from scipy.special import ellipj, ellipk
+
     K = ellipk(m)
     j = np.rint(u / K)
     sn, cn, dn, _ = ellipj(u - j * K, m)

@@ -14,7 +14,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .. import _validate as _v
 from ..parameters import G_EARTH
@@ -173,6 +172,9 @@ def _chunk_size(rtol):
 def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
     """DOP853 phase by phase. ``t``: sorted unique 1-D times >= 0; ``theta0``, ``dtheta0``:
     1-D; parameters scalars. Returns arrays ``(len(t), n)``."""
+    # scipy.integrate takes half a second to import: only the integrator path pays for it.
+    from scipy.integrate import solve_ivp
+
     n_all = theta0.size
     out_th = np.empty((t.size, n_all))
     out_om = np.empty((t.size, n_all))
@@ -214,6 +216,8 @@ def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
 
 
 def _last_state(rhs, t0, t1, y, rtol, atol):
+    from scipy.integrate import solve_ivp
+
     sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol, atol=atol)
     return sol.y[:, -1]
 
