@@ -125,3 +125,14 @@ def test_progress_bar_reaches_the_end():
     quiet = io.StringIO()
     ProgressBar(stream=quiet, enabled=False)(5, 10)
     assert quiet.getvalue() == ""
+
+
+def test_wrapped_phase_portrait_is_not_joined_across_the_seam():
+    tr = simulate(0.1, 0.0, T=0.3, A=100.0, periods=20)  # falls and turns over
+    fig, ax = plt.subplots()
+    line = plot_phase_portrait(tr, ax)["curve"]
+    x = np.asarray(line.get_xdata(), float)
+    assert np.isnan(x).sum() >= 10  # one break per turn
+    ok = ~np.isnan(x[1:]) & ~np.isnan(x[:-1])
+    assert np.max(np.abs(np.diff(x)[ok])) < 1.0  # no segment crosses the plot
+    plt.close(fig)

@@ -47,12 +47,13 @@ def wrap_angle(theta):
     return np.pi - np.mod(np.pi - np.asarray(theta, float), 2.0 * np.pi)
 
 
-def _broken(x, y, jump=np.pi):
-    """Insert NaN where ``y`` jumps by more than ``jump`` so wrapped curves are not joined across."""
-    x = np.asarray(x, float)
-    y = np.asarray(y, float)
-    cut = np.flatnonzero(np.abs(np.diff(y)) > jump) + 1
-    return np.insert(x, cut, np.nan), np.insert(y, cut, np.nan)
+def _broken(theta, other, jump=np.pi):
+    """Insert NaN into both where the wrapped angle ``theta`` jumps by more than ``jump``, so
+    that a curve is not joined across the seam at +-pi."""
+    theta = np.asarray(theta, float)
+    other = np.asarray(other, float)
+    cut = np.flatnonzero(np.abs(np.diff(theta)) > jump) + 1
+    return np.insert(theta, cut, np.nan), np.insert(other, cut, np.nan)
 
 
 def parameter_label(T, A, l, g):
@@ -267,8 +268,8 @@ def phase_portrait_figure(traj, *, title=None):
     fig = new_figure(6.5, 5.2, caption_lines=3)
     ax = fig.add_subplot()
     plot_phase_portrait(traj, ax)
-    ax.legend(loc="best", fontsize=8, framealpha=0.9)
-    ax.set_title(title or "Phase portrait", fontsize=10)
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8, frameon=False)
+    fig.suptitle(title or "Phase portrait", fontsize=10)
     caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g) + f". {traj.periods:g} periods 2T; dots: the "
             "state once per period (t = 2kT), i.e. the stroboscopic map. θ' jumps in slope, not in value, at the "
             "switches.")
