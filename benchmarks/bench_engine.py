@@ -17,14 +17,14 @@ from __future__ import annotations
 import argparse
 import datetime
 import os
-import platform
-import statistics
 import sys
 import time
 
 import numpy as np
-import scipy
 from scipy.integrate import solve_ivp
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _timing import machine, median_time  # noqa: E402
 
 import kapitza as K
 
@@ -33,16 +33,6 @@ EDGES_TARGET_S = 0.050
 BASELINE_MIN_RATIO = 10.0
 
 
-def median_time(fn, repeats, warmup=1):
-    """Median wall time of ``fn()`` over ``repeats`` calls (after ``warmup`` calls)."""
-    for _ in range(warmup):
-        fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), min(times), max(times)
 
 
 def grid_axes(n_eps, n_mu):
@@ -93,9 +83,6 @@ def fresh_pages(nbytes):
     mm.close()
 
 
-def machine():
-    return (f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
-            f"{platform.machine()}, {os.cpu_count()} logical CPUs, {platform.platform()}")
 
 
 def main(argv=None):
@@ -113,7 +100,8 @@ def main(argv=None):
 
     print(f"kapitza {K.__version__} engine benchmark{' (--tiny)' if tiny else ''}, "
           f"{datetime.datetime.now().isoformat(timespec='seconds')}")
-    print(machine())
+    for line in machine():
+        print(line)
     print()
 
     # ------------------------------------------------------------ stability grid

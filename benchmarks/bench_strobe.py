@@ -19,29 +19,20 @@ from __future__ import annotations
 import argparse
 import datetime
 import os
-import platform
-import statistics
 import sys
 import time
 
 import numpy as np
-import scipy
 from scipy.integrate import solve_ivp
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _timing import machine, median_time  # noqa: E402
 
 from kapitza.motion import stroboscopic_map
 
 T, A, L, G = 0.15, 100.0, 1.0, 9.81   # zone 0: islands about the upright in a chaotic sea
 
 
-def median_time(fn, repeats, warmup=1):
-    for _ in range(warmup):
-        fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), min(times), max(times)
 
 
 def ensemble(n, seed=0):
@@ -63,17 +54,6 @@ def ivp_map(th0, om0, periods, rtol=1e-10, atol=1e-12):
     return out
 
 
-def machine():
-    lines = [f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}",
-             f"{platform.machine()}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}"]
-    try:
-        with open("/proc/cpuinfo") as fh:
-            model = next((ln.split(":", 1)[1].strip() for ln in fh if ln.startswith("model name")), None)
-        if model:
-            lines.insert(1, model)
-    except OSError:
-        pass
-    return lines
 
 
 def main(argv=None):

@@ -10,27 +10,7 @@ import numpy as np
 import pytest
 
 import kapitza as K
-from kapitza.cli import main
-
-
-def run(argv, capsys):
-    """(exit status, stdout, stderr) of ``kapitza argv``; argparse errors exit via SystemExit."""
-    try:
-        code = main(argv)
-    except SystemExit as exc:
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def assert_one_line_error(code, err, *needles):
-    assert code == 2
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    assert "Traceback" not in err
-    assert lines[0].startswith("kapitza")
-    for n in needles:
-        assert n in lines[0], (n, lines[0])
+from cli_util import assert_one_line_error, run
 
 
 def read_csv(path):

@@ -9,25 +9,8 @@ import pytest
 from PIL import Image
 
 import kapitza as K
-from kapitza.cli import main
+from cli_util import assert_one_line_error, run
 from kapitza.motion import nonlinear_motion
-
-
-def run(argv, capsys):
-    try:
-        code = main(argv)
-    except SystemExit as exc:
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def one_line_error(code, err, *needles):
-    assert code == 2
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in err, err
-    for n in needles:
-        assert n in lines[0], (n, lines[0])
 
 
 def read_csv(path):
@@ -95,7 +78,7 @@ def test_simulate_unstable_linear_overflow_is_reported_not_fatal(capsys):
 def test_bad_input_is_one_line_and_status_2(argv, needles, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     code, out, err = run(argv, capsys)
-    one_line_error(code, err, *needles)
+    assert_one_line_error(code, err, *needles)
 
 
 def test_animate_writes_a_gif_with_the_promised_frames(tmp_path, capsys):

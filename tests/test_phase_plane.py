@@ -64,7 +64,6 @@ def test_notable_points_equal_matrix_propagation(phi0, T, A, r0):
 def test_notable_points_radii_relative_accuracy_when_the_stretch_contracts_hard():
     # A close to g: D = w_h/w_e is large and f(phi_3; 1/D) ~ 1/D near phi_3 = pi/2
     A, T, r0 = 9.81 * 1.0001, 0.3, 1.0
-    wh, we = math.sqrt(A + G_), math.sqrt(A - G_)
     for phi0 in np.linspace(-1.5, -0.01, 40):
         P = PP.notable_points(phi0, T, A, r0)
         pts = _points_by_matrices(phi0, T, A, r0)

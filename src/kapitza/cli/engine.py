@@ -1,7 +1,6 @@
 """Commands of the exact engine: stability, periods, zones, chart."""
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np

@@ -1,0 +1,36 @@
+"""What every benchmark here shares: medians over repeats and a description of the machine."""
+from __future__ import annotations
+
+import os
+import platform
+import statistics
+import time
+
+import numpy as np
+import scipy
+
+
+def median_time(fn, repeats, warmup=1):
+    """``(median, min, max)`` wall time of ``fn()`` over ``repeats`` calls, after ``warmup`` calls."""
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), min(times), max(times)
+
+
+def machine():
+    """Lines describing the machine and the numerical stack."""
+    lines = [f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}",
+             f"{platform.machine()}, {os.cpu_count()} logical CPUs, {platform.system()} {platform.release()}"]
+    try:
+        with open("/proc/cpuinfo") as fh:
+            model = next((ln.split(":", 1)[1].strip() for ln in fh if ln.startswith("model name")), None)
+        if model:
+            lines.insert(1, model)
+    except OSError:
+        pass
+    return lines
