@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["positive", "finite", "nonnegative_int", "in_range", "KapitzaValueError"]
+__all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "KapitzaValueError"]
 
 
 class KapitzaValueError(ValueError):
@@ -82,3 +82,8 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
     if bad.any():
         raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_first_bad(arr, bad)}")
     return arr
+
+
+def arnold(eps, mu):
+    """Arnold's ``(eps, mu)`` as float arrays, each finite and > 0 (``mu >= 1`` allowed)."""
+    return positive("eps", eps), positive("mu", mu)

@@ -41,6 +41,9 @@ def _check_A(A, g):
 
 
 def _xD(T, A, l, g):
+    """``(x, u, D)`` of validated physical parameters with ``A > g``."""
+    T, A, l, g = (_v.positive(n, v) for n, v in zip("TAlg", (T, A, l, g)))
+    _check_A(A, g)
     w_h = np.sqrt((A + g) / l)
     w_e = np.sqrt((A - g) / l)
     return w_h * T, w_e * T, w_h / w_e
@@ -63,8 +66,6 @@ def alpha(T, A, l=1.0, g=G_EARTH):
     -----
     Left-hand side of (3.10) and (3.12); section 4 of the paper.
     """
-    T, A, l, g = (_v.positive(n, v) for n, v in zip("TAlg", (T, A, l, g)))
-    _check_A(A, g)
     x, _, D = _xD(T, A, l, g)
     return X.alpha_x(x, D)
 
@@ -86,8 +87,6 @@ def beta(T, A, l=1.0, g=G_EARTH):
     -----
     Left-hand side of (3.11) and (3.13); section 4 of the paper.
     """
-    T, A, l, g = (_v.positive(n, v) for n, v in zip("TAlg", (T, A, l, g)))
-    _check_A(A, g)
     x, _, D = _xD(T, A, l, g)
     return X.beta_x(x, D)
 

@@ -152,8 +152,7 @@ def floquet(eps, mu):
     (see :mod:`kapitza._exact`); the growth ``acosh|tau|`` is formed from
     ``log|tau|`` far out, so it is finite for every input.
     """
-    eps = _v.positive("eps", eps)
-    mu = _v.positive("mu", mu)
+    eps, mu = _v.arnold(eps, mu)
     tau, growth, theta, stable, zone = _floquet(eps, mu)
     with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double (documented)
         trace = 2.0 * tau
@@ -197,8 +196,7 @@ def growth_rate(eps, mu):
     -------
     ndarray
     """
-    eps = _v.positive("eps", eps)
-    mu = _v.positive("mu", mu)
+    eps, mu = _v.arnold(eps, mu)
     return _floquet(eps, mu)[1]
 
 
@@ -216,8 +214,7 @@ def rotation_number(eps, mu):
         In ``(n/2, (n+1)/2)`` on zone ``n``. The mean number of zeros of
         ``theta(t)`` per period is twice this.
     """
-    eps = _v.positive("eps", eps)
-    mu = _v.positive("mu", mu)
+    eps, mu = _v.arnold(eps, mu)
     return _floquet(eps, mu)[2] / (2.0 * PI)
 
 

@@ -152,8 +152,7 @@ def is_stable(eps, mu):
     Theorems 3.3-3.4 and Corollary 4.1; ``docs/theory.md`` section 5. Points exactly
     on an edge (a 2T- or 4T-periodic solution exists, ``|tr M| = 2``) are unstable.
     """
-    eps = _v.positive("eps", eps)
-    mu = _v.positive("mu", mu)
+    eps, mu = _v.arnold(eps, mu)
     return _verdict(eps, mu)[0]
 
 
@@ -169,8 +168,7 @@ def zone_index(eps, mu):
     -------
     ndarray of int
     """
-    eps = _v.positive("eps", eps)
-    mu = _v.positive("mu", mu)
+    eps, mu = _v.arnold(eps, mu)
     stable, n = _verdict(eps, mu)
     return np.where(stable, n, -1).astype(np.int64)
 
@@ -324,8 +322,7 @@ def stability_margin(eps, mu):
     -------
     StabilityMargin
     """
-    eps = _v.positive("eps", eps)
-    mu = _v.positive("mu", mu)
+    eps, mu = _v.arnold(eps, mu)
     eps, mu = np.broadcast_arrays(eps, mu)
     ell = mu < 1.0
     mus = np.where(ell, mu, 0.5)
@@ -381,8 +378,7 @@ def stability_grid(eps, mu, out=None):
     ``eps`` grid by binary search, and the stable runs are painted row by row.
     The cost is ``O(len(mu) * zones * log len(eps))`` plus writing the output.
     """
-    eps = _v.positive("eps", eps)
-    mu = _v.positive("mu", mu)
+    eps, mu = _v.arnold(eps, mu)
     if eps.ndim != 1 or mu.ndim != 1:
         raise _v.KapitzaValueError(
             f"eps and mu must be 1-D arrays; got shapes {eps.shape} and {mu.shape}"
