@@ -1,0 +1,143 @@
+"""Everything of the reproduction, written into one folder (the ``kapitza paper`` command)."""
+from __future__ import annotations
+
+import datetime
+from dataclasses import dataclass
+from pathlib import Path
+
+
+from .. import __version__, _io
+from ..periodic import boundary_table
+from . import checks as C
+from .report import Code, Heading, Image, Para, Table, to_html, to_markdown
+
+__all__ = ["PaperBuild", "build_paper", "TABLE_AMPLITUDES"]
+
+#: Amplitudes [m/s^2] of the table of boundary half-periods (l = 1 m, g = 9.81 m/s^2).
+TABLE_AMPLITUDES = (15.0, 30.0, 100.0, 1000.0)
+
+PAPER = ("L. Csizmadia and L. Hatvani, *On the existence of periodic motions of the excited inverted "
+         "pendulum by elementary methods* (2017)")
+
+FORMULAS = """\
+a(t) = +A on [2kT, (2k+1)T),  -A on [(2k+1)T, (2k+2)T)                      (2.2)
+theta'' - (g + a(t))/l theta = 0                                              (2.3)
+w_h = sqrt((A+g)/l),  w_e = sqrt((A-g)/l),  D = w_h / w_e
+alpha(T) = 2 atan(D (e^{w_h T} - 1)/(e^{w_h T} + 1))
+beta(T)  = 2 atan(D (e^{w_h T} + 1)/(e^{w_h T} - 1))
+2T-periodic:  w_e T = alpha + 2k pi   (3.10)    w_e T = beta + (2k+1) pi   (3.11)
+4T-periodic:  w_e T = alpha + (2k+1) pi (3.12)  w_e T = beta + 2k pi       (3.13)
+phi_0 = atan((1 - e^{w_h T})/(1 + e^{w_h T}))   for (3.10), (3.12)        (3.19)
+phi_0 = -atan((e^{w_h T} + 1)/(e^{w_h T} - 1))  for (3.11), (3.13)        (3.22)
+eps = T sqrt(A)/sqrt(8 l),  mu = sqrt(g/A);   G_m: 2 sqrt(2) eps sqrt(1 - mu^2) = (2m+1) pi/2
+stable (zone n)  <=>  alpha + n pi < w_e T < beta + n pi
+reference for every check: tr M = 2 cosh(w_h T) cos(w_e T) + (D - 1/D) sinh(w_h T) sin(w_e T),
+  M = E(T) H(T) the one-period matrix; solve_ivp (DOP853) where an independent integration is used"""
+
+
+@dataclass(frozen=True)
+class PaperBuild:
+    """What :func:`build_paper` wrote and found.
+
+    Attributes
+    ----------
+    out : Path
+    files : tuple of Path
+    checks : tuple of CheckResult
+    passed : bool
+        True when every check passed.
+    """
+
+    out: Path
+    files: tuple
+    checks: tuple
+    passed: bool
+
+
+def _fmt(v, digits=3):
+    return f"{v:.{digits}e}" if isinstance(v, float) else str(v)
+
+
+def build_paper(out, quick=False, progress=None) -> PaperBuild:
+    """Write Figures 1-8 (PNG, SVG, JSON, CSV), the checks and the report into ``out``.
+
+    Parameters
+    ----------
+    out : path-like
+        Folder to write into (created if absent).
+    quick : bool
+        Fewer parameter sets in each check (for a fast look; the full run is the default).
+    progress : callable, optional
+        Called with a short message before each step.
+
+    Returns
+    -------
+    PaperBuild
+    """
+    from . import figures as F  # matplotlib is needed only here
+
+    say = progress or (lambda msg: None)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    files = []
+    figs = []
+    for n in range(1, 9):
+        say(f"Figure {n}")
+        data, paths = F.write_figure(n, out)
+        files += paths
+        figs.append((n, data, paths))
+    say("checks of the numbered results")
+    results = tuple(C.all_checks(quick=quick))
+    passed = bool(results) and all(r.passed for r in results)  # no checks run is not a pass
+    files.append(_io.write_json(out / "checks.json", dict(
+        paper=PAPER, kapitza=__version__, quick=quick, passed=passed,
+        checks=[dict(r.__dict__, table=dict(header=list(r.table[0]), rows=[list(x) for x in r.table[1]]) if r.table else None)
+                for r in results])))
+
+    say("boundary half-periods table")
+    rows = []
+    for A in TABLE_AMPLITUDES:
+        for b in boundary_table(A, 4):
+            rows.append((A, b.name, b.T, b.period, b.equation, b.k, b.zone, b.edge))
+    files.append(_io.write_csv(out / "periods.csv", ["A", "name", "T", "period", "equation", "k", "zone", "edge"], rows,
+                               comments=["boundary half-periods, l = 1 m, g = 9.81 m/s^2 (Corollary 4.1)"]))
+
+    blocks = [
+        Heading("Reproduction of the paper", 1),
+        Para(f"{PAPER}. Every figure and every check below was computed by kapitza {__version__} "
+             f"on {datetime.date.today().isoformat()}" + (" (quick run: fewer parameter sets per check)." if quick else ".")),
+        Para("**All checks passed.**" if passed else "**Some checks FAILED** — see the table and the sections below."),
+        Heading("Summary of the checks"),
+        Table(("result", "cases", "worst error", "tolerance", "error measured", "status"),
+              tuple((r.title, r.cases, _fmt(r.worst), _fmt(r.tolerance), r.error, "PASS" if r.passed else "FAIL")
+                    for r in results), status_column=5),
+        Heading("Formulas"),
+        Code(FORMULAS),
+        Heading("Boundary half-periods T_n, T~_n (l = 1 m, g = 9.81 m/s^2)"),
+        Para("Each is a zone edge: `T_{n+1}` carries a 2T-periodic solution, `T~_{n+1}` a 4T-periodic one; "
+             "in every row group the order is Corollary 4.1's `T_1 < T~_1 < T~_2 < T_2 < T_3 < T~_3 < ...`."),
+        Table(("A [m/s^2]", "name", "T [s]", "period", "equation", "k", "zone", "edge"),
+              tuple((f"{a:g}", nm, f"{t:.12g}", p, e, k, z, ed) for a, nm, t, p, e, k, z, ed in rows)),
+        Heading("The numbered results and their verification"),
+    ]
+    for r in results:
+        blocks += [
+            Heading(f"{r.title} — {'PASS' if r.passed else 'FAILED'}", 3),
+            Para(r.statement),
+            Para(f"**Method.** {r.method}"),
+            Para(f"**Reference.** {r.reference}"),
+            Para(f"**Result.** {r.cases} cases; worst {r.error}: {_fmt(r.worst)} (tolerance {_fmt(r.tolerance)})."),
+        ]
+        if r.table:
+            header, trows = r.table
+            blocks.append(Table(tuple(header), tuple(tuple(_fmt(c, 4) if isinstance(c, float) else c for c in row)
+                                                     for row in trows)))
+    blocks.append(Heading("Figures"))
+    for n, data, paths in figs:
+        png = next(p for p in paths if p.suffix == ".png")
+        blocks += [Heading(f"Figure {n}: {data.title}", 3),
+                   Image(png, f"Figure {n}. {data.caption}", tuple(p for p in paths if p.suffix != ".png"))]
+    say("report")
+    files.append(_io.write_text(out / "report.md", to_markdown(blocks, out)))
+    files.append(_io.write_text(out / "report.html", to_html(blocks, out, "kapitza: reproduction of Csizmadia & Hatvani")))
+    return PaperBuild(out=out, files=tuple(files), checks=results, passed=passed)

@@ -1,0 +1,136 @@
+"""The reproduction report, written as Markdown and as self-contained HTML.
+
+The report is assembled from blocks (headings, paragraphs, tables, figures) built
+from computed results, and each block is rendered both ways, so the two files say
+the same thing. Nothing in it is typed in by hand except the prose around the numbers.
+"""
+from __future__ import annotations
+
+import base64
+import html
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+__all__ = ["Heading", "Para", "Table", "Image", "Code", "to_markdown", "to_html"]
+
+
+@dataclass(frozen=True)
+class Heading:
+    text: str
+    level: int = 2
+
+
+@dataclass(frozen=True)
+class Para:
+    """A paragraph; ``code`` spans in backticks, ``**bold**`` allowed."""
+
+    text: str
+
+
+@dataclass(frozen=True)
+class Table:
+    header: tuple
+    rows: tuple
+    status_column: int | None = None  # a column holding PASS/FAIL, coloured in HTML
+
+
+@dataclass(frozen=True)
+class Image:
+    """A figure file (PNG) shown with its caption; ``links`` are the files beside it."""
+
+    path: Path
+    caption: str
+    links: tuple = ()
+
+
+@dataclass(frozen=True)
+class Code:
+    text: str
+
+
+# ------------------------------------------------------------------ Markdown
+def _md_cell(v) -> str:
+    return str(v).replace("|", "\\|").replace("\n", " ")
+
+
+def to_markdown(blocks, base: Path) -> str:
+    """Markdown text; image and file links are relative to ``base``."""
+    out = []
+    for b in blocks:
+        if isinstance(b, Heading):
+            out.append("#" * b.level + " " + b.text)
+        elif isinstance(b, Para):
+            out.append(b.text)
+        elif isinstance(b, Table):
+            out.append("| " + " | ".join(_md_cell(h) for h in b.header) + " |")
+            out.append("|" + "---|" * len(b.header))
+            out += ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in b.rows]
+        elif isinstance(b, Image):
+            rel = Path(b.path).relative_to(base).as_posix()
+            out.append(f"![{_md_cell(b.caption)[:80]}]({rel})")
+            out.append("")
+            out.append(f"*{b.caption}*")
+            if b.links:
+                out.append("")
+                out.append("Files: " + ", ".join(f"[{Path(p).name}]({Path(p).relative_to(base).as_posix()})" for p in b.links))
+        elif isinstance(b, Code):
+            out.append("```text\n" + b.text.rstrip("\n") + "\n```")
+        out.append("")
+    return "\n".join(out)
+
+
+# ------------------------------------------------------------------ HTML
+_CSS = """
+body { font-family: -apple-system, "Segoe UI", Helvetica, Arial, sans-serif; max-width: 60rem;
+       margin: 2rem auto; padding: 0 1rem; line-height: 1.5; color: #222; }
+h1, h2, h3 { line-height: 1.25; }
+table { border-collapse: collapse; margin: 0.8rem 0; font-size: 0.9rem; }
+th, td { border: 1px solid #ccc; padding: 0.25rem 0.5rem; text-align: left; vertical-align: top; }
+th { background: #f0f3f7; }
+td.pass { color: #116611; font-weight: bold; } td.fail { color: #b00000; font-weight: bold; }
+figure { margin: 1.5rem 0; } figure img { max-width: 100%; border: 1px solid #ddd; }
+figcaption { font-size: 0.9rem; color: #444; }
+code, pre { background: #f6f6f6; font-size: 0.88rem; } pre { padding: 0.6rem; overflow-x: auto; }
+"""
+
+
+def _inline(text: str) -> str:
+    s = html.escape(text)
+    s = re.sub(r"`([^`]+)`", r"<code>\1</code>", s)
+    s = re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", s)
+    return s
+
+
+def to_html(blocks, base: Path, title: str) -> str:
+    """Self-contained HTML: every figure is embedded as a base64 PNG."""
+    out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+           f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body>"]
+    for b in blocks:
+        if isinstance(b, Heading):
+            out.append(f"<h{b.level}>{_inline(b.text)}</h{b.level}>")
+        elif isinstance(b, Para):
+            out.append(f"<p>{_inline(b.text)}</p>")
+        elif isinstance(b, Table):
+            out.append("<table><thead><tr>" + "".join(f"<th>{_inline(str(h))}</th>" for h in b.header) + "</tr></thead><tbody>")
+            for r in b.rows:
+                cells = []
+                for i, c in enumerate(r):
+                    cls = ""
+                    if i == b.status_column:
+                        cls = ' class="pass"' if str(c) == "PASS" else ' class="fail"'
+                    cells.append(f"<td{cls}>{_inline(str(c))}</td>")
+                out.append("<tr>" + "".join(cells) + "</tr>")
+            out.append("</tbody></table>")
+        elif isinstance(b, Image):
+            data = base64.b64encode(Path(b.path).read_bytes()).decode("ascii")
+            links = ""
+            if b.links:
+                links = "<br>Files: " + ", ".join(
+                    f'<a href="{html.escape(Path(p).relative_to(base).as_posix())}">{html.escape(Path(p).name)}</a>' for p in b.links)
+            out.append(f'<figure><img alt="{html.escape(b.caption[:80])}" src="data:image/png;base64,{data}">'
+                       f"<figcaption>{_inline(b.caption)}{links}</figcaption></figure>")
+        elif isinstance(b, Code):
+            out.append(f"<pre>{html.escape(b.text)}</pre>")
+    out.append("</body></html>")
+    return "\n".join(out) + "\n"
