@@ -13,10 +13,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..parameters import G_EARTH
-from ..periodic import boundary_periods, periodic_solution
+from ..parameters import G_EARTH, SQRT8
+from ..periodic import alpha, beta, boundary_periods, periodic_solution
 from ..phase_plane import notable_points
 from ..propagation import monodromy
+from ..zones import G_m_curve, is_stable, stability_margin, zone_edges, zone_width
+from .approximations import kapitza_edge, mean_square_velocity, pivot_velocity
 
 __all__ = ["CheckResult", "all_checks"]
 
@@ -501,3 +503,266 @@ def check_theorem_3_4(quick=False):
 
 
 _CHECKS.extend([check_lemma_3_1, check_lemma_3_2, check_theorem_3_3, check_theorem_3_4])
+
+
+# ---------------------------------------------------------------- Corollary 4.1
+def check_corollary_4_1(quick=False):
+    """Corollary 4.1: the boundary periods interlace, ``T_1 < T~_1 < T~_2 < T_2 < T_3 < ...``.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer amplitudes.
+
+    Returns
+    -------
+    CheckResult
+
+    Notes
+    -----
+    Section 4: ``alpha`` is increasing and concave and ``beta`` decreasing and convex in
+    ``T``, so each of (3.10)-(3.13) has exactly one root per ``k``; ordered, the roots give
+    the sequence of the corollary. Between zones the order is checked on the doubles; inside
+    a zone the edges can be closer than a double resolves (the width shrinks like
+    ``e^{-w_h T}``), so there ``T_j != T~_j`` is checked by :func:`kapitza.zone_width`
+    (``log=True``), which never subtracts the edges.
+    """
+    nA = 20 if quick else 200
+    zones = 12
+    As = np.geomspace(_G * (1.0 + 1e-6), 1e5, nA)
+    T2, T4 = boundary_periods(As, zones)
+    n = np.arange(zones)
+    even = n % 2 == 0
+    lo = np.where(even, T2, T4)                   # T_1, T~_2, T_3, T~_4, ...
+    hi = np.where(even, T4, T2)                   # T~_1, T_2, T~_3, T_4, ...
+    between = (lo[:, 1:] - hi[:, :-1]) / hi[:, :-1]
+    mu = np.sqrt(_G / As)
+    logw = zone_width(mu[:, None], n[None, :], log=True)
+    eps_lo = lo / np.sqrt(8.0 / As)[:, None]
+    log10_rel_width = (logw - np.log(eps_lo)) / np.log(10.0)
+    bad_between = int(np.sum(~(between > 0)))
+    bad_within = int(np.sum(~np.isfinite(logw)) + np.sum(lo > hi))
+    # alpha increasing and concave, beta decreasing and convex (second differences, uniform x grid)
+    A_shape = np.geomspace(_G * (1.0 + 1e-6), 1e5, 5 if quick else 12)
+    bad_shape = 0
+    for A in A_shape:
+        w_h, w_e = _omegas(A)
+        x = np.linspace(0.01, 8.0, 400)
+        a, b = alpha(x / w_h, A), beta(x / w_h, A)
+        bad_shape += int(np.sum(np.diff(a) <= 0) + np.sum(np.diff(a, 2) >= 0)
+                         + np.sum(np.diff(b) >= 0) + np.sum(np.diff(b, 2) <= 0))
+    # one root per k: sign changes of u - alpha - j pi and u - beta - j pi on a grid of T
+    bad_roots = 0
+    for A in A_shape:
+        w_h, w_e = _omegas(A)
+        T = np.linspace(1e-6, (zones + 1) * PI / w_e, 20000 if quick else 60000)
+        u = w_e * T
+        a, b = alpha(T, A), beta(T, A)
+        for j in range(zones):
+            for F in (u - a - j * PI, u - b - j * PI):
+                bad_roots += int(np.sum(np.sign(F[:-1]) * np.sign(F[1:]) < 0) != 1)
+    violations = bad_between + bad_within + bad_shape + bad_roots
+    min_between = float(between.min())
+    min_within = float(log10_rel_width.min())
+    rows = []
+    for i in _pick_rows(list(range(nA)), 5):
+        seq = np.ravel(np.stack([lo[i], hi[i]], -1))
+        rows.append((_fmt(As[i]), f"{seq[0]:.12g} < {seq[1]:.12g} < {seq[2]:.12g} < {seq[3]:.12g}",
+                     _fmt(float(between[i].min())), f"{float(log10_rel_width[i].min()):.4g}"))
+    error = (
+        f"number of violations: between-zone order {bad_between}, zones of non-positive width {bad_within}, "
+        f"shape of alpha/beta {bad_shape}, equations without exactly one root {bad_roots}. Smallest relative "
+        f"gap between zones {min_between:.3g}; smallest relative zone width 10^{min_within:.4g}"
+    )
+    return _result(
+        "corollary-4.1", "Corollary 4.1 (interlacing of the boundary periods)",
+        "For every `A > g` there are sequences `T_n`, `T~_n` with "
+        "`0 < T_1 < T~_1 < T~_2 < T_2 < T_3 < ... < T~_n < T~_{n+1} < T_{n+1} < T_{n+2} < ...`; (2.3) has a "
+        "2T-periodic solution at `T = T_n` and a 4T-periodic one at `T = T~_n`. (`alpha` is concave and "
+        "`beta` convex, so each of (3.10)-(3.13) has exactly one root per `k`.)",
+        f"For {nA} amplitudes A in geomspace(g (1 + 1e-6), 1e5) the first {zones} zones' edges "
+        "(kapitza.boundary_periods) are put in the corollary's order: the gaps between zones must be "
+        "positive as doubles; within a zone the edges may be closer than a double resolves, so there the "
+        "width is taken from kapitza.zone_width(log=True), which must be finite (width > 0). For "
+        f"{len(A_shape)} amplitudes: alpha(T), beta(T) (kapitza.periodic.alpha/beta) on 400 equally spaced "
+        "w_h T in [0.01, 8] must have strictly positive/negative first and negative/positive second "
+        "differences, and each of u - alpha - j pi, u - beta - j pi (j = 0..11) must change sign exactly "
+        "once on a fine grid of T.",
+        "Strict ordering of the computed sequence; finite differences of alpha and beta as printed in "
+        "section 4; sign changes of (3.10)-(3.13) written as u - alpha - j pi, u - beta - j pi.",
+        nA * zones + len(A_shape) * (2 + 2 * zones), violations, 0.0, error,
+        ("A", "T_1 < T~_1 < T~_2 < T_2", "smallest relative gap between zones", "log10 smallest relative width"),
+        rows,
+    )
+
+
+# ---------------------------------------------------------------- Section 4: stability zones
+def check_stability_zones(quick=False):
+    """Section 4: the stability zones, their position along ``G_m`` and their widths.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer random points and ``mu`` values.
+
+    Returns
+    -------
+    CheckResult
+
+    Notes
+    -----
+    (a) ``|tr M| < 2`` by the plain formula against :func:`kapitza.is_stable` at random
+    ``(eps, mu)`` away from the edges, and at the centre and just outside both edges of
+    each zone; (b) the edges of zone ``m`` lie in ``m pi < u < (m + 1) pi``, the strip of
+    ``G_m`` (``u = (2m+1) pi/2``), and the zone's midpoint in ``u`` tends to
+    ``(m + 1/2) pi + asin(mu^2)``; (c) :func:`kapitza.zone_width` decreases strictly in ``m``.
+    """
+    rng = np.random.default_rng(4)
+    N = 2000 if quick else 40000
+    eps = rng.uniform(0.02, 4.0, N)
+    mu = rng.uniform(0.01, 0.99, N)
+    A = _G / mu**2
+    T = eps * np.sqrt(8.0 / A)
+    tr, _ = _plain_trace(T, A)
+    margin = stability_margin(eps, mu).margin
+    away = np.abs(margin) > 1e-6
+    mism_random = int(np.sum((np.abs(tr) < 2.0)[away] != is_stable(eps, mu)[away]))
+    # centre and just outside each zone
+    mus = np.linspace(0.02, 0.98, 7 if quick else 25)
+    M = 12
+    mism_edges, skipped, n_edge = 0, 0, 0
+    for m_ in mus:
+        lo, hi = zone_edges(m_, np.arange(M))
+        w = zone_width(m_, np.arange(M))
+        for n in range(M):
+            if w[n] / lo[n] < 1e-6:
+                skipped += 1
+                continue
+            pts = np.array([lo[n] - 1e-3 * w[n], 0.5 * (lo[n] + hi[n]), hi[n] + 1e-3 * w[n]])
+            Ap = _G / m_**2
+            trp, _ = _plain_trace(pts * np.sqrt(8.0 / Ap), Ap)
+            expect = np.array([False, True, False])
+            mism_edges += int(np.sum((np.abs(trp) < 2.0) != expect) + np.sum(is_stable(pts, m_) != expect))
+            n_edge += 1
+    # (b) strips of G_m and the offset of the midpoint
+    q = np.sqrt((1.0 - mus) * (1.0 + mus))
+    lo, hi = zone_edges(mus[:, None], np.arange(M)[None, :])
+    ulo, uhi = SQRT8 * lo * q[:, None], SQRT8 * hi * q[:, None]
+    mm = np.arange(M)[None, :]
+    outside_strip = int(np.sum(~((ulo > mm * PI) & (uhi < (mm + 1) * PI) & (ulo <= uhi))))
+    uG = SQRT8 * G_m_curve(mus[:, None], mm) * q[:, None]
+    offset = 0.5 * (ulo + uhi) - uG
+    limit = np.arcsin(mus**2)[:, None]
+    off_last = float(np.max(np.abs(offset[:, -1] - limit[:, 0])))
+    tol_off = 1e-9
+    # (c) widths decrease strictly in m
+    logw = zone_width(mus[:, None], mm, log=True)
+    not_decreasing = int(np.sum(np.diff(logw, axis=1) >= 0))
+    violations = mism_random + mism_edges + outside_strip + not_decreasing
+    worst = off_last / tol_off + (np.inf if violations else 0.0)
+    i = len(mus) // 2
+    D = np.sqrt((1 + mus[i] ** 2) / (1 - mus[i] ** 2))
+    rows = []
+    for m_ in (0, 1, 2, 3, 6, 11):
+        rows.append((f"{mus[i]:.3g}", str(m_), f"{ulo[i, m_]:.6g}", f"{uhi[i, m_]:.6g}",
+                     _fmt(offset[i, m_] - limit[i, 0]), f"{logw[i, m_] / np.log(10):.4g}",
+                     "-" if m_ == 0 else _fmt(np.exp(logw[i, m_] - logw[i, m_ - 1]))))
+    error = (
+        f"max over (error/tolerance) of |midpoint offset of zone {M - 1} from G_{M - 1} - asin(mu^2)| in u "
+        f"{off_last:.2e} (tol {tol_off:g}); plus infinity if any violation: plain-trace verdict against "
+        f"is_stable at {int(away.sum())} random points {mism_random}, at centres/just outside edges of "
+        f"{n_edge} zones {mism_edges} ({skipped} zones thinner than 1e-6 eps not probed), edges outside "
+        f"the strip m pi < u < (m+1) pi {outside_strip}, widths not strictly decreasing in m {not_decreasing}. "
+        f"exp(-pi D) at mu = {mus[i]:.3g}: {np.exp(-PI * D):.3g}"
+    )
+    return _result(
+        "section-4-zones", "Section 4 (stability zones along G_m)",
+        "The stability region on the `eps`-`mu` plane has infinitely many components (stability zones), "
+        "bounded by the solution sets of (3.10)-(3.13); they are located along the curves "
+        "`G_m: 2 sqrt 2 eps sqrt(1 - mu^2) = (2m+1) pi/2`, and their widths (and heights) tend to zero "
+        "as `m -> infinity`.",
+        f"(a) {N} random (eps, mu) in (0.02, 4) x (0.01, 0.99): |tr M| < 2 by the plain formula against "
+        "kapitza.is_stable, where the relative distance to the nearest edge (kapitza.stability_margin) "
+        f"exceeds 1e-6; for {len(mus)} mu in [0.02, 0.98] and zones m = 0..{M - 1} (kapitza.zone_edges), "
+        "the centre must be stable and eps_lo - 1e-3 w, eps_hi + 1e-3 w (w the width) unstable, by both. "
+        f"(b) In u = 2 sqrt 2 eps sqrt(1 - mu^2) the edges of zone m must lie in (m pi, (m+1) pi), the strip "
+        "whose middle is G_m; the midpoint's offset from G_m, gamma - pi/2 + O(e^{-x}) "
+        "(docs/theory.md section 7), must tend to asin(mu^2), reached to 1e-9 by m = 11. So the zones "
+        "follow G_m at a distance in u that does not grow with m and vanishes like mu^2 as mu -> 0; "
+        "in eps the relative distance falls like 1/m. (c) kapitza.zone_width(log=True) must decrease "
+        "strictly in m; the table gives the ratio of consecutive widths, which approaches exp(-pi D). "
+        "Heights are not checked: the exact zone m reaches every mu in (0, 1) (its eps-interval is "
+        "non-empty for every mu, part (a)), so its extent in mu does not shrink; only widths in eps do.",
+        "The plain trace formula 2 cosh x cos u + (D - 1/D) sinh x sin u; the curves G_m; "
+        "gamma = pi/2 + atan(mu^2 tanh x / sqrt(1 - mu^4)) -> pi/2 + asin(mu^2).",
+        int(away.sum()) + 3 * n_edge + mus.size * M, worst, 1.0, error,
+        ("mu", "m", "u_lo", "u_hi", "midpoint - G_m - asin(mu^2) (u)", "log10 width", "width ratio w_m/w_{m-1}"),
+        rows,
+    )
+
+
+# ---------------------------------------------------------------- Kapitza's criterion
+def check_kapitza_limit(quick=False):
+    """Kapitza's averaging criterion as the limit of the first zone's lower edge.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer values of ``mu``.
+
+    Returns
+    -------
+    CheckResult
+
+    Notes
+    -----
+    For the square wave (2.2) the pivot velocity is a triangle wave with
+    ``<v^2> = A^2 T^2 / 12``; ``<v^2> > g l`` reads ``eps > sqrt(3/2) mu``. The exact lower
+    edge of zone 0 (eq. 3.10, ``k = 0``) satisfies ``eps_lo / mu -> sqrt(3/2)`` as ``mu -> 0``,
+    with relative deviation ``(4/7) mu^4 + O(mu^8)``.
+    """
+    mu = np.geomspace(1e-6, 0.3, 10 if quick else 60)
+    eps_lo, _ = zone_edges(mu, 0)
+    d = eps_lo / kapitza_edge(mu) - 1.0
+    small = mu <= 1e-3
+    worst_lim = float(np.max(np.abs(d[small])))
+    tol_lim = 1e-12
+    mid = (mu >= 0.01) & (mu <= 0.1)
+    coef = d[mid] / mu[mid] ** 4
+    worst_coef = float(np.max(np.abs(coef - 4.0 / 7.0)))
+    tol_coef = 1e-2
+    # <v^2> of the triangle wave by a midpoint rule, against A^2 T^2 / 12
+    A, T = 37.0, 0.21
+    K = 200000
+    t = (np.arange(K) + 0.5) * (2.0 * T / K)
+    msq = float(np.mean(pivot_velocity(t, A, T) ** 2))
+    e_v = abs(msq / float(mean_square_velocity(A, T)) - 1.0)
+    tol_v = 1e-9
+    worst = max(worst_lim / tol_lim, worst_coef / tol_coef, e_v / tol_v)
+    rows = [(f"{m:.3g}", f"{e:.12g}", _fmt(dd), f"{dd / m**4:.6g}" if m >= 1e-3 else "- (rounding)")
+            for m, e, dd in
+            _pick_rows(list(zip(mu, eps_lo, d)), 7)]
+    error = (
+        f"max over (error/tolerance): |eps_lo/(sqrt(3/2) mu) - 1| for mu <= 1e-3 {worst_lim:.2e} (tol "
+        f"{tol_lim:g}); |(eps_lo/(sqrt(3/2) mu) - 1)/mu^4 - 4/7| for 0.01 <= mu <= 0.1 {worst_coef:.2e} "
+        f"(tol {tol_coef:g}); relative error of <v^2> = A^2 T^2/12 against a midpoint rule {e_v:.2e} "
+        f"(tol {tol_v:g})"
+    )
+    return _result(
+        "kapitza-limit", "Kapitza's criterion (high-frequency limit of the first zone)",
+        "Kapitza's averaging criterion `<v^2> > g l` for the pivot velocity `v` is, for the square wave "
+        "(2.2) with `<v^2> = A^2 T^2 / 12`, the line `eps = sqrt(3/2) mu`; it is the limit of the exact "
+        "lower edge of the first stability zone ((3.10), `k = 0`) as `mu -> 0`.",
+        f"The exact lower edge eps_lo(mu) (kapitza.zone_edges, zone 0) for {mu.size} mu in geomspace(1e-6, "
+        "0.3) is divided by Kapitza's line (kapitza.paper.approximations.kapitza_edge); the deviation must "
+        "vanish (to 1e-12 for mu <= 1e-3) and behave like (4/7) mu^4, the first term of the series "
+        "eps^2 = (3/2) mu^2 (1 + (8/7) mu^4 + ...). <v^2> of the triangle-wave pivot velocity "
+        "(approximations.pivot_velocity) by a 200000-point midpoint rule against A^2 T^2 / 12.",
+        "Kapitza's line eps = sqrt(3/2) mu and the series coefficient 4/7 of the lower edge "
+        "(kapitza.paper.approximations).",
+        mu.size + 1, worst, 1.0, error,
+        ("mu", "eps_lo", "eps_lo/(sqrt(3/2) mu) - 1", "(ratio - 1)/mu^4"), rows,
+    )
+
+
+_CHECKS.extend([check_corollary_4_1, check_stability_zones, check_kapitza_limit])
