@@ -48,7 +48,6 @@ from .. import _validate as _v
 __all__ = [
     "KAPITZA_SLOPE",
     "kapitza_edge",
-    "pivot_velocity",
     "mean_square_velocity",
     "trace_series",
     "series4_edges",
@@ -86,32 +85,9 @@ def kapitza_edge(mu):
     return KAPITZA_SLOPE * mu
 
 
-def pivot_velocity(t, A, T):
-    """The zero-mean pivot velocity ``v(t)`` of the square-wave acceleration (2.2).
-
-    Parameters
-    ----------
-    t : array_like
-        Times [s], finite.
-    A, T : array_like
-        Acceleration amplitude and half-period, > 0. All broadcast together.
-
-    Returns
-    -------
-    ndarray
-        ``v = A (t' - T/2)`` for ``t' = t mod 2T`` in ``[0, T)``, ``v = A (3T/2 - t')``
-        in ``[T, 2T)``: a triangle wave of amplitude ``A T / 2`` whose derivative is
-        ``a(t)``.
-    """
-    t = _v.finite("t", t)
-    A = _v.positive("A", A)
-    T = _v.positive("T", T)
-    tp = np.mod(t, 2.0 * T)
-    return np.where(tp < T, A * (tp - 0.5 * T), A * (1.5 * T - tp))
-
-
 def mean_square_velocity(A, T):
-    """``<v^2> = A^2 T^2 / 12``, the mean square of :func:`pivot_velocity` over a period.
+    """``<v^2> = A^2 T^2 / 12``, the mean square of the pivot velocity
+    (:func:`kapitza.motion.pivot_velocity`, a triangle wave of amplitude ``A T / 2``) over a period.
 
     Parameters
     ----------

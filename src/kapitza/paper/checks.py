@@ -18,7 +18,8 @@ from ..periodic import alpha, beta, boundary_periods, periodic_solution
 from ..phase_plane import notable_points
 from ..propagation import monodromy
 from ..zones import G_m_curve, is_stable, stability_margin, zone_edges, zone_width
-from .approximations import kapitza_edge, mean_square_velocity, pivot_velocity
+from ..motion.pivot import pivot_velocity
+from .approximations import kapitza_edge, mean_square_velocity
 
 __all__ = ["CheckResult", "all_checks"]
 
@@ -735,7 +736,7 @@ def check_kapitza_limit(quick=False):
     A, T = 37.0, 0.21
     K = 200000
     t = (np.arange(K) + 0.5) * (2.0 * T / K)
-    msq = float(np.mean(pivot_velocity(t, A, T) ** 2))
+    msq = float(np.mean(pivot_velocity(t, T, A) ** 2))
     e_v = abs(msq / float(mean_square_velocity(A, T)) - 1.0)
     tol_v = 1e-9
     worst = max(worst_lim / tol_lim, worst_coef / tol_coef, e_v / tol_v)
@@ -757,7 +758,7 @@ def check_kapitza_limit(quick=False):
         "0.3) is divided by Kapitza's line (kapitza.paper.approximations.kapitza_edge); the deviation must "
         "vanish (to 1e-12 for mu <= 1e-3) and behave like (4/7) mu^4, the first term of the series "
         "eps^2 = (3/2) mu^2 (1 + (8/7) mu^4 + ...). <v^2> of the triangle-wave pivot velocity "
-        "(approximations.pivot_velocity) by a 200000-point midpoint rule against A^2 T^2 / 12.",
+        "(kapitza.motion.pivot_velocity) by a 200000-point midpoint rule against A^2 T^2 / 12.",
         "Kapitza's line eps = sqrt(3/2) mu and the series coefficient 4/7 of the lower edge "
         "(kapitza.paper.approximations).",
         mu.size + 1, worst, 1.0, error,

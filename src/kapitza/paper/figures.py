@@ -342,7 +342,7 @@ def figure6(ax=None, data=None):
         zax.set_title(f"zone {zone}: around $\\omega_e T$ = {c:.6g}", fontsize=8)
         zax.set_xlabel(rf"$\omega_e T - {c:.6g}$  [$10^{{{exp}}}$ rad]", fontsize=7.5)
         if zax is zooms[0]:
-            zax.set_ylabel(rf"angle $-$ centre", fontsize=7.5)
+            zax.set_ylabel(r"angle $-$ centre", fontsize=7.5)
     return data
 
 
