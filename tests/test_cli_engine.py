@@ -206,3 +206,13 @@ def test_import_kapitza_does_not_import_matplotlib():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("argv", [
+    ["chart", "--out", "/dev/null/sub/chart"],
+    ["zones", "--out", "/dev/null/sub/z.csv"],
+    ["periods", "--A", "100", "--csv", "/dev/null/sub/p.csv"],
+])
+def test_unwritable_output_is_a_one_line_error(argv, capsys):
+    code, out, err = run(argv, capsys)
+    assert_one_line_error(code, err, "cannot write")

@@ -68,6 +68,10 @@ def main(argv=None) -> int:
     except OverflowError as exc:
         print(f"kapitza {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # an output path that cannot be created or written
+        where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
+        print(f"kapitza {args.command}: error: cannot write{where} ({exc.strerror or exc})", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("kapitza: interrupted", file=sys.stderr)
         return 130
