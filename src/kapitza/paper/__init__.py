@@ -10,7 +10,7 @@ section 4, each with its numerical verification.
 Modules
 -------
 data
-    The numbers behind each figure (numpy only): ``figure1_data`` ... ``figure8_data``.
+    The numbers behind each figure: ``figure1_data`` ... ``figure8_data``.
 figures
     Drawing (matplotlib, imported only here): ``figure1(ax=None)`` ... ``figure8``.
 checks
@@ -22,6 +22,7 @@ report
 build
     Everything above, written into one folder.
 
-Importing this package does not import matplotlib.
+Importing this package (or ``checks``, ``data``, ``report``, ``build``) does not import
+matplotlib; drawing, and the curves of Figure 7, do.
 """
 __all__ = ["approximations", "checks", "data", "report", "build"]

@@ -1,4 +1,8 @@
-"""The numbers behind the paper's Figures 1-8, computed by the library (numpy only).
+"""The numbers behind the paper's Figures 1-8, computed by the library.
+
+Everything here is numpy/scipy, except that :func:`figure7_data` takes its curves from
+:func:`kapitza.figures.chart.zone_curves` (so that the data file holds exactly what
+:func:`~kapitza.figures.chart.plot_zones` draws), and that module imports matplotlib.
 
 Each ``figureN_data`` returns a :class:`FigureData`: named curves
 (:class:`Series`) and labelled points (:class:`Point`) on one or more panels,
@@ -537,7 +541,7 @@ def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600) -> Figur
     the curves drawn by :func:`kapitza.figures.chart.plot_zones`; ``G_m``:
     ``2 sqrt 2 eps sqrt(1 - mu^2) = (2m + 1) pi/2`` (section 4).
     """
-    from ..figures.chart import zone_curves  # numpy only; no matplotlib at import
+    from ..figures.chart import zone_curves  # the sampling plot_zones draws (its module imports matplotlib)
 
     points = int(_v.nonnegative_int("points", points, minimum=2))
     curves = zone_curves(eps_range, mu_range, points)
@@ -617,7 +621,7 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
         Series("G_0", r"$G_0$", g0, mu, panel="plane", role="G"),
         Series("Kapitza", r"Kapitza: $\varepsilon = \sqrt{3/2}\,\mu$", inside(kap), mu, panel="plane",
                role="approximation", meta=dict(edge="lower")),
-        Series("series4 lower", r"$\mathrm{tr}\,M$ to $O(\varepsilon^4)$, lower", inside(s4lo), mu, panel="plane",
+        Series("series4 lower", r"$\mathrm{tr}\,M$ to $O(\varepsilon^4)$ (both edges)", inside(s4lo), mu, panel="plane",
                role="approximation", meta=dict(edge="lower")),
         Series("series4 upper", r"$\mathrm{tr}\,M$ to $O(\varepsilon^4)$, upper", inside(s4hi), mu, panel="plane",
                role="approximation", meta=dict(edge="upper")),
@@ -636,7 +640,7 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
     for name, label, err, edge in errs:
         series.append(Series(name, label, me, np.abs(err), panel="error", role="error",
                              meta=dict(edge=edge, signed=err)))
-    series.append(Series("mu^4 reference", r"$\frac{4}{7}\mu^4$", me, 4.0 / 7.0 * me**4, panel="error",
+    series.append(Series("mu^4 reference", r"$\frac{4}{7}\mu^4$ (Kapitza's leading error)", me, 4.0 / 7.0 * me**4, panel="error",
                          role="reference"))
     return FigureData(
         number=8,

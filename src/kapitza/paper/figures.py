@@ -261,11 +261,12 @@ def _tex_name(label):
     return rf"$\tilde T_{{{index}}}$" if tilde == "T~" else rf"$T_{{{index}}}$"
 
 
-def _mark(ax, p, offset):
+def _mark(ax, p, offset, at=None):
     two = p.meta["period"] == "2T"
-    ax.plot([p.x], [p.y], "o" if two else "s", markersize=6, zorder=5,
+    x, y = at if at is not None else (p.x, p.y)
+    ax.plot([x], [y], "o" if two else "s", markersize=6, zorder=5,
             color=ALPHA_COLOR if two else BETA_COLOR, markeredgecolor="k", markeredgewidth=0.6)
-    ax.annotate(_tex_name(p.label), (p.x, p.y), xytext=offset, textcoords="offset points", fontsize=10,
+    ax.annotate(_tex_name(p.label), (x, y), xytext=offset, textcoords="offset points", fontsize=10,
                 ha="center", va="center", zorder=6, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.85),
                 arrowprops=dict(arrowstyle="-", color="0.4", lw=0.6, shrinkA=0, shrinkB=3))
 
@@ -275,7 +276,7 @@ def figure6(ax=None, data=None):
     data = data or D.figure6_data()
     zoom_panels = [p for p in data.axes if p.startswith("zoom")]
     if ax is None:
-        fig = new_figure(7.6, 7.2, 5)
+        fig = new_figure(9.0, 7.4, 4)
         gs = fig.add_gridspec(2, max(len(zoom_panels), 1), height_ratios=(2.3, 1.0))
         axes = [fig.add_subplot(gs[0, :])] + [fig.add_subplot(gs[1, i]) for i in range(len(zoom_panels))]
     else:
@@ -313,36 +314,32 @@ def figure6(ax=None, data=None):
     par = data.parameters
     main.set_title(f"Conditions (3.10)-(3.13): $A = {par['A']:g}$ m/s$^2$, $l = {par['l']:g}$ m, "
                    f"$g = {par['g']:g}$ m/s$^2$", fontsize=10)
-    main.legend(loc="upper left", fontsize=8, framealpha=0.92, ncol=1)
+    main.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False, borderaxespad=0.0)
     for zax, panel in zip(zooms, zoom_panels):
-        for s in data.series_with(panel=panel):
-            if s.role == "line":
-                zax.plot(s.x, s.y, color="k", linewidth=1.2)
-            else:
-                zax.plot(s.x, s.y, color=ALPHA_COLOR if s.role == "alpha" else BETA_COLOR, linewidth=1.2,
-                         linestyle="-" if s.role == "alpha" else "--")
-        pts = data.points_on(panel)
-        for p in pts:
-            _mark(zax, p, (-14, 12) if p.meta["edge"] == "lower" else (14, -12))
-        xs = [s.x for s in data.series_with(panel=panel)][0]
+        # Plotted relative to the window centre, in a power of ten that suits the window, so the
+        # ticks stay readable however narrow the zone.
+        xs = data.series_with(panel=panel)[0].x
         c = 0.5 * (xs[0] + xs[-1])
-        zax.set_xlim(xs[0], xs[-1])
-        zax.set_ylim(xs[0], xs[-1])
         half = 0.5 * (xs[-1] - xs[0])
-        # Ticks relative to the window centre so that they stay readable for very narrow zones.
         exp = int(np.floor(np.log10(half)))
         scale = 10.0 ** exp
-        fmt = FuncFormatter(lambda v, _, c=c, s=scale: f"{(v - c) / s:+.1f}" if abs(v - c) > 1e-3 * s else "0")
-        zax.xaxis.set_major_formatter(fmt)
-        zax.yaxis.set_major_formatter(fmt)
-        zax.set_xticks([c - 0.6 * half, c, c + 0.6 * half])
-        zax.set_yticks([c - 0.6 * half, c, c + 0.6 * half])
+        for s in data.series_with(panel=panel):
+            X, Y = (s.x - c) / scale, (s.y - c) / scale
+            if s.role == "line":
+                zax.plot(X, Y, color="k", linewidth=1.2)
+            else:
+                zax.plot(X, Y, color=ALPHA_COLOR if s.role == "alpha" else BETA_COLOR, linewidth=1.2,
+                         linestyle="-" if s.role == "alpha" else "--")
+        for p in data.points_on(panel):
+            _mark(zax, p, (-14, 12) if p.meta["edge"] == "lower" else (14, -12),
+                  at=((p.x - c) / scale, (p.y - c) / scale))
+        zax.set_xlim(-half / scale, half / scale)
+        zax.set_ylim(-half / scale, half / scale)
         zax.tick_params(labelsize=7)
         zone = panel.split()[1]
-        zax.set_title(f"zone {zone}: around $\\omega_e T$ = {c:.6g}", fontsize=8)
-        zax.set_xlabel(rf"$\omega_e T - {c:.6g}$  [$10^{{{exp}}}$ rad]", fontsize=7.5)
-        if zax is zooms[0]:
-            zax.set_ylabel(r"angle $-$ centre", fontsize=7.5)
+        zax.set_title(f"zone {zone}, centre $c$ = {c:.6g} rad", fontsize=8)
+        zax.set_xlabel(rf"$(\omega_e T - c)\,/\,10^{{{exp}}}$", fontsize=8)
+        zax.set_ylabel(rf"$(\mathrm{{angle}} - c)\,/\,10^{{{exp}}}$", fontsize=8)
     return data
 
 
@@ -363,7 +360,7 @@ def figure7(ax=None, data=None):
 def figure8(ax=None, data=None):
     """Figure 8: ``G_0``, the exact first zone and approximations. ``ax``: two Axes (plane, errors)."""
     data = data or D.figure8_data()
-    axp, axe = _axes(ax, 2, 8.2, 4.6, 5)
+    axp, axe = _axes(ax, 2, 8.6, 5.6, 5)
     lo = data.series_named("exact lower")
     hi = data.series_named("exact upper")
     axp.fill_betweenx(lo.y, lo.x, hi.x, color=ZONE_FILL, linewidth=0, label="exact first zone (stable)")
@@ -386,7 +383,7 @@ def figure8(ax=None, data=None):
     axp.set_xlabel(r"$\varepsilon = T\sqrt{A}/\sqrt{8l}$")
     axp.set_ylabel(r"$\mu = \sqrt{g/A}$")
     axp.set_title("first zone and approximations", fontsize=10)
-    axp.legend(loc="lower right", fontsize=7, framealpha=0.92)
+    axp.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7.5, frameon=False, ncol=2)
     estyles = {
         "error Kapitza": styles["Kapitza"],
         "error series4 lower": styles["series4 lower"],
@@ -405,7 +402,7 @@ def figure8(ax=None, data=None):
     axe.set_title("relative error of each approximated edge", fontsize=10)
     axe.set_ylim(1e-15, 10)
     axe.grid(True, which="major", color="0.92", linewidth=0.6)
-    axe.legend(loc="lower right", fontsize=7, framealpha=0.92)
+    axe.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7.5, frameon=False, ncol=2)
     return data
 
 
