@@ -145,28 +145,46 @@ def test_paper_command_writes_every_promised_file(tmp_path, capsys):
             rows = list(csv.reader(ln for ln in fh if not ln.startswith("#")))
         assert rows[0] == ["kind", "panel", "name", "index", "x", "y"] and len(rows) > 10
     checks = json.loads((tmp_path / "checks.json").read_text())
-    assert checks["passed"] is True and len(checks["checks"]) >= 6
-    assert all(c["passed"] for c in checks["checks"])
+    assert checks["passed"] is True and len(checks["checks"]) >= 20
+    assert all(c["passed"] and c["status"] == "PASSED" for c in checks["checks"])
+    assert {"lemma3.1", "lemma3.2", "thm3.3", "thm3.4", "cor4.1", "sec4.zones"} <= set(checks["claims"])
     html = (tmp_path / "report.html").read_text()
     md = (tmp_path / "report.md").read_text()
     assert html.count("data:image/png;base64,") == 8          # self-contained
+    assert "<img" in html and 'src="figure' not in html       # no figure is fetched from disk
     for n in range(1, 9):
         assert f"figure{n}.png" in md
-    for name in ("Lemma 3.1", "Lemma 3.2", "Theorem 3.3", "Theorem 3.4", "Corollary 4.1"):
+        assert f"Figure {n}." in html
+    for name in ("Lemma 3.1", "Lemma 3.2", "Theorem 3.3", "Theorem 3.4", "Corollary 4.1", "stability zones"):
         assert name in html and name in md
-    assert "FAIL" not in md.split("## Formulas")[0].replace("FAILED", "")   # summary shows no failure
+    for c in checks["checks"]:                                # every check's verdict is in both reports
+        assert c["key"] in md and c["key"] in html
+    assert "FAILED" not in md and "All checks passed" in md
+    assert "Where the computation differs from the printed paper" in md
     with open(tmp_path / "periods.csv", newline="") as fh:
         prow = list(csv.reader(ln for ln in fh if not ln.startswith("#")))
-    assert len(prow) == 1 + 8 * 4
-    assert "PASS" in out and "report.html" in out
+    assert prow[0][:3] == ["A", "name", "T"] and len(prow) == 1 + 8 * 4
+    for row in prow[1:]:   # tr M = +-2 up to the rounding of an edge where the trace has slope ~ e^{w_h T}
+        x = float(row[-2])
+        assert abs(float(row[-1]) - (-2.0 if row[1].startswith("T~") else 2.0)) < 1e-14 * math.exp(x) * (1 + x)
+    assert "PASSED" in out and "FAILED" not in out and "report.html" in out
+
+
+def test_paper_help_says_what_is_written(capsys):
+    code, out, err = run(["paper", "--help"], capsys)
+    assert code == 0
+    for what in ("figure1.png", ".svg", ".json", "checks.json", "periods.csv", "report.html", "report.md", "--quick"):
+        assert what in out
 
 
 def test_paper_command_exits_1_and_says_so_when_a_check_fails(tmp_path, capsys, monkeypatch):
     from kapitza.paper import checks as C
 
-    failing = C.CheckResult(key="x", title="Theorem 3.3 (2T-periodic solutions)", statement="s", method="m",
-                            reference="r", cases=1, worst=1.0, tolerance=1e-12, error="e", passed=False)
-    monkeypatch.setattr(C, "all_checks", lambda quick=False: [failing])
+    failing = C._result("thm3.3-return-matrix", "thm3.3", "a return that does not close", "m", "r", "q",
+                        [1.0], ["A=1"], 1e-12)
+    monkeypatch.setattr(C, "run_checks", lambda quick=False, **kw: (failing,))
     code, out, err = run(["paper", "--out", str(tmp_path), "--quiet"], capsys)
-    assert code == 1 and "FAIL" in out and "FAILED" in err
-    assert "Some checks FAILED" in (tmp_path / "report.md").read_text()
+    assert code == 1 and "FAILED" in out and "FAILED" in err
+    md = (tmp_path / "report.md").read_text()
+    assert "Some checks FAILED" in md and "thm3.3-return-matrix: FAILED" in md
+    assert "FAILED" in (tmp_path / "report.html").read_text()

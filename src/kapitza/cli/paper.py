@@ -13,8 +13,8 @@ def register(sub):
         "Writes into OUT:\n"
         "  figure1.png ... figure8.png, .svg   the eight figures\n"
         "  figure1.json/.csv ... figure8.*     the data behind each figure, to re-plot elsewhere\n"
-        "  checks.json                         every check: statement, method, reference, worst error\n"
-        "  periods.csv                         T_n, T~_n for several A\n"
+        "  checks.json                         every check: claim, method, reference, worst error, verdict\n"
+        "  periods.csv                         T_n, T~_n for A = 15, 30, 100, 1000 m/s^2, with tr M there\n"
         "  report.html                         self-contained report (figures inline); open it first\n"
         "  report.md                           the same report in Markdown\n\n"
         "Exit status 0 when every check passes, 1 when one fails (the report says which), 2 on bad input.",
@@ -31,9 +31,10 @@ def cmd_paper(args):
 
     progress = None if args.quiet else (lambda msg: print(f"  {msg} ...", file=sys.stderr, flush=True))
     res = build_paper(args.out, quick=args.quick, progress=progress)
-    width = max((len(r.title) for r in res.checks), default=0)
+    width = max((len(r.key) for r in res.checks), default=0)
     for r in res.checks:
-        print(f"{'PASS' if r.passed else 'FAIL'}  {r.title:<{width}}  worst {r.worst:.2e} (tol {r.tolerance:.0e}), {r.cases} cases")
+        bound = f"{'<=' if r.sense == '<=' else '>'} {r.tolerance:.1e}"
+        print(f"{r.status}  {r.key:<{width}}  worst {r.worst:9.2e} (must be {bound}), {r.cases} cases")
     print(f"wrote {len(res.files)} files to {res.out}; open {res.out / 'report.html'}")
     if not res.passed:
         print("kapitza paper: some checks FAILED (see the report)", file=sys.stderr)

@@ -32,7 +32,7 @@ class Para:
 class Table:
     header: tuple
     rows: tuple
-    status_column: int | None = None  # a column holding PASS/FAIL, coloured in HTML
+    status_column: int | None = None  # a column holding PASSED/FAILED, coloured in HTML
 
 
 @dataclass(frozen=True)
@@ -118,7 +118,7 @@ def to_html(blocks, base: Path, title: str) -> str:
                 for i, c in enumerate(r):
                     cls = ""
                     if i == b.status_column:
-                        cls = ' class="pass"' if str(c) == "PASS" else ' class="fail"'
+                        cls = ' class="pass"' if str(c) in ("PASS", "PASSED") else ' class="fail"'
                     cells.append(f"<td{cls}>{_inline(str(c))}</td>")
                 out.append("<tr>" + "".join(cells) + "</tr>")
             out.append("</tbody></table>")
