@@ -27,6 +27,26 @@ def plain_alpha_beta(T, A, l=1.0, g=9.81):
     return 2 * math.atan(Dd * (e - 1) / (e + 1)), 2 * math.atan(Dd * (e + 1) / (e - 1)), w_e
 
 
+# ------------------------------------------------------------------ Figure 1
+def test_figure1_curves_are_level_sets_and_arrows_follow_the_flow():
+    d = D.figure1_data()
+    hyp = d.series_with(role="hyperbola")
+    circ = d.series_with(role="circle")
+    assert len(hyp) == 4 * len(circ) and circ
+    for s in hyp:   # x_h^2 - y_h^2 is a first integral of (2.6)
+        np.testing.assert_allclose(np.asarray(s.x) ** 2 - np.asarray(s.y) ** 2, s.meta["H"], atol=1e-12)
+    for s in circ:  # x_e^2 + y_e^2 is a first integral of (2.12)
+        np.testing.assert_allclose(np.asarray(s.x) ** 2 + np.asarray(s.y) ** 2, s.meta["H"], rtol=1e-13)
+        # clockwise: the angle decreases along the curve
+        assert np.all(np.diff(np.unwrap(np.arctan2(s.y, s.x))) < 0)
+    for p in d.points:
+        dx, dy = p.meta["dx"], p.meta["dy"]
+        if p.panel == "hyperbolic":
+            assert (dx, dy) == pytest.approx((p.y, p.x))          # (2.6) with w_h = 1
+        else:
+            assert (dx, dy) == pytest.approx((p.y, -p.x))         # (2.12) with w_e = 1
+
+
 # ------------------------------------------------------------------ Figure 6
 def test_figure6_points_are_roots_of_the_equation_that_labels_them():
     d = D.figure6_data()
