@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 import traceback
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -256,7 +256,6 @@ class Cases:
     grid: int
     quick: bool = False
     seed: int = 20170915
-    extra: dict = field(default_factory=dict)
 
 
 #: Gravities drawn from (Earth, Moon, Mars, Jupiter), so nothing depends on g = 9.81.
