@@ -1,0 +1,50 @@
+"""Drives: the pivot motions kapitza knows, one file each behind one protocol.
+
+Every drive is ``a(t) = A s(t/T)`` over the period ``2T`` with ``s`` of zero mean, so that
+Arnold's ``eps = T sqrt(A/(8 l))`` and ``mu = sqrt(g/A)`` mean the same for all of them and
+their charts share axes (``docs/drives.md``):
+
+- :class:`SquareWave` — the paper's (2.2), with its closed forms;
+- :class:`RectangularWave` — any duty cycle;
+- :class:`StepDrive` — any piecewise-constant acceleration;
+- :class:`SineWave` — Kapitza's original (the Mathieu equation).
+
+:data:`DRIVES` maps the names used on the command line to the classes; :func:`as_drive`
+turns ``None``, a name or a drive into a drive.
+"""
+from __future__ import annotations
+
+from .. import _validate as _v
+from ._base import Drive
+from .rectangular import RectangularWave
+from .sine import SineWave
+from .square import SquareWave
+from .steps import StepDrive
+
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "DRIVES", "as_drive"]
+
+#: Drive classes by the name the command line and the reports use.
+DRIVES = {
+    "square": SquareWave,
+    "rectangular": RectangularWave,
+    "steps": StepDrive,
+    "sine": SineWave,
+}
+
+_SQUARE = SquareWave()
+
+
+def as_drive(drive) -> Drive:
+    """The drive object for ``drive``: ``None`` (the square wave), a name without parameters
+    (``"square"``, ``"sine"``), or a :class:`Drive` instance."""
+    if drive is None:
+        return _SQUARE
+    if isinstance(drive, Drive):
+        return drive
+    if isinstance(drive, str) and drive in ("square", "sine"):
+        return DRIVES[drive]()
+    if isinstance(drive, type) and issubclass(drive, Drive):
+        raise _v.KapitzaValueError(f"drive must be a drive instance, e.g. {drive.__name__}(...); got the class")
+    raise _v.KapitzaValueError(
+        "drive must be a kapitza drive (SquareWave(), RectangularWave(duty), StepDrive(levels, fractions), "
+        f"SineWave()) or one of 'square', 'sine'; got {drive!r}")

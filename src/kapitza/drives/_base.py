@@ -1,0 +1,326 @@
+"""The drive protocol: what every pivot motion provides, and the damping layer on top of it.
+
+A drive is the shape of the pivot's vertical acceleration over one period ``2T``:
+``a(t) = A s(t/T)`` with ``s`` a dimensionless, zero-mean, ``2``-periodic function of
+``tau = t/T``. ``T`` is half the drive period and ``A`` the acceleration scale for every
+drive, so Arnold's ``eps = T sqrt(A/(8 l))`` and ``mu = sqrt(g/A)`` keep one meaning and
+charts of different drives share their axes (``docs/drives.md``).
+
+In ``tau`` the linearised equation about the upright with viscous damping ``c``,
+``theta'' + c theta' = (g + a(t))/l theta``, reads
+
+    theta_tau,tau + (c T) theta_tau = 8 eps^2 (mu^2 + s(tau)) theta.
+
+The substitution ``theta = exp(-c t/2) phi`` removes the damping exactly:
+
+    phi_tau,tau = 8 eps^2 (mu^2 (1 + zeta^2) + s(tau)) phi,     zeta = c / (2 sqrt(g/l)),
+
+the undamped equation of the same drive at ``mu_c = mu sqrt(1 + zeta^2)``. Over one
+period ``M_theta = exp(-kappa) S^{-1} M_phi S`` with ``kappa = c T = 2 sqrt(8) zeta mu eps``
+and ``S`` the constant shear ``[[1, 0], [c/2, 1]]``, so
+
+    tr M_theta = exp(-kappa) tr M_phi,        det M_theta = exp(-2 kappa),
+
+and the multipliers are ``exp(-kappa)`` times those of the undamped ``phi``-system. Both
+lie strictly inside the unit circle iff ``|tr M_theta| < 1 + det M_theta``, that is
+
+    |tr M_phi| < 2 cosh(kappa).
+
+A drive therefore only has to provide the undamped Floquet data and zone edges
+(:meth:`Drive._floquet0`, :meth:`Drive._edges0`); damping is one generic layer here.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate as _v
+
+PI = np.pi
+SQRT8 = np.sqrt(8.0)
+LOG2 = np.log(2.0)
+
+
+@dataclass(frozen=True)
+class Floquet0:
+    """Undamped Floquet data of a drive at ``(eps, mu)`` (arrays of one shape).
+
+    ``tau`` is ``tr M / 2`` (``+-inf`` where it overflows), ``log_tau`` is ``log|tau|``
+    (finite), ``growth`` is ``acosh|tau|`` off the zones and 0 on them, ``theta`` the
+    rotation angle per period (in ``(n pi, (n + 1) pi)`` on zone ``n``, a multiple of
+    ``pi`` off the zones), ``zone`` the zone index (-1 where unstable).
+    """
+
+    tau: np.ndarray
+    log_tau: np.ndarray
+    growth: np.ndarray
+    theta: np.ndarray
+    zone: np.ndarray
+
+
+def log_cosh(k):
+    """log cosh k for k >= 0 without overflow."""
+    return k + np.log1p(np.exp(-2.0 * k)) - LOG2
+
+
+def acosh_from_log(log_tau, tau):
+    """acosh|tau| for |tau| >= 1 from ``log|tau|`` (finite where ``tau`` overflows)."""
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        e = np.abs(tau) - 1.0
+        small = np.log1p(np.where((e >= 0) & (e < 1.0), e + np.sqrt(np.abs(e) * (e + 2.0)), 0.0))
+        big = log_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * np.maximum(log_tau, 0.0))))
+    return np.where(e < 1.0, small, big)
+
+
+class Drive:
+    """A pivot motion over one period ``2T``: ``a(t) = A s(t/T)``, ``s`` zero-mean.
+
+    Subclasses provide the shape (:meth:`_shape`, :meth:`_velocity_shape`,
+    :meth:`_displacement_shape`, :attr:`_stroke_coefficient`, :attr:`_mean_square_velocity`)
+    and the undamped stability data (:meth:`_floquet0`, :meth:`_edges0`). Everything else
+    — physical units, damping, verdicts — is built here once.
+    """
+
+    #: short name used by the command line and in reports
+    name = "drive"
+
+    # ------------------------------------------------------------ what a subclass gives
+    def _shape(self, tau):  # pragma: no cover - protocol
+        raise NotImplementedError
+
+    def _velocity_shape(self, tau):  # pragma: no cover - protocol
+        raise NotImplementedError
+
+    def _displacement_shape(self, tau):  # pragma: no cover - protocol
+        raise NotImplementedError
+
+    #: peak-to-peak of the displacement shape: stroke = coefficient * A T^2
+    _stroke_coefficient: float = float("nan")
+    #: mean of the squared velocity shape: <v^2> = coefficient * A^2 T^2
+    _mean_square_velocity: float = float("nan")
+
+    def _floquet0(self, eps, mu, certify=True) -> Floquet0:  # pragma: no cover - protocol
+        raise NotImplementedError
+
+    def _edges0(self, mu, n):  # pragma: no cover - protocol
+        raise NotImplementedError
+
+    # ------------------------------------------------------------ descriptions
+    def describe(self) -> str:
+        """A one-line description for reports."""
+        return self.name
+
+    def as_dict(self) -> dict:
+        """JSON-ready description: ``{"drive": name, ...parameters}``."""
+        return {"drive": self.name}
+
+    def __repr__(self):
+        args = ", ".join(f"{k}={v!r}" for k, v in self.as_dict().items() if k != "drive")
+        return f"{type(self).__name__}({args})"
+
+    def __eq__(self, other):
+        return type(self) is type(other) and self.as_dict() == other.as_dict()
+
+    def __hash__(self):
+        return hash((type(self).__name__, repr(self)))
+
+    # ------------------------------------------------------------ kinematics
+    @staticmethod
+    def _checked(t, T, A):
+        t = _v.finite("t", t)
+        T = _v.positive("T", T)
+        A = _v.positive("A", A)
+        return np.broadcast_arrays(t, T, A)
+
+    @staticmethod
+    def _reduce(t, T):
+        """``tau = t/T`` reduced to ``[0, 2)``."""
+        tau = np.mod(t / T, 2.0)
+        return np.where(tau >= 2.0, 0.0, tau)
+
+    def acceleration(self, t, T, A):
+        """The pivot's acceleration ``a(t) = A s(t/T)`` [m/s^2] (any real ``t``; periodic)."""
+        t, T, A = self._checked(t, T, A)
+        return A * self._shape(self._reduce(t, T))
+
+    def velocity(self, t, T, A):
+        """The pivot's velocity [m/s]: the periodic, zero-mean integral of ``a``."""
+        t, T, A = self._checked(t, T, A)
+        return A * T * self._velocity_shape(self._reduce(t, T))
+
+    def displacement(self, t, T, A):
+        """The pivot's height [m] above its mean position: periodic, zero mean."""
+        t, T, A = self._checked(t, T, A)
+        return A * T * T * self._displacement_shape(self._reduce(t, T))
+
+    def stroke(self, T, A):
+        """Peak-to-peak travel of the pivot [m]."""
+        T = _v.positive("T", T)
+        A = _v.positive("A", A)
+        return self._stroke_coefficient * A * T * T
+
+    def rms_velocity(self, T, A):
+        """Root-mean-square velocity of the pivot over a period [m/s]."""
+        T = _v.positive("T", T)
+        A = _v.positive("A", A)
+        return np.sqrt(self._mean_square_velocity) * A * T
+
+    def from_rig(self, frequency, *, stroke=None, amplitude=None, acceleration=None):
+        """``(T, A)`` from what is measured on a rig: the drive frequency and one amplitude.
+
+        Parameters
+        ----------
+        frequency : array_like
+            Drive frequency [Hz], > 0; the period is ``2T = 1/frequency``.
+        stroke : array_like, optional
+            Peak-to-peak travel of the pivot [m].
+        amplitude : array_like, optional
+            Displacement amplitude, half the stroke [m].
+        acceleration : array_like, optional
+            The acceleration scale ``A`` [m/s^2] itself.
+
+        Exactly one of ``stroke``, ``amplitude``, ``acceleration`` is given.
+
+        Returns
+        -------
+        T, A : ndarray
+        """
+        f = _v.positive("frequency", frequency)
+        given = {k: v for k, v in (("stroke", stroke), ("amplitude", amplitude), ("acceleration", acceleration))
+                 if v is not None}
+        if len(given) != 1:
+            raise _v.KapitzaValueError(
+                "give exactly one of stroke, amplitude, acceleration with the frequency; "
+                f"got {', '.join(given) or 'none'}")
+        (key, value), = given.items()
+        value = _v.positive(key, value)
+        T = 0.5 / f
+        if key == "acceleration":
+            A = value
+        else:
+            s = value if key == "stroke" else 2.0 * value
+            A = s / (self._stroke_coefficient * T * T)
+        return np.broadcast_arrays(T, A)
+
+    def kapitza_eps(self, mu):
+        """``eps`` of the averaging criterion ``<v_pivot^2> = g l`` at ``mu``.
+
+        ``<v^2> = k A^2 T^2`` gives ``8 k eps^2 = mu^2``: the classical high-frequency
+        threshold ``eps = mu / sqrt(8 k)`` (``sqrt(3/2) mu`` for the square wave,
+        ``pi mu / 2`` for the sine).
+        """
+        mu = _v.positive("mu", mu)
+        return mu / np.sqrt(8.0 * self._mean_square_velocity)
+
+    # ------------------------------------------------------------ damping layer
+    def _floquet(self, eps, mu, zeta):
+        """Floquet data with damping ratio ``zeta`` (trusted, broadcast arrays).
+
+        Returns ``(tau, growth, theta, stable, zone, kappa)``: ``tau`` the half-trace of the
+        undamped ``phi``-system, ``growth = log max|lambda|`` of the damped one (negative:
+        decay), ``kappa = c T``.
+        """
+        eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float),
+                                            np.asarray(zeta, float))
+        damped = np.any(zeta > 0)
+        mu_c = mu * np.sqrt(1.0 + zeta * zeta) if damped else mu
+        f = self._floquet0(eps, mu_c)
+        if not damped:
+            return f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)
+        kappa = 2.0 * SQRT8 * zeta * mu * eps
+        # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow).
+        with np.errstate(divide="ignore"):
+            stable = (f.zone >= 0) | (f.log_tau < log_cosh(kappa))
+        growth = f.growth - kappa
+        zone = np.where(f.zone >= 0, f.zone, -1)
+        gap = stable & (f.zone < 0)
+        if np.any(gap):
+            # Stable only thanks to the damping: the point sits in the gap between zones
+            # k - 1 and k (theta = k pi). It belongs to the zone whose edge it is nearer,
+            # i.e. to k - 1 while |tau| still rises with eps, to k once it falls again.
+            k = np.rint(f.theta / PI).astype(np.int64)
+            e, m, z = eps[gap], mu[gap], zeta[gap]
+            h = 1e-7 * e
+            rising = _excess(self, e + h, m, z) > _excess(self, e - h, m, z)
+            zone[gap] = np.maximum(np.where(rising, k[gap] - 1, k[gap]), 0)
+        return f.tau, growth, f.theta, stable, zone, kappa
+
+    def _edges(self, mu, n, zeta):
+        """``(eps_lo, eps_hi)`` of zone ``n`` with damping ratio ``zeta`` (trusted arrays)."""
+        mu, n, zeta = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64),
+                                          np.asarray(zeta, float))
+        if not np.any(zeta > 0):
+            return self._edges0(mu, n)
+        return _damped_edges(self, mu, n, zeta)
+
+
+# ---------------------------------------------------------------- damped edges
+def _excess(drive, eps, mu, zeta):
+    """G = log|tau_phi| - log cosh(kappa): the damped upright is stable iff G < 0 (or on a zone)."""
+    mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+    f = drive._floquet0(eps, mu_c)
+    G = f.log_tau - log_cosh(2.0 * SQRT8 * zeta * mu * eps)
+    return np.where(f.zone >= 0, -np.inf, G)
+
+
+def _bisect(drive, mu, zeta, lo, hi, rising):
+    """Root of G between ``lo`` and ``hi`` where G changes sign (``rising``: G < 0 at lo)."""
+    lo = lo.copy()
+    hi = hi.copy()
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if not np.any((mid > lo) & (mid < hi)):
+            break
+        pos = _excess(drive, mid, mu, zeta) >= 0
+        go_hi = pos if rising else ~pos
+        hi = np.where(go_hi, mid, hi)
+        lo = np.where(go_hi, lo, mid)
+    return np.where(rising, hi, lo)
+
+
+def _gap_argmax(drive, mu, zeta, lo, hi):
+    """Golden-section search for the maximum of G on ``(lo, hi)`` (G is one hump there)."""
+    r = 0.5 * (np.sqrt(5.0) - 1.0)
+    a, b = lo.copy(), hi.copy()
+    c = b - r * (b - a)
+    d = a + r * (b - a)
+    Gc = _excess(drive, c, mu, zeta)
+    Gd = _excess(drive, d, mu, zeta)
+    for _ in range(100):
+        left = Gc >= Gd  # the maximum lies in (a, d)
+        b = np.where(left, d, b)
+        a = np.where(left, a, c)
+        p = np.where(left, b - r * (b - a), a + r * (b - a))
+        Gp = _excess(drive, p, mu, zeta)
+        c, d = np.where(left, p, d), np.where(left, c, p)
+        Gc, Gd = np.where(left, Gp, Gd), np.where(left, Gc, Gp)
+        if np.all(b - a <= 4e-16 * b):
+            break
+    x = 0.5 * (a + b)
+    return x, _excess(drive, x, mu, zeta)
+
+
+def _damped_edges(drive, mu, n, zeta):
+    """Edges of damped zone ``n``: each lies in the gap next to the undamped ``phi``-zone.
+
+    The damped zone ``n`` contains the undamped zone ``n`` of the ``phi``-system (at
+    ``mu_c``), on which ``|tau_phi| < 1 <= cosh kappa``. In the gap between ``phi``-zones
+    ``n - 1`` and ``n`` the excess ``G = log|tau_phi| - log cosh kappa`` is negative at both
+    ends and rises to one maximum: its two roots are the damped upper edge of zone
+    ``n - 1`` and the damped lower edge of zone ``n``. Where the maximum is <= 0 the
+    damping has joined the two zones; both edges are then reported at that maximum.
+    """
+    mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+    lo_n, hi_n = drive._edges0(mu_c, n)
+    _, hi_prev = drive._edges0(mu_c, np.maximum(n - 1, 0))
+    lo_next, _ = drive._edges0(mu_c, n + 1)
+    # gap below zone n: (hi_{n-1}, lo_n), or (0, lo_0) for zone 0
+    gap_lo = np.where(n == 0, 0.0, hi_prev)
+    x_lo, G_lo = _gap_argmax(drive, mu, zeta, gap_lo, lo_n)
+    x_hi, G_hi = _gap_argmax(drive, mu, zeta, hi_n, lo_next)
+    edge_lo = np.where(G_lo > 0, _bisect(drive, mu, zeta, x_lo, lo_n, rising=False), x_lo)
+    # zone 0 with the gap entirely stable reaches down to eps -> 0
+    edge_lo = np.where((n == 0) & (G_lo <= 0), 0.0, edge_lo)
+    edge_hi = np.where(G_hi > 0, _bisect(drive, mu, zeta, hi_n, x_hi, rising=True), x_hi)
+    return edge_lo, edge_hi

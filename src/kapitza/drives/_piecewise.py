@@ -1,0 +1,654 @@
+"""Piecewise-constant drives: the exact monodromy as a product of closed-form segment matrices.
+
+On a segment where the acceleration is the constant ``A s_i`` for a time ``2 T f_i`` the
+linearised equation (in ``tau = t/T``) is ``theta'' = k_i theta``, ``k_i = 8 eps^2 (mu^2 + s_i)``,
+with the exact flow over ``h_i = 2 f_i``, ``r_i = sqrt|k_i| h_i``, ``w_i = sqrt|k_i|``:
+
+    k_i > 0:  [[cosh r, sinh r / w], [w sinh r, cosh r]]   (the upright repels)
+    k_i < 0:  [[cos r,  sin r / w], [-w sin r, cos r]]     (it attracts)
+    k_i = 0:  [[1, h], [0, 1]]                              (free flight)
+
+``M = S_K ... S_1``. Each hyperbolic factor is carried as ``e^{r} N`` with ``N`` bounded, the
+product is renormalised by powers of two after every factor and its logarithmic scale ``L``
+kept apart, so ``tr M = e^L tr N`` never overflows (``eps`` up to 1000 and beyond). The
+rounding error of ``tr N`` is bounded by the same product taken over ``|N_i|`` (a standard
+bound for products of matrices); a verdict the bound cannot settle is recomputed in
+``mpmath`` at a precision that covers the cancellation (``docs/drives.md``).
+
+The rotation angle per period comes from a Pruefer angle carried through the segments: in an
+elliptic segment the angle of ``(theta, -theta'/w)`` advances by exactly ``r``; in hyperbolic
+and free-flight segments a direction never crosses an invariant line, so its turn is the
+principal value of the change of angle. On a zone ``tr M / 2 = cos(theta_rot)`` and the
+sign of ``M_12`` is that of ``sin(theta_rot)``; the carried angle of any direction lies
+within ``pi`` of ``theta_rot``, which fixes the whole turns. Off the zones the carried angle
+of an eigenvector is an exact multiple of ``pi``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _validate as _v
+from ._base import Drive, Floquet0, PI, acosh_from_log
+
+_U = np.finfo(float).eps / 2.0
+LOG2 = np.log(2.0)
+
+
+def _segments(eps, mu, levels, durations):
+    """Per segment: (kind, w, r, h); kind +1 hyperbolic, -1 elliptic, 0 free flight."""
+    out = []
+    e2 = 8.0 * eps * eps
+    m2 = mu * mu
+    for s, h in zip(levels, durations):
+        k = e2 * (m2 + s)
+        w = np.sqrt(np.abs(k))
+        out.append((np.sign(k), w, w * h, h))
+    return out
+
+
+def _factor(kind, w, r, h):
+    """Entries (a, b, c, d) of ``e^{-r} S`` (hyperbolic) or ``S`` (otherwise), and log scale."""
+    hyp = kind > 0
+    ell = kind < 0
+    ws = np.where(w > 0, w, 1.0)
+    with np.errstate(over="ignore", under="ignore"):
+        E2 = np.exp(-2.0 * np.where(hyp, r, 0.0))
+        ch = np.where(hyp, 0.5 * (1.0 + E2), np.where(ell, np.cos(r), 1.0))
+        sh_h = -0.5 * np.expm1(-2.0 * np.where(hyp, r, 0.0))  # e^{-r} sinh r
+        sn = np.where(hyp, sh_h, np.where(ell, np.sin(r), 0.0))
+        b = np.where(w > 0, sn / ws, h)  # sinh r / w -> h as w -> 0
+        c = np.where(hyp, w * sn, np.where(ell, -w * sn, 0.0))
+    return ch, b, c, ch, np.where(hyp, r, 0.0)
+
+
+def _renorm(a, b, c, d):
+    m = np.maximum(np.maximum(np.abs(a), np.abs(b)), np.maximum(np.abs(c), np.abs(d)))
+    _, e = np.frexp(np.where(m > 0, m, 1.0))
+    return np.ldexp(a, -e), np.ldexp(b, -e), np.ldexp(c, -e), np.ldexp(d, -e), e
+
+
+def _product(segs):
+    """Normalised product ``N`` (a, b, c, d), its log scale ``L`` (``M = e^L N``), and the
+    trace of the product of ``|N_i|`` in the same scale (for the rounding bound)."""
+    a = b = c = d = None
+    for kind, w, r, h in segs:
+        fa, fb, fc, fd, lr = _factor(kind, w, r, h)
+        if a is None:
+            a, b, c, d = fa, fb, fc, fd
+            pa, pb, pc, pd = np.abs(fa), np.abs(fb), np.abs(fc), np.abs(fd)
+            L = lr.copy()
+            continue
+        a, b, c, d = fa * a + fb * c, fa * b + fb * d, fc * a + fd * c, fc * b + fd * d
+        pa, pb, pc, pd = (np.abs(fa) * pa + np.abs(fb) * pc, np.abs(fa) * pb + np.abs(fb) * pd,
+                          np.abs(fc) * pa + np.abs(fd) * pc, np.abs(fc) * pb + np.abs(fd) * pd)
+        a, b, c, d, e = _renorm(a, b, c, d)
+        pa, pb, pc, pd = (np.ldexp(x, -e) for x in (pa, pb, pc, pd))
+        L = L + lr + e * LOG2
+    return (a, b, c, d), L, pa + pd
+
+
+def _angle(x, y):
+    """Pruefer angle of the state (theta, theta') = (x, y): increases clockwise."""
+    return np.arctan2(-y, x)
+
+
+def _carry(segs, x, y):
+    """Carry the direction (x, y) through the segments; return the total turn."""
+    turn = np.zeros(np.shape(x))
+    for kind, w, r, h in segs:
+        ell = kind < 0
+        hyp = kind > 0
+        psi0 = _angle(x, y)
+        ws = np.where(w > 0, w, 1.0)
+        # scaled angle in elliptic segments: (theta, -theta'/w) turns by exactly r
+        s0 = np.arctan2(-y / ws, x)
+        # hyperbolic: split along the eigen-directions (1, +-w) so that no term overflows
+        with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+            p = x + y / ws
+            m = x - y / ws
+            lp = np.log(np.abs(p)) + r
+            lm = np.log(np.abs(m)) - r
+            top = np.maximum(lp, lm)
+            P = np.sign(p) * np.exp(lp - top)
+            Mm = np.sign(m) * np.exp(lm - top)
+        xh, yh = 0.5 * (P + Mm), 0.5 * (P - Mm) * ws
+        xe, ye = np.cos(r) * x + np.sin(r) / ws * y, -ws * np.sin(r) * x + np.cos(r) * y
+        xf, yf = x + h * y, y
+        x1 = np.where(hyp, xh, np.where(ell, xe, xf))
+        y1 = np.where(hyp, yh, np.where(ell, ye, yf))
+        n1 = np.hypot(x1, y1)
+        x1, y1 = x1 / n1, y1 / n1
+        psi1 = _angle(x1, y1)
+        s1 = np.arctan2(-y1 / ws, x1)
+        plain = np.remainder(psi1 - psi0 + PI, 2.0 * PI) - PI
+        ds = r + (np.remainder(s1 - s0 - r + PI, 2.0 * PI) - PI)
+        corr = lambda psi, s: np.remainder(psi - s + PI, 2.0 * PI) - PI  # noqa: E731
+        elliptic = ds + corr(psi1, s1) - corr(psi0, s0)
+        turn = turn + np.where(ell, elliptic, plain)
+        x, y = x1, y1
+    return turn
+
+
+def floquet_product(eps, mu, levels, durations, certify=True):
+    """Undamped Floquet data of a piecewise-constant drive (trusted input).
+
+    ``certify``: settle verdicts within the rounding bound in mpmath (edge searches, which
+    only need the predicate away from the last few ulp, switch it off).
+    """
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    shape = eps.shape
+    eps, mu = eps.ravel(), mu.ravel()
+    segs = _segments(eps, mu, levels, durations)
+    (a, b, c, d), L, bound_tr = _product(segs)
+    trN = a + d
+    with np.errstate(divide="ignore", over="ignore"):
+        log_tau = L + np.log(np.abs(0.5 * trN))
+        tau = np.sign(trN) * np.where(log_tau < 709.0, np.exp(np.minimum(log_tau, 709.0)), np.inf)
+    # rounding of tr N: products of K factors, each entry a few ulp (arguments included)
+    rsum = sum(seg[2] for seg in segs)
+    err = _U * (16.0 * len(segs) + 4.0 * rsum + 4.0 * np.abs(L)) * bound_tr
+    with np.errstate(under="ignore"):
+        thr = 2.0 * np.exp(-np.maximum(L, -700.0))
+    unsure = np.abs(np.abs(trN) - thr) <= err + 1e-15 * thr
+    stable = np.abs(trN) < thr
+    if certify and np.any(unsure):
+        idx = np.flatnonzero(unsure)
+        exact = _tau_mp(eps[idx], mu[idx], levels, durations)
+        log_tau[idx] = [lt for _, lt in exact]
+        tau[idx] = [t for t, _ in exact]
+        stable[idx] = [abs(t) < 1.0 for t, _ in exact]
+    growth = np.where(stable, 0.0, acosh_from_log(log_tau, tau))
+    # Rotation: a generic direction on the zones, an eigenvector off them.
+    x0 = np.ones_like(eps)
+    y0 = np.zeros_like(eps)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        disc = np.sqrt(np.maximum(trN * trN - 4.0 * np.exp(-2.0 * np.minimum(L, 700.0)), 0.0))
+        lam = 0.5 * (trN + np.where(trN >= 0, disc, -disc))
+        v1 = (b, lam - a)
+        v2 = (lam - d, c)
+        use1 = np.hypot(*v1) >= np.hypot(*v2)
+        ex = np.where(use1, v1[0], v2[0])
+        ey = np.where(use1, v1[1], v2[1])
+        nrm = np.hypot(ex, ey)
+        good = np.isfinite(nrm) & (nrm > 0)
+    x0 = np.where(stable | ~good, 1.0, ex / np.where(good, nrm, 1.0))
+    y0 = np.where(stable | ~good, 0.0, ey / np.where(good, nrm, 1.0))
+    turn = _carry(segs, x0, y0)
+    with np.errstate(invalid="ignore"):
+        acos_tau = np.arccos(np.clip(tau, -1.0, 1.0))
+    sig = np.where(b >= 0, 1.0, -1.0)
+    base = sig * acos_tau
+    kk = np.rint((turn - base) / (2.0 * PI))
+    theta_stable = 2.0 * PI * kk + base
+    zone_stable = np.where(sig > 0, 2 * kk, 2 * kk - 1)
+    theta = np.where(stable, theta_stable, PI * np.rint(turn / PI))
+    zone = np.where(stable, zone_stable, -1).astype(np.int64)
+    return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),
+                    theta=theta.reshape(shape), zone=zone.reshape(shape))
+
+
+def _tau_mp(eps, mu, levels, durations):
+    """``tr M / 2`` in mpmath, at a precision that covers the cancellation of ``e^{sum r}`` terms."""
+    import mpmath
+
+    out = []
+    for e, m in zip(eps.tolist(), mu.tolist()):
+        rsum = sum(np.sqrt(8.0 * e * e * abs(m * m + s)) * h for s, h in zip(levels, durations))
+        dps = 40 + int(rsum / np.log(10.0))
+        with mpmath.workdps(dps):
+            E, Mu = mpmath.mpf(e), mpmath.mpf(m)
+            P = mpmath.eye(2)
+            for s, h in zip(levels, durations):
+                k = 8 * E * E * (Mu * Mu + mpmath.mpf(s))
+                H = mpmath.mpf(h)
+                if k > 0:
+                    w = mpmath.sqrt(k)
+                    S = mpmath.matrix([[mpmath.cosh(w * H), mpmath.sinh(w * H) / w],
+                                       [w * mpmath.sinh(w * H), mpmath.cosh(w * H)]])
+                elif k < 0:
+                    w = mpmath.sqrt(-k)
+                    S = mpmath.matrix([[mpmath.cos(w * H), mpmath.sin(w * H) / w],
+                                       [-w * mpmath.sin(w * H), mpmath.cos(w * H)]])
+                else:
+                    S = mpmath.matrix([[1, H], [0, 1]])
+                P = S * P
+            t = (P[0, 0] + P[1, 1]) / 2
+            # the verdict needs |t| < 1 decided exactly: the rounded float keeps that order
+            # unless |t| is within an ulp of 1, where the float is taken towards "unstable"
+            tf = float(t)
+            if abs(tf) < 1.0 and abs(t) >= 1:
+                tf = float(np.sign(tf))
+            out.append((tf, float(mpmath.log(abs(t))) if t != 0 else -np.inf))
+    return out
+
+
+class PiecewiseConstant(Drive):
+    """A drive whose acceleration is ``A levels[i]`` for the fraction ``fractions[i]`` of ``2T``.
+
+    The common machinery of :class:`~kapitza.SquareWave`, :class:`~kapitza.RectangularWave`
+    and :class:`~kapitza.StepDrive`: exact kinematics (piecewise-parabolic displacement) and
+    the exact monodromy as a product of segment matrices.
+    """
+
+    name = "steps"
+
+    def __init__(self, levels, fractions):
+        levels, fractions = _check_steps(levels, fractions)
+        self.levels = levels
+        self.fractions = fractions
+        self._durations = tuple(2.0 * f for f in fractions)
+        # Kinematics in tau = t/T: velocity V_i and displacement Z_i at the segment starts,
+        # with the constants fixed by zero mean over the period.
+        h = np.array(self._durations)
+        s = np.array(levels)
+        V = np.concatenate([[0.0], np.cumsum(s * h)])[:-1]
+        mean_V = np.sum(V * h + 0.5 * s * h * h) / 2.0
+        V = V - mean_V
+        Z = np.concatenate([[0.0], np.cumsum(V * h + 0.5 * s * h * h)])[:-1]
+        mean_Z = np.sum(Z * h + 0.5 * V * h * h + s * h**3 / 6.0) / 2.0
+        Z = Z - mean_Z
+        self._starts = np.concatenate([[0.0], np.cumsum(h)])[:-1]
+        self._V = V
+        self._Z = Z
+        ends_Z = Z + V * h + 0.5 * s * h * h
+        cand = list(Z) + list(ends_Z)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tstar = np.where(s != 0, -V / np.where(s != 0, s, 1.0), -1.0)
+        inside = (tstar > 0) & (tstar < h)
+        cand += list((Z + V * tstar + 0.5 * s * tstar**2)[inside])
+        self._stroke_coefficient = float(max(cand) - min(cand))
+        self._mean_square_velocity = float(np.sum(V * V * h + V * s * h * h + s * s * h**3 / 3.0) / 2.0)
+
+    # ------------------------------------------------------------ kinematics
+    def _locate(self, tau):
+        i = np.searchsorted(self._starts, tau, side="right") - 1
+        i = np.clip(i, 0, len(self.levels) - 1)
+        return i, tau - self._starts[i]
+
+    def _shape(self, tau):
+        i, _ = self._locate(tau)
+        return np.asarray(self.levels)[i]
+
+    def _velocity_shape(self, tau):
+        i, r = self._locate(tau)
+        return self._V[i] + np.asarray(self.levels)[i] * r
+
+    def _displacement_shape(self, tau):
+        i, r = self._locate(tau)
+        return self._Z[i] + self._V[i] * r + 0.5 * np.asarray(self.levels)[i] * r * r
+
+    def phases(self, T, A, l, g):
+        """``((s, duration), ...)`` of one period for the motion: ``theta'' = s sin(theta)``."""
+        return tuple(((g + A * lev) / l, 2.0 * f * T) for lev, f in zip(self.levels, self.fractions))
+
+    # ------------------------------------------------------------ stability
+    def _floquet0(self, eps, mu, certify=True):
+        return floquet_product(eps, mu, self.levels, self._durations, certify)
+
+    def _edges0(self, mu, n):
+        return sampled_edges(self, mu, n)
+
+    def as_dict(self) -> dict:
+        return {"drive": self.name, "levels": list(self.levels), "fractions": list(self.fractions)}
+
+    def describe(self) -> str:
+        steps = ", ".join(f"{lev:+.4g} A for {f:.4g}" for lev, f in zip(self.levels, self.fractions))
+        return f"{len(self.levels)}-step drive ({steps} of the period)"
+
+
+def _check_steps(levels, fractions):
+    lev = _v.finite("levels", levels)
+    frac = _v.finite("fractions", fractions)
+    if lev.ndim != 1 or frac.ndim != 1:
+        raise _v.KapitzaValueError(
+            f"levels and fractions must be 1-D sequences; got shapes {lev.shape} and {frac.shape}")
+    if lev.size != frac.size:
+        raise _v.KapitzaValueError(
+            f"levels and fractions must have the same length; got {lev.size} and {frac.size}")
+    if lev.size < 2:
+        raise _v.KapitzaValueError(f"a step drive needs at least 2 steps; got {lev.size}")
+    if lev.size > 64:
+        raise _v.KapitzaValueError(f"a step drive may have at most 64 steps; got {lev.size}")
+    bad = ~(frac > 0)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise _v.KapitzaValueError(
+            f"fractions must each be > 0 (0 < fraction <= 1); got {float(frac[i])!r} (at index {i})")
+    total = float(np.sum(frac))
+    if abs(total - 1.0) > 1e-9:
+        raise _v.KapitzaValueError(f"fractions must sum to 1; got sum {total!r}")
+    frac = frac / total
+    scale = float(np.sum(np.abs(lev) * frac))
+    if scale == 0.0:
+        raise _v.KapitzaValueError("levels must not all be 0 (the pivot would not move)")
+    mean = float(np.sum(lev * frac))
+    if abs(mean) > 1e-9 * scale:
+        raise _v.KapitzaValueError(
+            "levels must have zero mean over the period (sum(levels * fractions) = 0, so that the "
+            f"pivot's velocity and displacement are periodic); got mean {mean!r}")
+    return tuple(float(x) for x in lev), tuple(float(x) for x in frac)
+
+
+def _asinh_tau(eps, mu, levels, durations):
+    """``asinh(tr M / 2)``: a smooth, overflow-free stand-in for the half-trace in root solves."""
+    segs = _segments(eps, mu, levels, durations)
+    (a, _, _, d), L, _ = _product(segs)
+    half = 0.5 * (a + d)
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        log_tau = L + np.log(np.abs(half))
+        small = np.arcsinh(half * np.exp(np.minimum(L, 30.0)))
+        big = np.sign(half) * (log_tau + np.log1p(np.sqrt(1.0 + np.exp(-2.0 * np.maximum(log_tau, 0.0)))))
+    return np.where(L <= 30.0, small, big)
+
+
+def _tau_minus_one(eps, mu, levels, durations):
+    """``tr M / 2 - 1`` without cancelling the identity: ``M = I + D`` carried as ``D``.
+
+    Each factor is ``I + E`` with ``cosh r - 1 = 2 sinh^2(r/2)`` (``cos r - 1 = -2 sin^2(r/2)``),
+    and ``D <- E + D + E D``; so the error of ``tr D`` is relative to ``|D| ~ eps^2``, not to 1.
+    This is what keeps the lower edge of zone 0 accurate as ``eps, mu -> 0`` (Kapitza's limit),
+    where ``tr M - 2`` is of order ``eps^4``. Used where every factor is near ``I`` (``sum r < 3``).
+    """
+    D = None
+    for kind, w, r, h in _segments(eps, mu, levels, durations):
+        hyp, ell = kind > 0, kind < 0
+        ws = np.where(w > 0, w, 1.0)
+        half = 0.5 * r
+        e11 = np.where(hyp, 2.0 * np.sinh(half) ** 2, np.where(ell, -2.0 * np.sin(half) ** 2, 0.0))
+        sn = np.where(hyp, np.sinh(r), np.where(ell, np.sin(r), 0.0))
+        e12 = np.where(w > 0, sn / ws, h)
+        e21 = np.where(hyp, w * sn, np.where(ell, -w * sn, 0.0))
+        E = (e11, e12, e21, e11)
+        if D is None:
+            D = E
+            continue
+        a, b, c, d = D
+        D = (e11 + a + e11 * a + e12 * c, e12 + b + e11 * b + e12 * d,
+             e21 + c + e21 * a + e11 * c, e11 + d + e21 * b + e11 * d)
+    return 0.5 * (D[0] + D[3])
+
+
+def _illinois(f, a, b, fa, fb, iters=60):
+    """Vectorised Illinois (modified regula falsi) on brackets with ``fa * fb <= 0``.
+
+    Returns the end of the final bracket on the side of ``a``'s sign and the other end,
+    adjacent or within a few ulp, so callers can choose the side they report.
+    """
+    a, b, fa, fb = a.copy(), b.copy(), fa.copy(), fb.copy()
+    side = np.zeros(a.shape, np.int8)
+    for _ in range(iters):
+        live = np.abs(b - a) > 2.0 * np.finfo(float).eps * np.maximum(np.abs(a), np.abs(b))
+        live &= (fa != 0) & (fb != 0)
+        if not live.any():
+            break
+        with np.errstate(invalid="ignore", divide="ignore"):
+            c = np.where(live, (a * fb - b * fa) / (fb - fa), a)
+        lo_, hi_ = np.minimum(a, b), np.maximum(a, b)
+        bad = ~((c > lo_) & (c < hi_))
+        c = np.where(bad, 0.5 * (a + b), c)
+        fc = np.where(live, f(c, live), fa)
+        same = np.sign(fc) == np.sign(fb)
+        # (a, b) -> (b, c) when c replaces b's side, else keep a and halve its weight (Illinois)
+        new_a = np.where(same, a, b)
+        new_fa = np.where(same, np.where(side == 1, 0.5 * fa, fa), fb)
+        side = np.where(same, 1, -1).astype(np.int8)
+        a = np.where(live, new_a, a)
+        fa = np.where(live, new_fa, fa)
+        b = np.where(live, c, b)
+        fb = np.where(live, fc, fb)
+    return a, b, fa, fb
+
+
+def _elliptic_rate(mu, levels, durations):
+    """d(sum of elliptic angles)/d eps = sum over attracting segments of sqrt(8 |mu^2 + s|) h."""
+    rate = np.zeros(np.shape(mu))
+    for s, h in zip(levels, durations):
+        k = mu * mu + s
+        rate = rate + np.sqrt(8.0 * np.maximum(-k, 0.0)) * h
+    return rate
+
+
+def _hyperbolic_rate(mu, levels, durations):
+    """d(sum of hyperbolic r_i)/d eps."""
+    rate = np.zeros(np.shape(mu))
+    for s, h in zip(levels, durations):
+        k = mu * mu + s
+        rate = rate + np.sqrt(8.0 * np.maximum(k, 0.0)) * h
+    return rate
+
+
+def _window_margin(mu, levels, durations):
+    """``(rate, W)``: the elliptic angle grows like ``rate * eps``; a zone's zero and edges lie
+    within ``W`` of each other in ``eps`` (``|theta_rot - sum r_ell| < (K + 1) pi``)."""
+    rate = _elliptic_rate(mu, levels, durations)
+    B = (len(levels) + 1) * PI
+    return rate, (0.5 * PI + 2.0 * B) / np.where(rate > 0, rate, 1.0)
+
+
+def _sample(drive, eps, mu):
+    """``(asinh(tr M / 2), theta_rot / pi)`` at sample points (exact rotation angle)."""
+    f = drive._floquet0(eps, mu, certify=False)
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        big = np.sign(f.tau) * (f.log_tau + np.log1p(np.sqrt(1.0 + np.exp(-2.0 * np.maximum(f.log_tau, 0.0)))))
+        F = np.where(f.log_tau < 30.0, np.arcsinh(np.where(f.log_tau < 30.0, f.tau, 0.0)), big)
+    return F, f.theta / PI
+
+
+def _zeros_between(t1, t2):
+    """How many points theta = (k + 1/2) pi lie between two rotation angles (in units of pi)."""
+    return np.floor(t2 - 0.5) - np.floor(t1 - 0.5)
+
+
+def zones_in_window(drive, mu, e_a, e_b, per_turn=8):
+    """Every zone whose ``tr M = 0`` point lies in ``[e_a, e_b]``, row by row (trusted arrays).
+
+    Returns ``(rows, zone, lo, hi)``, flat arrays with one entry per zone found.
+
+    ``tr M / 2 = cos(theta_rot)`` on a zone, so zone ``k`` contains the point where its angle
+    passes ``(k + 1/2) pi``, a sign change of ``tr M``, however thin the zone. The rotation
+    angle is sampled ``per_turn`` times per ``pi`` of elliptic angle over the window widened
+    by ``W`` each side (where the edges of the zones found must lie); an interval across which
+    the angle passes two or more such points (zones that come in close pairs) is subdivided
+    until each holds one. Each sign change is solved to a zero; the edges are solved between
+    the zero and the nearest samples whose angle is ``<= k pi`` (lower) or ``>= (k + 1) pi``
+    (upper), by Illinois iterations on ``asinh(tr M / 2) -+ asinh 1`` (or on ``tr M / 2 - 1``
+    formed without cancellation near ``eps = 0``), each edge reported on its unstable side.
+    The angle is taken to grow with ``eps`` (oscillation theory); a stable island entered and
+    left on the same side, if a drive had one, would not be seen.
+    """
+    levels, durations = drive.levels, drive._durations
+    mu, e_a, e_b = (np.ravel(x).astype(float) for x in np.broadcast_arrays(mu, e_a, e_b))
+    rate, W = _window_margin(mu, levels, durations)
+    has = rate > 0
+    rate_s = np.where(has, rate, 1.0)
+    g_a = np.maximum(e_a - W, 0.0)
+    g_b = e_b + W
+    m = int(np.ceil(np.max(np.where(has, (g_b - g_a) * rate_s / PI, 0.0)) * per_turn)) + 2
+    grid = g_a[:, None] + (g_b - g_a)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
+    # eps = 0 is the trivial root (M = I); start just above it, where every drive is unstable
+    # (the mean stiffness 8 eps^2 mu^2 > 0 repels) and tr M / 2 - 1 > 0 is formed accurately.
+    from0 = g_a == 0.0
+    grid[:, 0] = np.where(from0, 1e-3 * grid[:, 1], grid[:, 0])
+    R = np.broadcast_to(np.arange(mu.size)[:, None], grid.shape)
+    F, th = _sample(drive, grid, np.broadcast_to(mu[:, None], grid.shape))
+    A1 = np.arcsinh(1.0)
+    F[:, 0] = np.where(from0, np.maximum(F[:, 0], A1), F[:, 0])
+    th[:, 0] = np.where(from0, 0.0, th[:, 0])
+    P_r, P_e, P_F, P_t = [R[has].ravel()], [grid[has].ravel()], [F[has].ravel()], [th[has].ravel()]
+    # subdivide intervals that hold two or more zeros
+    cnt = _zeros_between(th[:, :-1], th[:, 1:])
+    rr, cc = np.nonzero((cnt >= 2) & has[:, None])
+    ia, ib, ta, tb = grid[rr, cc], grid[rr, cc + 1], th[rr, cc], th[rr, cc + 1]
+    sub = np.linspace(0.0, 1.0, 17)[1:-1]
+    for _ in range(12):
+        if rr.size == 0:
+            break
+        pts = ia[:, None] + (ib - ia)[:, None] * sub[None, :]
+        Fs, ts = _sample(drive, pts, np.broadcast_to(mu[rr][:, None], pts.shape))
+        P_r.append(np.repeat(rr, sub.size))
+        P_e.append(pts.ravel())
+        P_F.append(Fs.ravel())
+        P_t.append(ts.ravel())
+        e_all = np.concatenate([ia[:, None], pts, ib[:, None]], axis=1)
+        t_all = np.concatenate([ta[:, None], ts, tb[:, None]], axis=1)
+        c2 = _zeros_between(t_all[:, :-1], t_all[:, 1:]) >= 2
+        i, j = np.nonzero(c2)
+        rr, ia, ib, ta, tb = rr[i], e_all[i, j], e_all[i, j + 1], t_all[i, j], t_all[i, j + 1]
+    r_all = np.concatenate(P_r)
+    e_all = np.concatenate(P_e)
+    F_all = np.concatenate(P_F)
+    t_all = np.concatenate(P_t)
+    order = np.lexsort((e_all, r_all))
+    r_all, e_all, F_all, t_all = r_all[order], e_all[order], F_all[order], t_all[order]
+    same_row = r_all[:-1] == r_all[1:]
+    one = same_row & (_zeros_between(t_all[:-1], t_all[1:]) == 1) & (np.signbit(F_all[:-1]) != np.signbit(F_all[1:]))
+    j = np.flatnonzero(one)
+    empty = (np.zeros(0, np.int64),) * 2 + (np.zeros(0),) * 2
+    if j.size == 0:
+        return empty
+    rows = r_all[j]
+    zone = np.floor(t_all[j + 1] - 0.5).astype(np.int64)
+
+    def solve(r, a, b, fa, fb, target, near_one=None):
+        mr = mu[r]
+
+        def f(x, live):
+            out = np.zeros(x.shape)
+            out[live] = _asinh_tau(x[live], mr[live], levels, durations) - target[live]
+            if near_one is not None:
+                use = live & near_one
+                out[use] = _tau_minus_one(x[use], mr[use], levels, durations)
+            return out
+
+        fa, fb = fa - target, fb - target
+        if near_one is not None and near_one.any():
+            u = near_one
+            fa, fb = fa.copy(), fb.copy()
+            fa[u] = _tau_minus_one(a[u], mr[u], levels, durations)
+            fb[u] = _tau_minus_one(b[u], mr[u], levels, durations)
+        return _illinois(f, a, b, fa, fb)
+
+    za, zb, fza, fzb = solve(rows, e_all[j], e_all[j + 1], F_all[j], F_all[j + 1], np.zeros(rows.size))
+    z = np.where(np.abs(fza) <= np.abs(fzb), za, zb)
+    keep = (z >= e_a[rows]) & (z <= e_b[rows])
+    rows, zone, z, j = rows[keep], zone[keep], z[keep], j[keep]
+    if rows.size == 0:
+        return empty
+    # nearest samples outside the zone on each side, within the same row
+    row_start = np.searchsorted(r_all, rows, side="left")
+    row_end = np.searchsorted(r_all, rows, side="right")
+    left = np.full(rows.size, -1)
+    right = np.full(rows.size, -1)
+    tol = 1e-9
+    for q in range(rows.size):
+        seg_t = t_all[row_start[q]:j[q] + 1]
+        below = np.flatnonzero(seg_t <= zone[q] + tol)
+        if below.size:
+            left[q] = row_start[q] + below[-1]
+        seg_t = t_all[j[q] + 1:row_end[q]]
+        above = np.flatnonzero(seg_t >= zone[q] + 1 - tol)
+        if above.size:
+            right[q] = j[q] + 1 + above[0]
+    ok = (left >= 0) & (right >= 0)
+    rows, zone, z, left, right = rows[ok], zone[ok], z[ok], left[ok], right[ok]
+    if rows.size == 0:
+        return empty
+    FL = F_all[left]
+    FR = F_all[right]
+    tl = np.where(zone % 2 == 0, A1, -A1)  # tr M = +2 below an even zone, -2 below an odd one
+    tr_ = -tl
+    rsum = _elliptic_rate(mu[rows], levels, durations) + _hyperbolic_rate(mu[rows], levels, durations)
+    near_one = (tl > 0) & (rsum * z < 3.0)
+    a, b, fa, fb = solve(rows, e_all[left], z, FL, np.zeros(rows.size), tl, near_one)
+    lo = _unstable_end(a, b, fa, fb, FL - tl)
+    a, b, fa, fb = solve(rows, z, e_all[right], np.zeros(rows.size), FR, tr_)
+    hi = _unstable_end(a, b, fa, fb, FR - tr_)
+    return rows, zone, lo, hi
+
+
+def sampled_edges(drive, mu, n, per_turn=8):
+    """Edges of zone ``n`` at each ``mu`` (undamped; NaN where the drive has no such zone).
+
+    The window is where zone ``n``'s zero can lie: ``|theta_rot - rate eps| < (K + 1) pi``
+    (see :func:`zones_in_window`).
+    """
+    mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
+    shape = mu.shape
+    mu, n = mu.ravel(), n.ravel()
+    rate, _ = _window_margin(mu, drive.levels, drive._durations)
+    B = (len(drive.levels) + 1) * PI
+    rs = np.where(rate > 0, rate, 1.0)
+    e_a = np.maximum((n * PI - B) / rs, 0.0)
+    e_b = ((n + 1) * PI + B) / rs
+    lo_out = np.full(mu.size, np.nan)
+    hi_out = np.full(mu.size, np.nan)
+    rows, zone, lo, hi = zones_in_window(drive, mu, e_a, e_b, per_turn)
+    want = zone == n[rows]
+    lo_out[rows[want]] = lo[want]
+    hi_out[rows[want]] = hi[want]
+    return lo_out.reshape(shape), hi_out.reshape(shape)
+
+
+def _unstable_end(a, b, fa, fb, f_out):
+    """Of the final bracket ends, the one where f has the sign it has outside the zone
+    (an exact zero of f is the edge itself, which counts as unstable)."""
+    out_a = (fa == 0) | (np.sign(fa) == np.sign(f_out))
+    out_b = (fb == 0) | (np.sign(fb) == np.sign(f_out))
+    return np.where(out_b & ~(fa == 0), b, np.where(out_a, a, b))
+
+
+def rotation_edges(drive, mu, n):
+    """Zone edges of an undamped piecewise-constant drive by bisection on the rotation angle.
+
+    Zone ``n`` is where the rotation angle per period lies in ``(n pi, (n + 1) pi)``; the
+    angle is non-decreasing in ``eps`` (oscillation theory of ``phi'' = 8 eps^2 (mu^2 + s) phi``),
+    so its lower edge is the last ``eps`` with angle <= ``n pi`` and the upper edge the first
+    with angle >= ``(n + 1) pi``. Bisection on that predicate cannot jump to another zone.
+    """
+    mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
+    shape = mu.shape
+    mu = mu.ravel()
+    n = n.ravel()
+    # zones need an attracting segment: mu^2 + min(level) < 0
+    has_zones = mu * mu + min(drive.levels) < 0
+    mu = np.where(has_zones, mu, 0.5 * np.sqrt(max(-min(drive.levels), 0.0)))
+
+    def first(pred):
+        """(last eps with pred False, first eps with pred True), adjacent doubles."""
+        hi = np.full(mu.shape, 1.0)
+        for _ in range(1030):
+            ok = pred(hi)
+            if ok.all():
+                break
+            hi = np.where(ok, hi, 2.0 * hi)
+        return _bisect_bits(pred, np.zeros(mu.shape), hi)
+
+    def reach(eps):  # the angle has passed n pi: in zone >= n, or locked beyond n pi
+        f = drive._floquet0(eps, mu, certify=False)
+        return np.where(f.zone >= 0, f.zone >= n, np.rint(f.theta / PI) > n)
+
+    def past(eps):  # the angle has reached (n + 1) pi
+        f = drive._floquet0(eps, mu, certify=False)
+        return np.where(f.zone >= 0, f.zone > n, np.rint(f.theta / PI) >= n + 1)
+
+    lo, _ = first(reach)
+    _, hi = first(past)
+    none = ~has_zones
+    lo = np.where(none, np.nan, lo)
+    hi = np.where(none, np.nan, hi)
+    return lo.reshape(shape), hi.reshape(shape)
+
+
+def _bisect_bits(pred, lo, hi):
+    """Bisection on the bit patterns of non-negative doubles: at most 64 steps to adjacent doubles."""
+    a = lo.view(np.int64).copy()
+    b = hi.view(np.int64).copy()
+    for _ in range(70):
+        m = a + (b - a) // 2
+        live = b - a > 1
+        if not live.any():
+            break
+        ok = pred(m.view(np.float64))
+        b = np.where(live & ok, m, b)
+        a = np.where(live & ~ok, m, a)
+    return a.view(np.float64), b.view(np.float64)

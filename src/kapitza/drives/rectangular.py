@@ -1,0 +1,35 @@
+"""A rectangular wave of any duty cycle, with zero mean acceleration."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _validate as _v
+from ._piecewise import PiecewiseConstant
+
+
+class RectangularWave(PiecewiseConstant):
+    """Acceleration ``+A`` for the fraction ``duty`` of the period ``2T``, then ``-A duty/(1 - duty)``.
+
+    The second level makes the mean acceleration zero, so the pivot's velocity and displacement
+    are periodic; ``duty = 0.5`` is the paper's square wave (:class:`~kapitza.SquareWave`).
+
+    Parameters
+    ----------
+    duty : float
+        ``0 < duty < 1``.
+    """
+
+    name = "rectangular"
+
+    def __init__(self, duty):
+        if np.ndim(duty) != 0:
+            raise _v.KapitzaValueError(f"duty must be a single number in (0, 1); got {duty!r}")
+        d = float(_v.in_range("duty", duty, 0.0, 1.0))
+        self.duty = d
+        super().__init__((1.0, -d / (1.0 - d)), (d, 1.0 - d))
+
+    def as_dict(self) -> dict:
+        return {"drive": self.name, "duty": self.duty}
+
+    def describe(self) -> str:
+        return f"rectangular wave, duty {self.duty:.4g} (+A for {self.duty:.4g} of the period)"

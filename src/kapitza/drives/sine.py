@@ -1,0 +1,47 @@
+"""Kapitza's original drive: a sinusoidal pivot, the Mathieu equation.
+
+Acceleration ``A sin(pi t / T)``; velocity ``-(A T/pi) cos(pi t/T)``; displacement
+``-(A T^2/pi^2) sin(pi t/T)``, so the pivot ``z = a cos(w t + phase)`` has amplitude
+``a = A T^2/pi^2`` and angular frequency ``w = pi/T``. With ``z = pi t/(2T) - pi/4`` the
+linearised equation is Mathieu's ``y'' + (a_M - 2 q cos 2z) y = 0`` with
+``q = 16 eps^2/pi^2`` and ``a_M = -2 mu^2 q`` (``docs/mathieu.md``); its zone edges are
+characteristic values computed by :mod:`kapitza.mathieu`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._base import Drive, Floquet0
+
+PI = np.pi
+
+
+class SineWave(Drive):
+    """Sinusoidal pivot: acceleration ``A sin(pi t / T)`` (period ``2T``)."""
+
+    name = "sine"
+    _stroke_coefficient = 2.0 / PI**2
+    _mean_square_velocity = 1.0 / (2.0 * PI**2)
+
+    def _shape(self, tau):
+        return np.sin(PI * tau)
+
+    def _velocity_shape(self, tau):
+        return -np.cos(PI * tau) / PI
+
+    def _displacement_shape(self, tau):
+        return -np.sin(PI * tau) / PI**2
+
+    def _floquet0(self, eps, mu, certify=True):
+        from ..mathieu import _sine_floquet0
+
+        tau, log_tau, growth, theta, zone = _sine_floquet0(eps, mu)
+        return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
+
+    def _edges0(self, mu, n):
+        from ..mathieu import sine_zone_edges
+
+        return sine_zone_edges(mu, n)
+
+    def describe(self) -> str:
+        return "sine wave (acceleration A sin(pi t/T))"
