@@ -534,34 +534,31 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=8):
     rows, zone, z, j = rows[keep], zone[keep], z[keep], j[keep]
     if rows.size == 0:
         return empty
-    # nearest samples outside the zone on each side, within the same row
-    row_start = np.searchsorted(r_all, rows, side="left")
-    row_end = np.searchsorted(r_all, rows, side="right")
-    left = np.full(rows.size, -1)
-    right = np.full(rows.size, -1)
-    tol = 1e-9
-    for q in range(rows.size):
-        seg_t = t_all[row_start[q]:j[q] + 1]
-        below = np.flatnonzero(seg_t <= zone[q] + tol)
-        if below.size:
-            left[q] = row_start[q] + below[-1]
-        seg_t = t_all[j[q] + 1:row_end[q]]
-        above = np.flatnonzero(seg_t >= zone[q] + 1 - tol)
-        if above.size:
-            right[q] = j[q] + 1 + above[0]
-    ok = (left >= 0) & (right >= 0)
-    rows, zone, z, left, right = rows[ok], zone[ok], z[ok], left[ok], right[ok]
+    # Brackets for the edges: the largest |tr M| between this zero and its neighbours' (the
+    # gap, where |tr M| >= 2 unless two zones touch), found by golden-section search; for
+    # zone 0 on the left, the first sample just above eps = 0 (tr M / 2 - 1 > 0 there).
+    order = np.lexsort((z, rows))
+    rows, zone, z = rows[order], zone[order], z[order]
+    same_prev = np.r_[False, (rows[1:] == rows[:-1]) & (zone[1:] == zone[:-1] + 1)]
+    same_next = np.r_[same_prev[1:], False]
+    prev = np.where(same_prev, np.r_[0.0, z[:-1]], grid[rows, 0])
+    nxt = np.where(same_next, np.r_[z[1:], 0.0], grid[rows, -1])
+    xl, FL = _gap_peak(lambda x, live: _asinh_tau(x, mu[rows][live], levels, durations), prev, z)
+    xr, FR = _gap_peak(lambda x, live: _asinh_tau(x, mu[rows][live], levels, durations), z, nxt)
+    first0 = (zone == 0) & ~same_prev & from0[rows]
+    xl = np.where(first0, grid[rows, 0], xl)
+    FL = np.where(first0, F[rows, 0], FL)
+    ok = (np.abs(FL) >= A1) & (np.abs(FR) >= A1)
+    rows, zone, z, xl, xr, FL, FR = rows[ok], zone[ok], z[ok], xl[ok], xr[ok], FL[ok], FR[ok]
     if rows.size == 0:
         return empty
-    FL = F_all[left]
-    FR = F_all[right]
     tl = np.where(zone % 2 == 0, A1, -A1)  # tr M = +2 below an even zone, -2 below an odd one
     tr_ = -tl
     rsum = _elliptic_rate(mu[rows], levels, durations) + _hyperbolic_rate(mu[rows], levels, durations)
     near_one = (tl > 0) & (rsum * z < 3.0)
-    a, b, fa, fb = solve(rows, e_all[left], z, FL, np.zeros(rows.size), tl, near_one)
+    a, b, fa, fb = solve(rows, xl, z, FL, np.zeros(rows.size), tl, near_one)
     lo = _unstable_end(a, b, fa, fb, FL - tl)
-    a, b, fa, fb = solve(rows, z, e_all[right], np.zeros(rows.size), FR, tr_)
+    a, b, fa, fb = solve(rows, z, xr, np.zeros(rows.size), FR, tr_)
     hi = _unstable_end(a, b, fa, fb, FR - tr_)
     return rows, zone, lo, hi
 
@@ -587,6 +584,36 @@ def sampled_edges(drive, mu, n, per_turn=8):
     lo_out[rows[want]] = lo[want]
     hi_out[rows[want]] = hi[want]
     return lo_out.reshape(shape), hi_out.reshape(shape)
+
+
+def _gap_peak(F, a, b):
+    """Golden-section search for the largest ``|F|`` on ``(a, b)`` (one hump); returns (x, F(x))."""
+    r = 0.5 * (np.sqrt(5.0) - 1.0)
+    a, b = a.copy(), b.copy()
+    everywhere = np.ones(a.shape, bool)
+    c = b - r * (b - a)
+    d = a + r * (b - a)
+    Fc = F(c, everywhere)
+    Fd = F(d, everywhere)
+    best_x = np.where(np.abs(Fc) >= np.abs(Fd), c, d)
+    best_F = np.where(np.abs(Fc) >= np.abs(Fd), Fc, Fd)
+    A1 = np.arcsinh(1.0)
+    for _ in range(60):
+        live = (np.abs(best_F) < A1) & (b - a > 4e-16 * b)
+        if not live.any():
+            break
+        left = np.abs(Fc) >= np.abs(Fd)
+        b = np.where(live & left, d, b)
+        a = np.where(live & ~left, c, a)
+        p = np.where(left, b - r * (b - a), a + r * (b - a))
+        Fp = np.zeros(p.shape)
+        Fp[live] = F(p[live], live)
+        c, d = np.where(live, np.where(left, p, d), c), np.where(live, np.where(left, c, p), d)
+        Fc, Fd = np.where(live, np.where(left, Fp, Fd), Fc), np.where(live, np.where(left, Fc, Fp), Fd)
+        better = live & (np.abs(Fp) > np.abs(best_F))
+        best_x = np.where(better, p, best_x)
+        best_F = np.where(better, Fp, best_F)
+    return best_x, best_F
 
 
 def _unstable_end(a, b, fa, fb, f_out):

@@ -1,0 +1,167 @@
+"""The stability questions asked of any drive, with damping: the bodies behind the public
+functions of :mod:`kapitza.zones`, :mod:`kapitza.propagation` and :mod:`kapitza.analysis`
+when they are given a drive other than the paper's undamped square wave.
+
+Inputs are trusted (validated by the public functions). Damping enters as the damping ratio
+``zeta = c / (2 sqrt(g/l))`` of the hanging pendulum, which keeps it dimensionless and fixed
+along Arnold's plane for a given rod; ``kappa = c T = 2 sqrt(8) zeta mu eps``
+(:mod:`kapitza.drives._base`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._base import PI, SQRT8
+from ._piecewise import PiecewiseConstant, _bisect_bits, _window_margin, zones_in_window
+
+
+def zeta_of(c, l, g):
+    """Damping ratio ``zeta = c / (2 sqrt(g/l))`` of the hanging pendulum (``c`` in 1/s)."""
+    return 0.5 * c * np.sqrt(l / g)
+
+
+def floquet(eps, mu, drive, zeta):
+    """``(trace, determinant, multipliers, growth, rotation_number, stable, zone)``.
+
+    ``trace`` and ``determinant`` are those of the damped monodromy ``M_theta`` over ``2T``:
+    ``tr M_theta = exp(-kappa) tr M_phi``, ``det M_theta = exp(-2 kappa)``; the multipliers are
+    ``exp(-kappa)`` times those of the undamped ``phi``-system, largest modulus first;
+    ``growth = log max|lambda|`` (negative where the damped motion decays).
+    """
+    tau, growth, theta, stable, zone, kappa = drive._floquet(eps, mu, zeta)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        trace = 2.0 * tau * np.exp(-kappa)
+        trace = np.where(np.isfinite(tau) | (kappa == 0), trace,
+                         np.sign(tau) * np.exp(np.minimum(growth + np.log1p(np.exp(-2.0 * (growth + kappa))), 709.0)))
+        det = np.exp(-2.0 * kappa)
+        phi_growth = growth + kappa
+        elliptic = (zone >= 0) & (phi_growth <= 0)
+        sgn = np.where(tau < 0, -1.0, 1.0)
+        big = sgn * np.exp(growth)
+        small = sgn * np.exp(-phi_growth - kappa)
+        rot1 = np.exp(-kappa + 1j * theta)
+        rot2 = np.exp(-kappa - 1j * theta)
+    lam1 = np.where(elliptic, rot1, big + 0j)
+    lam2 = np.where(elliptic, rot2, small + 0j)
+    mult = np.stack([lam1, lam2], axis=-1)
+    growth = np.where(elliptic, -kappa, growth)
+    return trace, det, mult, growth, theta / (2.0 * PI), stable, zone
+
+
+def verdict(eps, mu, drive, zeta):
+    """``(stable, zone)`` (zone -1 where unstable)."""
+    _, _, _, stable, zone, _ = drive._floquet(eps, mu, zeta)
+    return stable, np.where(stable, zone, -1).astype(np.int64)
+
+
+def edges(mu, n, drive, zeta):
+    """``(eps_lo, eps_hi)`` of zone ``n``; NaN where the drive has no such zone at this ``mu``."""
+    return drive._edges(mu, n, zeta)
+
+
+def grid(eps, mu, drive, zeta, out):
+    """Paint ``out[i, j] = stable(eps[j], mu[i])`` from the exact edges of every zone in view.
+
+    ``eps`` sorted ascending, ``out`` zeroed, shape ``(len(mu), len(eps))``.
+    """
+    lo_e, hi_e = float(eps[0]), float(eps[-1])
+    if isinstance(drive, PiecewiseConstant) and not np.any(np.asarray(zeta) > 0) and type(drive).__name__ != "SquareWave":
+        rows, _, lo, hi = zones_in_window(drive, mu, np.full(mu.size, lo_e), np.full(mu.size, hi_e))
+    else:
+        rows, lo, hi = _zone_pairs(drive, mu, zeta, lo_e, hi_e)
+    i0 = np.searchsorted(eps, lo, side="right")
+    i1 = np.searchsorted(eps, hi, side="left")
+    keep = np.isfinite(lo) & np.isfinite(hi) & (i1 > i0)
+    flat = out.reshape(-1)
+    W = eps.size
+    base = rows[keep] * W
+    for a, b in zip((base + i0[keep]).tolist(), (base + i1[keep]).tolist()):
+        flat[a:b] = True
+    return out
+
+
+def _zone_range(drive, mu, zeta, e0, e1):
+    """Zone indices that may meet ``[e0, e1]`` at each ``mu`` (from the elliptic angle)."""
+    mu_c = mu * np.sqrt(1.0 + np.asarray(zeta) ** 2)
+    if isinstance(drive, PiecewiseConstant):
+        rate, _ = _window_margin(mu_c, drive.levels, drive._durations)
+        B = (len(drive.levels) + 1) * PI
+    else:  # sine: theta_rot within pi of the averaged elliptic angle
+        rate = SQRT8 * 2.0 * np.sqrt(np.maximum(1.0 - mu_c * mu_c, 0.0)) * 2.0 / PI
+        B = 2.0 * PI
+    n_lo = np.maximum(np.floor((rate * e0 - B) / PI) - 1, 0).astype(np.int64)
+    n_hi = np.floor((rate * e1 + B) / PI).astype(np.int64) + 1
+    return n_lo, np.where(rate > 0, n_hi, n_lo - 1)
+
+
+def _zone_pairs(drive, mu, zeta, e0, e1):
+    zeta = np.broadcast_to(np.asarray(zeta, float), mu.shape)
+    n_lo, n_hi = _zone_range(drive, mu, zeta, e0, e1)
+    counts = np.maximum(n_hi - n_lo + 1, 0)
+    r_idx = np.repeat(np.arange(mu.size), counts)
+    z_idx = n_lo[r_idx] + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    lo, hi = drive._edges(mu[r_idx], z_idx, zeta[r_idx])
+    return r_idx, lo, hi
+
+
+def margin(eps, mu, drive, zeta):
+    """``(stable, zone, eps_lo, eps_hi, margin)`` as :class:`kapitza.StabilityMargin`: the zone
+    containing the point (or the nearest), its edges, and the signed relative distance."""
+    eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float))
+    stable, zone = verdict(eps, mu, drive, zeta)
+    shape = eps.shape
+    e, m, z = eps.ravel(), mu.ravel(), zeta.ravel()
+    n_lo, n_hi = _zone_range(drive, m, z, e, e)
+    best = np.full(e.size, -np.inf)
+    b_zone = np.full(e.size, -1, np.int64)
+    b_lo = np.full(e.size, np.nan)
+    b_hi = np.full(e.size, np.nan)
+    for k in range(int(np.max(n_hi - n_lo, initial=-1)) + 1):
+        n = n_lo + k
+        live = n <= n_hi
+        if not live.any():
+            continue
+        lo, hi = drive._edges(m[live], n[live], z[live])
+        d = np.minimum(e[live] - lo, hi - e[live]) / e[live]
+        d = np.where(np.isfinite(d), d, -np.inf)
+        idx = np.flatnonzero(live)
+        better = d > best[idx]
+        sel = idx[better]
+        best[sel] = d[better]
+        b_zone[sel] = n[live][better]
+        b_lo[sel] = lo[better]
+        b_hi[sel] = hi[better]
+    st = stable.ravel()
+    zn = zone.ravel()
+    # the containing zone wins (its margin is the one a user asks for)
+    b_zone = np.where(st, zn, b_zone)
+    return (stable, b_zone.reshape(shape), b_lo.reshape(shape), b_hi.reshape(shape), best.reshape(shape))
+
+
+def along_amplitude(T, n, l, g, drive, c):
+    """``(A_lo, A_hi)`` of zone ``n`` at fixed half-period ``T`` (scalars; bisection on the zone).
+
+    At fixed ``T`` the ``phi``-stiffness ``(T^2/l) (g (1 + zeta^2) + A s)`` grows with ``A`` in
+    the attracting segments: the zone index read from the rotation angle is bisected in ``A``
+    on the bit patterns of doubles.
+    """
+    zeta = zeta_of(c, l, g)
+
+    def arnold(A):
+        return T * np.sqrt(A / (8.0 * l)), np.sqrt(g / A)
+
+    def reached(A, level, strictly):
+        eps, mu = arnold(A)
+        st, z = verdict(eps, mu, drive, np.full(np.shape(A), zeta))
+        theta = drive._floquet(eps, mu, np.full(np.shape(A), zeta))[2]
+        k = np.where(st, z + 0.5, np.rint(theta / PI))
+        return k > level if strictly else k >= level
+
+    hi = np.array([max(g, 1.0)])
+    for _ in range(1100):
+        if reached(hi, n + 1, False).all():
+            break
+        hi = hi * 2.0
+    _, A_hi = _bisect_bits(lambda A: reached(A, n + 1, False), np.zeros(1), hi)
+    A_lo, _ = _bisect_bits(lambda A: reached(A, n, True), np.zeros(1), A_hi)
+    return float(A_lo[0]), float(A_hi[0])
