@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._base import PI, SQRT8
-from ._piecewise import PiecewiseConstant, _bisect_bits, _window_margin, zones_in_window
+from ._piecewise import PiecewiseConstant, _bisect_bits, _window_margin, window_zones
 
 
 def zeta_of(c, l, g):
@@ -66,7 +66,7 @@ def grid(eps, mu, drive, zeta, out):
     """
     lo_e, hi_e = float(eps[0]), float(eps[-1])
     if isinstance(drive, PiecewiseConstant) and not np.any(np.asarray(zeta) > 0) and type(drive).__name__ != "SquareWave":
-        rows, _, lo, hi = zones_in_window(drive, mu, np.full(mu.size, lo_e), np.full(mu.size, hi_e))
+        rows, _, lo, hi = window_zones(drive, mu, np.full(mu.size, lo_e), np.full(mu.size, hi_e))
     else:
         rows, lo, hi = _zone_pairs(drive, mu, zeta, lo_e, hi_e)
     i0 = np.searchsorted(eps, lo, side="right")

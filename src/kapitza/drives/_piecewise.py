@@ -417,6 +417,30 @@ def _hyperbolic_rate(mu, levels, durations):
     return rate
 
 
+def window_zones(drive, mu, e_a, e_b):
+    """``(rows, zone, lo, hi)`` of every zone that meets ``[e_a, e_b]`` (undamped; for charts).
+
+    A narrow margin is sampled first; a row whose window ends are stable but not covered by
+    a zone found is done again with the full margin of :func:`_window_margin`.
+    """
+    mu, e_a, e_b = (np.ravel(x).astype(float) for x in np.broadcast_arrays(mu, e_a, e_b))
+    rows, zone, lo, hi = zones_in_window(drive, mu, e_a, e_b, margin=2.0, keep_all=True)
+    ends = drive._floquet0(np.concatenate([e_a, e_b]), np.concatenate([mu, mu]), certify=False).zone >= 0
+    covered = np.zeros(2 * mu.size, bool)
+    for k, e in ((0, e_a), (1, e_b)):
+        inside = (lo <= e[rows]) & (hi >= e[rows])
+        covered[k * mu.size + rows[inside]] = True
+    redo = np.flatnonzero((ends & ~covered).reshape(2, -1).any(axis=0))
+    if redo.size:
+        r2, z2, l2, h2 = zones_in_window(drive, mu[redo], e_a[redo], e_b[redo], keep_all=True)
+        drop = np.isin(rows, redo)
+        rows = np.concatenate([rows[~drop], redo[r2]])
+        zone = np.concatenate([zone[~drop], z2])
+        lo = np.concatenate([lo[~drop], l2])
+        hi = np.concatenate([hi[~drop], h2])
+    return rows, zone, lo, hi
+
+
 def _window_margin(mu, levels, durations):
     """``(rate, W)``: the elliptic angle grows like ``rate * eps``; a zone's zero and edges lie
     within ``W`` of each other in ``eps`` (``|theta_rot - sum r_ell| < (K + 1) pi``)."""
@@ -439,7 +463,7 @@ def _zeros_between(t1, t2):
     return np.floor(t2 - 0.5) - np.floor(t1 - 0.5)
 
 
-def zones_in_window(drive, mu, e_a, e_b, per_turn=8):
+def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False):
     """Every zone whose ``tr M = 0`` point lies in ``[e_a, e_b]``, row by row (trusted arrays).
 
     Returns ``(rows, zone, lo, hi)``, flat arrays with one entry per zone found.
@@ -447,7 +471,9 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=8):
     ``tr M / 2 = cos(theta_rot)`` on a zone, so zone ``k`` contains the point where its angle
     passes ``(k + 1/2) pi``, a sign change of ``tr M``, however thin the zone. The rotation
     angle is sampled ``per_turn`` times per ``pi`` of elliptic angle over the window widened
-    by ``W`` each side (where the edges of the zones found must lie); an interval across which
+    by ``W`` each side (where the edges of the zones found must lie; ``margin``, in units of
+    ``pi`` of elliptic angle, narrows it, and ``keep_all`` keeps the zones whose zero lies in
+    the widened window too); an interval across which
     the angle passes two or more such points (zones that come in close pairs) is subdivided
     until each holds one. Each sign change is solved to a zero; the edges are solved between
     the zero and the nearest samples whose angle is ``<= k pi`` (lower) or ``>= (k + 1) pi``
@@ -461,6 +487,8 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=8):
     rate, W = _window_margin(mu, levels, durations)
     has = rate > 0
     rate_s = np.where(has, rate, 1.0)
+    if margin is not None:
+        W = margin * PI / rate_s
     g_a = np.maximum(e_a - W, 0.0)
     g_b = e_b + W
     m = int(np.ceil(np.max(np.where(has, (g_b - g_a) * rate_s / PI, 0.0)) * per_turn)) + 2
@@ -530,7 +558,7 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=8):
 
     za, zb, fza, fzb = solve(rows, e_all[j], e_all[j + 1], F_all[j], F_all[j + 1], np.zeros(rows.size))
     z = np.where(np.abs(fza) <= np.abs(fzb), za, zb)
-    keep = (z >= e_a[rows]) & (z <= e_b[rows])
+    keep = np.ones(rows.size, bool) if keep_all else (z >= e_a[rows]) & (z <= e_b[rows])
     rows, zone, z, j = rows[keep], zone[keep], z[keep], j[keep]
     if rows.size == 0:
         return empty
@@ -563,7 +591,7 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=8):
     return rows, zone, lo, hi
 
 
-def sampled_edges(drive, mu, n, per_turn=8):
+def sampled_edges(drive, mu, n, per_turn=3):
     """Edges of zone ``n`` at each ``mu`` (undamped; NaN where the drive has no such zone).
 
     The window is where zone ``n``'s zero can lie: ``|theta_rot - rate eps| < (K + 1) pi``
