@@ -21,7 +21,7 @@ from .sine import SineWave
 from .square import SquareWave
 from .steps import StepDrive
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "DRIVES", "as_drive"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "DRIVES", "as_drive", "parse_drive"]
 
 #: Drive classes by the name the command line and the reports use.
 DRIVES = {
@@ -48,3 +48,39 @@ def as_drive(drive) -> Drive:
     raise _v.KapitzaValueError(
         "drive must be a kapitza drive (SquareWave(), RectangularWave(duty), StepDrive(levels, fractions), "
         f"SineWave()) or one of 'square', 'sine'; got {drive!r}")
+
+
+def parse_drive(text: str) -> Drive:
+    """A drive from its short text form, as the command line and the web take it.
+
+    ``square``; ``sine``; ``rectangular:DUTY`` (e.g. ``rectangular:0.3``); ``steps:LEVELS:FRACTIONS``
+    with comma-separated numbers (e.g. ``steps:2,-1,1,-1:0.2,0.3,0.2,0.3``).
+    """
+    if not isinstance(text, str) or not text.strip():
+        raise _v.KapitzaValueError(f"drive must be a non-empty text such as 'square'; got {text!r}")
+    name, _, rest = text.strip().partition(":")
+    name = name.strip().lower()
+    forms = "'square', 'sine', 'rectangular:DUTY' or 'steps:LEVELS:FRACTIONS'"
+    if name in ("square", "sine"):
+        if rest:
+            raise _v.KapitzaValueError(f"drive '{name}' takes no parameters; got {text!r}")
+        return DRIVES[name]()
+    if name == "rectangular":
+        if not rest:
+            raise _v.KapitzaValueError(f"drive 'rectangular' needs its duty cycle, e.g. 'rectangular:0.3'; got {text!r}")
+        return RectangularWave(_number("duty", rest))
+    if name == "steps":
+        levels, sep, fractions = rest.partition(":")
+        if not sep:
+            raise _v.KapitzaValueError(
+                f"drive 'steps' needs levels and fractions, e.g. 'steps:2,-1,1,-1:0.2,0.3,0.2,0.3'; got {text!r}")
+        return StepDrive([_number("levels", x) for x in levels.split(",")],
+                         [_number("fractions", x) for x in fractions.split(",")])
+    raise _v.KapitzaValueError(f"drive must be one of {forms}; got {text!r}")
+
+
+def _number(name, text):
+    try:
+        return float(text)
+    except ValueError:
+        raise _v.KapitzaValueError(f"{name} must be a number; got {text.strip()!r}") from None

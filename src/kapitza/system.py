@@ -1,0 +1,162 @@
+"""The rig as objects: what swings (:class:`Pendulum`) and how its pivot is driven (a drive).
+
+A rigid body swinging about a pivot obeys the same equation as a point mass on a massless
+rod of the *equivalent length* ``l = I / (m d)`` (``I`` its moment of inertia about the
+pivot, ``m`` its mass, ``d`` the distance from the pivot to its centre of mass): a uniform
+rod of length ``L`` pivoted at one end has ``l = 2 L / 3``. Every formula of kapitza uses
+that ``l``. Viscous friction at the pivot adds ``c theta'`` (``c`` in 1/s): its damping
+ratio ``zeta = c / (2 sqrt(g/l))`` is what Arnold's plane sees (``docs/drives.md``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _validate as _v
+from .drives import Drive, as_drive
+from .parameters import G_EARTH
+
+__all__ = ["Pendulum", "Rig"]
+
+
+def _scalar(name, value, *, positive=True):
+    if np.ndim(value) != 0:
+        raise _v.KapitzaValueError(f"{name} must be a single number; got {value!r}")
+    if positive:
+        return float(_v.positive(name, value))
+    v = float(_v.finite(name, value))
+    if v < 0:
+        raise _v.KapitzaValueError(f"{name} must be finite and >= 0 (0 <= {name} < inf); got {v!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Pendulum:
+    """What swings about the pivot.
+
+    Parameters
+    ----------
+    l : float
+        Equivalent length [m] (``I / (m d)``), > 0.
+    g : float
+        Gravity [m/s^2], > 0.
+    damping : float
+        Viscous damping ``c`` [1/s] in ``theta'' + c theta' = ...``, >= 0.
+    model : str
+        What the length describes, for reports (``"point mass"``, ``"uniform rod"``, ...).
+    size : float or None
+        The body's own length [m] where it differs from ``l`` (a rod's length).
+
+    Use :meth:`point_mass`, :meth:`uniform_rod` or :meth:`compound` to describe the body as
+    it is measured.
+    """
+
+    l: float = 1.0
+    g: float = G_EARTH
+    damping: float = 0.0
+    model: str = "point mass"
+    size: float | None = field(default=None)
+
+    def __post_init__(self):
+        object.__setattr__(self, "l", _scalar("l", self.l))
+        object.__setattr__(self, "g", _scalar("g", self.g))
+        object.__setattr__(self, "damping", _scalar("damping", self.damping, positive=False))
+
+    @classmethod
+    def point_mass(cls, length, g=G_EARTH, damping=0.0):
+        """A bob on a massless rod of ``length`` [m]: ``l = length``."""
+        return cls(l=_scalar("length", length), g=g, damping=damping, model="point mass")
+
+    @classmethod
+    def uniform_rod(cls, length, g=G_EARTH, damping=0.0):
+        """A uniform rod of ``length`` [m] pivoted at one end: ``l = 2 length / 3``."""
+        L = _scalar("length", length)
+        return cls(l=2.0 * L / 3.0, g=g, damping=damping, model="uniform rod", size=L)
+
+    @classmethod
+    def compound(cls, inertia, mass, distance, g=G_EARTH, damping=0.0):
+        """Any rigid body: moment of inertia about the pivot [kg m^2], mass [kg], and the
+        distance from the pivot to the centre of mass [m]: ``l = inertia / (mass distance)``."""
+        I = _scalar("inertia", inertia)
+        m = _scalar("mass", mass)
+        d = _scalar("distance", distance)
+        if I < m * d * d * (1.0 - 1e-12):
+            raise _v.KapitzaValueError(
+                f"inertia must be at least mass * distance^2 = {m * d * d!r} (parallel-axis theorem); got {I!r}")
+        return cls(l=I / (m * d), g=g, damping=damping, model="compound pendulum", size=d)
+
+    @property
+    def zeta(self) -> float:
+        """Damping ratio ``c / (2 sqrt(g/l))`` of the hanging pendulum."""
+        return 0.5 * self.damping * np.sqrt(self.l / self.g)
+
+    def describe(self) -> str:
+        """One line saying which length the formulas use."""
+        if self.model == "uniform rod":
+            text = f"uniform rod of length {self.size:.6g} m (equivalent length l = {self.l:.6g} m)"
+        elif self.model == "compound pendulum":
+            text = f"compound pendulum, equivalent length l = {self.l:.6g} m"
+        else:
+            text = f"point mass on a massless rod, l = {self.l:.6g} m"
+        if self.damping > 0:
+            text += f", damping c = {self.damping:.6g} 1/s (ratio {self.zeta:.4g})"
+        return text
+
+    def as_dict(self) -> dict:
+        return {"l": self.l, "g": self.g, "damping": self.damping, "model": self.model, "size": self.size,
+                "zeta": self.zeta}
+
+
+@dataclass(frozen=True)
+class Rig:
+    """A pendulum and the drive of its pivot: the object the questions of a real rig are asked of.
+
+    Parameters
+    ----------
+    pendulum : Pendulum
+    drive : Drive or str, optional
+        The paper's square wave by default.
+
+    Examples
+    --------
+    >>> rig = Rig(Pendulum.uniform_rod(0.3, damping=0.2), SineWave())      # doctest: +SKIP
+    >>> T, A = rig.drive.from_rig(40.0, amplitude=0.01)                      # doctest: +SKIP
+    >>> rig.analyze(T=T, A=A).stable                                         # doctest: +SKIP
+    """
+
+    pendulum: Pendulum = field(default_factory=Pendulum)
+    drive: Drive = None
+
+    def __post_init__(self):
+        if not isinstance(self.pendulum, Pendulum):
+            raise _v.KapitzaValueError(f"pendulum must be a kapitza.Pendulum; got {self.pendulum!r}")
+        object.__setattr__(self, "drive", as_drive(self.drive))
+
+    def arnold(self, T, A):
+        """Arnold's ``(eps, mu)`` of the half-period ``T`` [s] and acceleration scale ``A`` [m/s^2]."""
+        from .parameters import to_arnold
+
+        return to_arnold(T, A, self.pendulum.l, self.pendulum.g)
+
+    def physical(self, *, T=None, A=None, frequency=None, stroke=None, amplitude=None):
+        """``(T, A)`` from either ``(T, A)`` or the frequency [Hz] with the stroke or the
+        displacement amplitude [m] (or ``A``)."""
+        if frequency is None:
+            if T is None or A is None:
+                raise _v.KapitzaValueError("give T and A, or the frequency with the stroke, amplitude or A")
+            if stroke is not None or amplitude is not None:
+                raise _v.KapitzaValueError("stroke and amplitude go with frequency, not with T and A")
+            return float(_v.positive("T", T)), float(_v.positive("A", A))
+        if T is not None:
+            raise _v.KapitzaValueError("give T or frequency, not both")
+        T_, A_ = self.drive.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A)
+        return float(T_), float(A_)
+
+    def analyze(self, **kwargs):
+        """The stability report of this rig at ``T, A`` or ``frequency`` with ``stroke``/``amplitude``/``A``."""
+        from .analysis import analyze
+
+        T, A = self.physical(**kwargs)
+        p = self.pendulum
+        return analyze(T=T, A=A, l=p.l, g=p.g, drive=self.drive, damping=p.damping)

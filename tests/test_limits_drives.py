@@ -1,0 +1,80 @@
+"""The averaging (Kapitza) criterion of each drive is the mu -> 0 limit of its exact edge;
+rigs described as measured; drives parsed from text."""
+import numpy as np
+import pytest
+
+import kapitza.drives as kd
+from kapitza._validate import KapitzaValueError
+from kapitza.limits import averaging_threshold, threshold_table
+from kapitza.system import Pendulum, Rig
+
+
+def test_square_wave_error_is_four_sevenths_mu_to_the_fourth():
+    rows = threshold_table([0.02, 0.04], [kd.SquareWave()])
+    for r in rows:
+        assert r.relative_error == pytest.approx(-(4 / 7) * r.mu**4, rel=2e-2)
+
+
+@pytest.mark.parametrize("drive", [kd.RectangularWave(0.3), kd.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3])],
+                         ids=["rect30", "steps4"])
+def test_asymmetric_drives_converge_like_mu_squared(drive):
+    rows = threshold_table([0.05, 0.1, 0.2], [drive])
+    err = np.array([r.relative_error for r in rows])
+    mu = np.array([r.mu for r in rows])
+    c = err / mu**2
+    assert np.all(err < 0)
+    # the coefficient of mu^2 settles: ratio between neighbouring mu close to 1
+    assert c[0] / c[1] == pytest.approx(1.0, abs=0.05)
+
+
+def test_averaging_threshold_matches_the_drive_shape():
+    assert float(averaging_threshold(0.2)) == pytest.approx(np.sqrt(1.5) * 0.2)
+    assert float(averaging_threshold(0.2, kd.SineWave())) == pytest.approx(np.pi * 0.1)
+    with pytest.raises(KapitzaValueError, match="mu"):
+        threshold_table([1.5], [kd.SquareWave()])
+
+
+def test_uniform_rod_equivalent_length():
+    rod = Pendulum.uniform_rod(0.3)
+    assert rod.l == pytest.approx(0.2)
+    assert "equivalent length l = 0.2 m" in rod.describe()
+    c = Pendulum.compound(inertia=0.5 * 0.3**2 / 3, mass=0.5, distance=0.15)  # rod: I = m L^2 / 3
+    assert c.l == pytest.approx(0.2)
+    assert Pendulum(l=1.0, g=9.81, damping=2 * np.sqrt(9.81)).zeta == pytest.approx(1.0)
+    with pytest.raises(KapitzaValueError, match="inertia"):
+        Pendulum.compound(inertia=0.001, mass=1.0, distance=0.5)
+    with pytest.raises(KapitzaValueError, match="damping"):
+        Pendulum(damping=-1.0)
+    with pytest.raises(KapitzaValueError, match="length"):
+        Pendulum.uniform_rod(0.0)
+
+
+def test_rig_takes_frequency_and_stroke():
+    rig = Rig(Pendulum.uniform_rod(0.2), kd.SineWave())
+    T, A = rig.physical(frequency=40.0, amplitude=0.01)
+    assert T == pytest.approx(1 / 80)
+    assert A == pytest.approx(0.01 * (80 * np.pi) ** 2)
+    with pytest.raises(KapitzaValueError):
+        rig.physical(T=0.1)
+    with pytest.raises(KapitzaValueError):
+        rig.physical(T=0.1, frequency=3.0, stroke=0.01)
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("square", kd.SquareWave()),
+    ("sine", kd.SineWave()),
+    ("rectangular:0.3", kd.RectangularWave(0.3)),
+    (" Steps:2,-1,1,-1:0.2,0.3,0.2,0.3 ", kd.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3])),
+])
+def test_parse_drive(text, expected):
+    assert kd.parse_drive(text) == expected
+
+
+@pytest.mark.parametrize("text, match", [
+    ("", "drive"), ("triangle", "drive must be one of"), ("square:3", "no parameters"),
+    ("rectangular", "duty"), ("rectangular:x", "duty must be a number"), ("rectangular:1.5", "duty"),
+    ("steps:1,-1", "levels and fractions"), ("steps:1,1:0.5,0.5", "zero mean"),
+])
+def test_parse_drive_errors(text, match):
+    with pytest.raises(KapitzaValueError, match=match):
+        kd.parse_drive(text)
