@@ -78,3 +78,41 @@ def test_parse_drive(text, expected):
 def test_parse_drive_errors(text, match):
     with pytest.raises(KapitzaValueError, match=match):
         kd.parse_drive(text)
+
+
+def test_compare_command_writes_chart_edges_and_thresholds(tmp_path, capsys):
+    import csv
+    from cli_util import run
+
+    out = tmp_path / "cmp"
+    code, text, err = run(["compare", "--drive", "square", "--drive", "rectangular:0.3", "--zeta", "0.2",
+                           "--points", "60", "--mu", "0.05,0.1", "--out", str(out)], capsys)
+    assert code == 0, err
+    for suffix in (".png", ".svg", ".csv"):
+        assert (tmp_path / ("cmp" + suffix)).stat().st_size > 0
+    rows = list(csv.DictReader(line for line in open(tmp_path / "cmp.csv") if not line.startswith("#")))
+    kinds = {(r["drive"], float(r["zeta"])) for r in rows}
+    assert kinds == {("square wave", 0.0), ("square wave", 0.2), ("rectangular, duty 30 %", 0.0),
+                     ("rectangular, duty 30 %", 0.2)}
+    # the square wave's undamped edges in the file are kapitza.zone_edges'
+    from kapitza import zone_edges
+
+    sq = [r for r in rows if r["drive"] == "square wave" and float(r["zeta"]) == 0.0 and r["zone"] == "0"]
+    lo, hi = zone_edges(np.array([float(r["mu"]) for r in sq]), 0)
+    np.testing.assert_allclose([float(r["eps_lo"]) for r in sq], lo, rtol=1e-14)
+    thr = list(csv.DictReader(open(tmp_path / "cmp-thresholds.csv")))
+    assert len(thr) == 4 and "square wave" in text
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["compare", "--drive", "rectangular:2"], "duty"),
+    (["compare", "--zeta", "-1"], "--zeta"),
+    (["compare", "--points", "1"], "--points"),
+    (["compare", "--mu", "0.1,x"], "--mu"),
+    (["compare", "--mu", "1.5"], "mu"),
+])
+def test_compare_bad_input_is_one_line(argv, needle, capsys):
+    from cli_util import assert_one_line_error, run
+
+    code, _, err = run(argv + ["--out", "/nonexistent-dir/x"], capsys)
+    assert_one_line_error(code, err, needle)

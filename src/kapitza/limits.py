@@ -41,6 +41,7 @@ class ThresholdRow:
     """One drive at one ``mu``: the averaging criterion against the exact lower edge of zone 0."""
 
     drive: str
+    description: str
     mu: float
     eps_averaging: float
     eps_exact: float
@@ -76,7 +77,7 @@ def threshold_table(mu, drives, zeta=0.0):
         eps_k = d.kapitza_eps(mu)
         lo, _ = _api.edges(mu, np.zeros(mu.size, np.int64), d, np.full(mu.size, zeta))
         for m, ek, el in zip(mu, eps_k, lo):
-            rows.append(ThresholdRow(drive=d.describe(), mu=float(m), eps_averaging=float(ek), eps_exact=float(el),
+            rows.append(ThresholdRow(drive=d.label, description=d.describe(), mu=float(m), eps_averaging=float(ek), eps_exact=float(el),
                                      relative_error=float(ek / el - 1.0),
                                      rms_velocity_shape=float(np.sqrt(d._mean_square_velocity))))
     return rows

@@ -59,16 +59,25 @@ def edges(mu, n, drive, zeta):
     return drive._edges(mu, n, zeta)
 
 
+def window_edges(drive, mu, e0, e1, zeta):
+    """``(rows, zone, lo, hi)``: the edges of every zone that may meet ``[e0, e1]`` at each ``mu``."""
+    zeta = np.broadcast_to(np.asarray(zeta, float), mu.shape)
+    if isinstance(drive, PiecewiseConstant) and not np.any(zeta > 0) and drive.name != "square":
+        return window_zones(drive, mu, np.full(mu.size, e0), np.full(mu.size, e1))
+    n_lo, n_hi = _zone_range(drive, mu, zeta, e0, e1)
+    counts = np.maximum(n_hi - n_lo + 1, 0)
+    r_idx = np.repeat(np.arange(mu.size), counts)
+    z_idx = n_lo[r_idx] + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    lo, hi = drive._edges(mu[r_idx], z_idx, zeta[r_idx])
+    return r_idx, z_idx, lo, hi
+
+
 def grid(eps, mu, drive, zeta, out):
     """Paint ``out[i, j] = stable(eps[j], mu[i])`` from the exact edges of every zone in view.
 
     ``eps`` sorted ascending, ``out`` zeroed, shape ``(len(mu), len(eps))``.
     """
-    lo_e, hi_e = float(eps[0]), float(eps[-1])
-    if isinstance(drive, PiecewiseConstant) and not np.any(np.asarray(zeta) > 0) and type(drive).__name__ != "SquareWave":
-        rows, _, lo, hi = window_zones(drive, mu, np.full(mu.size, lo_e), np.full(mu.size, hi_e))
-    else:
-        rows, lo, hi = _zone_pairs(drive, mu, zeta, lo_e, hi_e)
+    rows, _, lo, hi = window_edges(drive, mu, float(eps[0]), float(eps[-1]), zeta)
     i0 = np.searchsorted(eps, lo, side="right")
     i1 = np.searchsorted(eps, hi, side="left")
     keep = np.isfinite(lo) & np.isfinite(hi) & (i1 > i0)
@@ -92,16 +101,6 @@ def _zone_range(drive, mu, zeta, e0, e1):
     n_lo = np.maximum(np.floor((rate * e0 - B) / PI) - 1, 0).astype(np.int64)
     n_hi = np.floor((rate * e1 + B) / PI).astype(np.int64) + 1
     return n_lo, np.where(rate > 0, n_hi, n_lo - 1)
-
-
-def _zone_pairs(drive, mu, zeta, e0, e1):
-    zeta = np.broadcast_to(np.asarray(zeta, float), mu.shape)
-    n_lo, n_hi = _zone_range(drive, mu, zeta, e0, e1)
-    counts = np.maximum(n_hi - n_lo + 1, 0)
-    r_idx = np.repeat(np.arange(mu.size), counts)
-    z_idx = n_lo[r_idx] + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    lo, hi = drive._edges(mu[r_idx], z_idx, zeta[r_idx])
-    return r_idx, lo, hi
 
 
 def margin(eps, mu, drive, zeta):

@@ -111,6 +111,11 @@ class Drive:
         """A one-line description for reports."""
         return self.name
 
+    @property
+    def label(self) -> str:
+        """A short name for legends."""
+        return self.name
+
     def as_dict(self) -> dict:
         """JSON-ready description: ``{"drive": name, ...parameters}``."""
         return {"drive": self.name}

@@ -291,6 +291,10 @@ class PiecewiseConstant(Drive):
     def as_dict(self) -> dict:
         return {"drive": self.name, "levels": list(self.levels), "fractions": list(self.fractions)}
 
+    @property
+    def label(self) -> str:
+        return f"{len(self.levels)}-step drive"
+
     def describe(self) -> str:
         steps = ", ".join(f"{lev:+.4g} A for {f:.4g}" for lev, f in zip(self.levels, self.fractions))
         return f"{len(self.levels)}-step drive ({steps} of the period)"

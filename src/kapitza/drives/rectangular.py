@@ -31,5 +31,9 @@ class RectangularWave(PiecewiseConstant):
     def as_dict(self) -> dict:
         return {"drive": self.name, "duty": self.duty}
 
+    @property
+    def label(self) -> str:
+        return f"rectangular, duty {100 * self.duty:.3g} %"
+
     def describe(self) -> str:
         return f"rectangular wave, duty {self.duty:.4g} (+A for {self.duty:.4g} of the period)"

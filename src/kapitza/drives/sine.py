@@ -43,5 +43,9 @@ class SineWave(Drive):
 
         return sine_zone_edges(mu, n)
 
+    @property
+    def label(self) -> str:
+        return "sine wave"
+
     def describe(self) -> str:
         return "sine wave (acceleration A sin(pi t/T))"

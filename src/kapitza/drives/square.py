@@ -40,5 +40,9 @@ class SquareWave(PiecewiseConstant):
     def as_dict(self) -> dict:
         return {"drive": self.name}
 
+    @property
+    def label(self) -> str:
+        return "square wave"
+
     def describe(self) -> str:
         return "square wave (+A for T, -A for T)"

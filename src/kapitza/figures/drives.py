@@ -1,0 +1,102 @@
+"""Several drives on one chart: their exact stability zones overlaid on Arnold's plane."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..drives import as_drive
+from ..drives import _api
+from ..limits import averaging_threshold
+from . import _style
+
+__all__ = ["DriveCurves", "drive_curves", "plot_drive_comparison", "drive_comparison_figure"]
+
+#: One colour per drive, in order (colour-blind safe).
+DRIVE_COLOURS = ["#1f4e9c", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9"]
+
+
+@dataclass(frozen=True)
+class DriveCurves:
+    """Zone edges of one drive at the ``mu`` samples: ``lo[k]``, ``hi[k]`` for ``zones[k]``."""
+
+    drive: str
+    zeta: float
+    mu: np.ndarray
+    zones: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    averaging: np.ndarray
+
+    def rows(self):
+        """``(drive, zeta, zone, mu, eps_lo, eps_hi)`` rows for CSV."""
+        for k, n in enumerate(self.zones):
+            for m, a, b in zip(self.mu, self.lo[k], self.hi[k]):
+                if np.isfinite(a) and np.isfinite(b):
+                    yield self.drive, self.zeta, int(n), float(m), float(a), float(b)
+
+
+def drive_curves(drive, mu, eps_max, zeta=0.0):
+    """Edges of every zone of ``drive`` that meets ``0 < eps < eps_max``, at the values ``mu``."""
+    d = as_drive(drive)
+    mu = np.asarray(mu, float)
+    rows, zone, lo_f, hi_f = _api.window_edges(d, mu, 0.0, float(eps_max), np.full(mu.size, float(zeta)))
+    ok = np.isfinite(lo_f) & (lo_f < eps_max)
+    zones = np.unique(zone[ok])
+    lo = np.full((zones.size, mu.size), np.nan)
+    hi = np.full((zones.size, mu.size), np.nan)
+    k = np.searchsorted(zones, zone[ok])
+    lo[k, rows[ok]] = lo_f[ok]
+    hi[k, rows[ok]] = hi_f[ok]
+    return DriveCurves(drive=d.label, zeta=float(zeta), mu=mu, zones=zones, lo=lo, hi=hi,
+                       averaging=averaging_threshold(mu, d))
+
+
+def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), averaging=True, legend=True):
+    """Overlay the stability zones of several drives (``DriveCurves``) on one eps-mu chart.
+
+    Each drive has one colour: its zones filled lightly, their edges drawn as curves (so thin
+    tongues stay visible), its averaging criterion ``<v^2> = g l`` dashed. Returns ``ax``.
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots()
+    drawn = set()
+    for i, c in enumerate(curves):
+        colour = DRIVE_COLOURS[i % len(DRIVE_COLOURS)]
+        label = c.drive + (f", damping ratio {c.zeta:g}" if c.zeta > 0 else "")
+        for k in range(c.zones.size):
+            ok = np.isfinite(c.lo[k]) & np.isfinite(c.hi[k])
+            ax.fill_betweenx(c.mu[ok], c.lo[k][ok], c.hi[k][ok], color=colour, alpha=0.18, linewidth=0)
+            ax.plot(c.lo[k][ok], c.mu[ok], color=colour, linewidth=1.1, label=label if k == 0 else None)
+            ax.plot(c.hi[k][ok], c.mu[ok], color=colour, linewidth=1.1)
+        if averaging and c.drive not in drawn:  # the criterion does not depend on the damping
+            drawn.add(c.drive)
+            ax.plot(c.averaging, c.mu, color=colour, linewidth=1.0, linestyle=(0, (4, 3)))
+    ax.set_xlim(*eps_range)
+    ax.set_ylim(*mu_range)
+    ax.set_xlabel(r"$\varepsilon = T\sqrt{A/(8l)}$")
+    ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
+    if legend:
+        ax.legend(loc="lower right", fontsize=7, framealpha=0.9)
+    return ax
+
+
+def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
+    """Two panels: the whole chart and a zoom on zone 0 near Kapitza's limit; returns the figure."""
+    fig = _style.new_figure(width=11.0, height=5.0, caption_lines=3)
+    ax1, ax2 = fig.subplots(1, 2)
+    plot_drive_comparison(curves, ax1, eps_range=(0.0, eps_max), legend=False)
+    plot_drive_comparison(curves, ax2, eps_range=(0.0, zoom[0]), mu_range=(0.0, zoom[1]), legend=False)
+    handles, labels = ax1.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside upper center", ncols=min(len(labels), 4), fontsize=8, frameon=False)
+    ax1.set_title("stability zones (filled) and their exact edges", fontsize=9)
+    ax2.set_title("zone 0 near the averaging limit", fontsize=9)
+    if title:
+        fig.suptitle(title)
+    _style.caption(fig, "The upright is stable inside the filled zones; each colour is one drive. All drives share "
+                        "Arnold's axes: T is half the drive period, A its acceleration scale. Dashed: each drive's "
+                        r"high-frequency (averaging) criterion $\langle v^2\rangle = g\,l$, which the exact lower "
+                        r"edge of zone 0 approaches as $\mu \to 0$.")
+    return fig
