@@ -27,3 +27,12 @@ def test_bench_strobe_tiny_runs():
         assert needle in out, needle
     line = next(ln for ln in out.splitlines() if "after   1 period" in ln)
     assert float(line.split("=")[1].split()[0]) < 1e-8  # the two solutions agree over one period
+
+
+def test_bench_drives_tiny_runs():
+    out = run_tiny("bench_drives.py")
+    for needle in ("four-step drive:", "square wave, damping ratio 0.2:", "baseline: numerical Floquet",
+                   "ratio (baseline per point / chart per point)"):
+        assert needle in out, needle
+    assert "pointwise verdicts disagree with the chart: 0 of" in out
+    assert "solve_ivp verdicts differing from the exact ones on the sample: 0 of" in out

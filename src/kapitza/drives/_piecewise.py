@@ -372,11 +372,12 @@ def _tau_minus_one(eps, mu, levels, durations):
     return 0.5 * (D[0] + D[3])
 
 
-def _illinois(f, a, b, fa, fb, iters=60):
+def _illinois(f, a, b, fa, fb, iters=60, enough=None):
     """Vectorised Illinois (modified regula falsi) on brackets with ``fa * fb <= 0``.
 
     Returns the end of the final bracket on the side of ``a``'s sign and the other end,
-    adjacent or within a few ulp, so callers can choose the side they report.
+    adjacent or within a few ulp, so callers can choose the side they report. ``enough``: a
+    bound (per bracket) below which ``|f|`` at a new point ends the search for that bracket.
     """
     a, b, fa, fb = a.copy(), b.copy(), fa.copy(), fb.copy()
     side = np.zeros(a.shape, np.int8)
@@ -391,6 +392,10 @@ def _illinois(f, a, b, fa, fb, iters=60):
         bad = ~((c > lo_) & (c < hi_))
         c = np.where(bad, 0.5 * (a + b), c)
         fc = np.where(live, f(c, live), fa)
+        if enough is not None:  # (fa, fb may carry Illinois weights; fc is a true value)
+            hit = live & (np.abs(fc) < enough)
+            a, b, fa, fb = (np.where(hit, c, a), np.where(hit, c, b), np.where(hit, fc, fa), np.where(hit, fc, fb))
+            live &= ~hit
         same = np.sign(fc) == np.sign(fb)
         # (a, b) -> (b, c) when c replaces b's side, else keep a and halve its weight (Illinois)
         new_a = np.where(same, a, b)
@@ -541,7 +546,7 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     rows = r_all[j]
     zone = np.floor(t_all[j + 1] - 0.5).astype(np.int64)
 
-    def solve(r, a, b, fa, fb, target, near_one=None):
+    def solve(r, a, b, fa, fb, target, near_one=None, enough=None):
         mr = mu[r]
 
         def f(x, live):
@@ -558,19 +563,25 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
             fa, fb = fa.copy(), fb.copy()
             fa[u] = _tau_minus_one(a[u], mr[u], levels, durations)
             fb[u] = _tau_minus_one(b[u], mr[u], levels, durations)
-        return _illinois(f, a, b, fa, fb)
+        return _illinois(f, a, b, fa, fb, enough=enough)
 
-    za, zb, fza, fzb = solve(rows, e_all[j], e_all[j + 1], F_all[j], F_all[j + 1], np.zeros(rows.size))
+    # Any point inside the zone will do as the inner end of the edges' brackets: stop there.
+    # Where both samples are unstable the interval holds this zone and no part of another, so
+    # a point with |tr M| < 2 found in it is in this zone.
+    outside = (np.abs(F_all[j]) >= A1) & (np.abs(F_all[j + 1]) >= A1)
+    za, zb, fza, fzb = solve(rows, e_all[j], e_all[j + 1], F_all[j], F_all[j + 1], np.zeros(rows.size),
+                             enough=np.where(outside, 0.5 * A1, 0.0))
     z = np.where(np.abs(fza) <= np.abs(fzb), za, zb)
+    Fz = np.where(np.abs(fza) <= np.abs(fzb), fza, fzb)
     keep = np.ones(rows.size, bool) if keep_all else (z >= e_a[rows]) & (z <= e_b[rows])
-    rows, zone, z, j = rows[keep], zone[keep], z[keep], j[keep]
+    rows, zone, z, j, Fz = rows[keep], zone[keep], z[keep], j[keep], Fz[keep]
     if rows.size == 0:
         return empty
     # Brackets for the edges: the largest |tr M| between this zero and its neighbours' (the
     # gap, where |tr M| >= 2 unless two zones touch), found by golden-section search; for
     # zone 0 on the left, the first sample just above eps = 0 (tr M / 2 - 1 > 0 there).
     order = np.lexsort((z, rows))
-    rows, zone, z = rows[order], zone[order], z[order]
+    rows, zone, z, Fz = rows[order], zone[order], z[order], Fz[order]
     same_prev = np.r_[False, (rows[1:] == rows[:-1]) & (zone[1:] == zone[:-1] + 1)]
     same_next = np.r_[same_prev[1:], False]
     prev = np.where(same_prev, np.r_[0.0, z[:-1]], grid[rows, 0])
@@ -581,17 +592,22 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     xl = np.where(first0, grid[rows, 0], xl)
     FL = np.where(first0, F[rows, 0], FL)
     ok = (np.abs(FL) >= A1) & (np.abs(FR) >= A1)
-    rows, zone, z, xl, xr, FL, FR = rows[ok], zone[ok], z[ok], xl[ok], xr[ok], FL[ok], FR[ok]
+    rows, zone, z, xl, xr, FL, FR, Fz = rows[ok], zone[ok], z[ok], xl[ok], xr[ok], FL[ok], FR[ok], Fz[ok]
     if rows.size == 0:
         return empty
     tl = np.where(zone % 2 == 0, A1, -A1)  # tr M = +2 below an even zone, -2 below an odd one
     tr_ = -tl
     rsum = _elliptic_rate(mu[rows], levels, durations) + _hyperbolic_rate(mu[rows], levels, durations)
     near_one = (tl > 0) & (rsum * z < 3.0)
-    a, b, fa, fb = solve(rows, xl, z, FL, np.zeros(rows.size), tl, near_one)
+    a, b, fa, fb = solve(rows, xl, z, FL, Fz, tl, near_one)
     lo = _unstable_end(a, b, fa, fb, FL - tl)
-    a, b, fa, fb = solve(rows, z, xr, np.zeros(rows.size), FR, tr_)
+    a, b, fa, fb = solve(rows, z, xr, Fz, FR, tr_)
     hi = _unstable_end(a, b, fa, fb, FR - tr_)
+    # a zone thinner than the spacing of doubles has no stable double: tr M jumps across its
+    # zero from one sign to the other, and both edges round to that zero
+    thin = np.abs(Fz) >= A1
+    lo = np.where(thin, z, lo)
+    hi = np.where(thin, z, hi)
     return rows, zone, lo, hi
 
 
