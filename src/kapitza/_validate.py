@@ -87,3 +87,27 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
 def arnold(eps, mu):
     """Arnold's ``(eps, mu)`` as float arrays, each finite and > 0 (``mu >= 1`` allowed)."""
     return positive("eps", eps), positive("mu", mu)
+
+
+def nonnegative(name: str, value) -> np.ndarray:
+    """Return ``value`` as a float array; every element must satisfy 0 <= value < inf."""
+    arr = _as_float(name, value)
+    bad = ~(np.isfinite(arr) & (arr >= 0))
+    if bad.any():
+        raise KapitzaValueError(f"{name} must be finite and >= 0 (0 <= {name} < inf); got {_first_bad(arr, bad)}")
+    return arr
+
+
+def general_drive(drive, zeta, name="zeta"):
+    """``(drive, zeta)`` for the general path, or ``(None, None)`` for the paper's undamped square wave.
+
+    ``drive``: ``None``, a name or a :class:`kapitza.drives.Drive`; ``zeta``: damping ratio(s) >= 0
+    (the argument is called ``name`` in messages: ``zeta``, or ``damping`` for ``c``).
+    """
+    from .drives import as_drive
+
+    d = as_drive(drive)
+    z = nonnegative(name, zeta)
+    if d.name == "square" and not np.any(z > 0):
+        return None, None
+    return d, z

@@ -51,6 +51,14 @@ class StabilityReport:
         ``1 - |tr M| / 2``: > 0 inside a zone.
     T, A, l, g : float or None
         Physical parameters, when given.
+    drive : str
+        The pivot's motion (:meth:`kapitza.drives.Drive.describe`).
+    damping : float or None
+        Viscous damping ``c`` [1/s], when given physically.
+    zeta : float
+        Damping ratio ``c / (2 sqrt(g/l))`` (0 undamped).
+    determinant : float
+        ``det M = exp(-2 c T)``.
     T_lo, T_hi : float or None
         ``nearest_zone`` as an interval of half-periods at this ``A``.
     A_lo, A_hi : float or None
@@ -79,6 +87,10 @@ class StabilityReport:
     T_hi: float | None = None
     A_lo: float | None = None
     A_hi: float | None = None
+    drive: str = "square wave (+A for T, -A for T)"
+    damping: float | None = None
+    zeta: float = 0.0
+    determinant: float = 1.0
 
     def as_dict(self) -> dict:
         """JSON-ready dictionary (complex multipliers as ``[re, im]`` pairs)."""
@@ -88,7 +100,8 @@ class StabilityReport:
                 for k, v in d.items()}
 
 
-def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> StabilityReport:
+def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=0.0,
+            zeta=None) -> StabilityReport:
     """Stability report for one parameter set, given as ``(eps, mu)`` or ``(T, A, l, g)``.
 
     Parameters
@@ -99,6 +112,12 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> Stability
         Drive half-period [s] and acceleration amplitude [m/s^2], > 0.
     l, g : float, optional
         Rod length [m] and gravity [m/s^2] (used with ``T, A``), > 0.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
+    damping : float, optional
+        Viscous damping ``c`` >= 0 [1/s] in ``theta'' + c theta' = ...`` (with ``T, A``).
+    zeta : float, optional
+        Damping ratio ``c / (2 sqrt(g/l))`` >= 0 (with ``eps, mu``).
 
     Returns
     -------
@@ -116,9 +135,13 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> Stability
     if arnold:
         if eps is None or mu is None:
             raise _v.KapitzaValueError("eps and mu must be given together")
+        if np.any(np.asarray(damping) != 0):
+            raise _v.KapitzaValueError("with eps and mu give the damping as zeta = c / (2 sqrt(g/l)), not damping")
         eps = float(_v.positive("eps", eps))
         mu = float(_v.positive("mu", mu))
     else:
+        if zeta is not None:
+            raise _v.KapitzaValueError("with T and A give the damping as damping = c [1/s], not zeta")
         if T is None or A is None:
             raise _v.KapitzaValueError("T and A must be given together")
         T = float(_v.positive("T", T))
@@ -127,6 +150,15 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> Stability
         g = float(_v.positive("g", g))
         eps = T * np.sqrt(A / (8.0 * l))
         mu = np.sqrt(g / A)
+    if physical:
+        c = float(_v.nonnegative("damping", damping))
+        zeta_v = 0.5 * c * np.sqrt(l / g)
+    else:
+        c = None
+        zeta_v = float(_v.nonnegative("zeta", 0.0 if zeta is None else zeta))
+    general, _ = _v.general_drive(drive, zeta_v)
+    if general is not None:
+        return _general_report(eps, mu, general, zeta_v, physical, T, A, l, g, c)
     tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in _floquet(eps, mu))
     mult = _multipliers(tau, growth, theta, stable)
     with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double
@@ -165,3 +197,37 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH) -> Stability
         trace_margin=float(1.0 - abs(tau)),
         **phys,
     )
+
+
+def _general_report(eps, mu, drive, zeta, physical, T, A, l, g, c):
+    """:func:`analyze` for another drive or with damping (``docs/drives.md``)."""
+    from .drives import _api
+
+    e, m, z = np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float)
+    trace, det, mult, growth, rho, stable, zone = (np.asarray(a)[()] for a in _api.floquet(e, m, drive, z))
+    stable_m, nz, lo, hi, margin = (np.asarray(a)[()] for a in _api.margin(e, m, drive, z))
+    stable = bool(stable)
+    tau_phi = float(trace) / 2.0 * float(np.exp(2.0 * np.sqrt(8.0) * zeta * mu * eps)) if np.isfinite(trace) else float(trace)
+    if stable:
+        verdict = f"stable (zone {int(zone)})" + (", motions decay" if zeta > 0 else "")
+    elif np.all(np.isnan(lo)) and int(nz) < 0:
+        verdict = "always unstable: the drive has no attracting phase at this mu"
+    else:
+        kind = "2T" if tau_phi > 0 else "4T"
+        verdict = f"unstable ({kind}-type: multipliers real, {'positive' if tau_phi > 0 else 'negative'})"
+    phys = {}
+    if physical:
+        phys = dict(T=T, A=A, l=l, g=g)
+        if int(nz) >= 0:
+            from .zones import amplitude_edges, period_edges
+
+            Tlo, Thi = period_edges(A, int(nz), l, g, drive=drive, damping=c)
+            Alo, Ahi = amplitude_edges(T, int(nz), l, g, drive=drive, damping=c)
+            phys.update(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi))
+    return StabilityReport(
+        eps=float(eps), mu=float(mu), stable=stable, verdict=verdict,
+        zone=int(zone) if stable else -1, nearest_zone=int(nz), trace=float(trace),
+        multipliers=tuple(complex(x) for x in mult), growth=float(growth), rotation_number=float(rho),
+        eps_lo=float(lo), eps_hi=float(hi), margin=float(margin),
+        trace_margin=float(1.0 - abs(float(trace)) / (1.0 + float(det))),
+        drive=drive.describe(), damping=c, zeta=float(zeta), determinant=float(det), **phys)

@@ -15,6 +15,7 @@ import numpy as np
 
 from . import _exact as X
 from . import _validate as _v
+from .drives import _api as _drv
 from .parameters import G_EARTH, SQRT8, _phase_angles
 
 __all__ = [
@@ -100,10 +101,11 @@ class Floquet:
     trace : ndarray
         ``tr M`` (``+-inf`` where it overflows a double; ``growth`` stays finite).
     multipliers : ndarray of complex, shape ``(..., 2)``
-        Roots of ``lambda^2 - tr M lambda + 1 = 0``, largest modulus first.
+        Roots of ``lambda^2 - tr M lambda + det M = 0``, largest modulus first.
     growth : ndarray
         ``log max|lambda|``: the exponential growth of the worst motion per period
-        ``2T`` (0 where stable).
+        ``2T`` (0 where stable without damping, ``-c T`` where stable with it: the
+        motion decays).
     rotation_number : ndarray
         Mean clockwise turns of the phase point ``(theta, theta'/w)`` per period:
         in ``(n/2, (n+1)/2)`` on zone ``n``, locked to a multiple of 1/2 elsewhere
@@ -111,6 +113,8 @@ class Floquet:
     stable : ndarray of bool
     zone : ndarray of int
         Zone index, -1 where unstable.
+    determinant : ndarray or float
+        ``det M = exp(-2 c T)`` (1 without damping; ``docs/drives.md`` section 3).
     """
 
     trace: np.ndarray
@@ -119,6 +123,7 @@ class Floquet:
     rotation_number: np.ndarray
     stable: np.ndarray
     zone: np.ndarray
+    determinant: np.ndarray | float = 1.0
 
 
 def _multipliers(tau, growth, theta, stable):
@@ -131,14 +136,18 @@ def _multipliers(tau, growth, theta, stable):
     return np.stack([lam1, lam2], axis=-1)
 
 
-def floquet(eps, mu):
+def floquet(eps, mu, drive=None, zeta=0.0):
     """Trace, multipliers, growth and rotation number of one period at ``(eps, mu)``.
 
     Parameters
     ----------
     eps, mu : array_like, broadcast together
         Arnold's parameters, each finite and > 0; ``mu >= 1`` (``A <= g``, no
-        elliptic phase) is accepted and is always unstable.
+        elliptic phase) is accepted and is always unstable for the square wave.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
+    zeta : array_like, optional
+        Damping ratio ``c / (2 sqrt(g/l))`` >= 0; broadcasts.
 
     Returns
     -------
@@ -153,6 +162,11 @@ def floquet(eps, mu):
     ``log|tau|`` far out, so it is finite for every input.
     """
     eps, mu = _v.arnold(eps, mu)
+    drive, zeta = _v.general_drive(drive, zeta)
+    if drive is not None:
+        trace, det, mult, growth, rho, stable, zone = _drv.floquet(eps, mu, drive, zeta)
+        return Floquet(trace=trace, multipliers=mult, growth=growth, rotation_number=rho, stable=stable,
+                       zone=np.where(stable, zone, -1).astype(np.int64), determinant=det)
     tau, growth, theta, stable, zone = _floquet(eps, mu)
     with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double (documented)
         trace = 2.0 * tau
@@ -166,7 +180,7 @@ def floquet(eps, mu):
     )
 
 
-def floquet_multipliers(eps, mu):
+def floquet_multipliers(eps, mu, drive=None, zeta=0.0):
     """Floquet multipliers of one period, shape ``(..., 2)``, largest modulus first.
 
     Parameters
@@ -181,32 +195,36 @@ def floquet_multipliers(eps, mu):
         ``lambda_1 lambda_2 = 1`` otherwise. A modulus beyond a double's range
         is ``inf``; :func:`growth_rate` gives its logarithm.
     """
-    return floquet(eps, mu).multipliers
+    return floquet(eps, mu, drive, zeta).multipliers
 
 
-def growth_rate(eps, mu):
+def growth_rate(eps, mu, drive=None, zeta=0.0):
     """``log max|lambda|`` per drive period ``2T``; 0 where stable, finite everywhere.
 
     Parameters
     ----------
-    eps, mu : array_like, broadcast together
+    eps, mu, drive, zeta :
         As in :func:`floquet`.
 
     Returns
     -------
     ndarray
+        With damping, negative where the motion decays.
     """
     eps, mu = _v.arnold(eps, mu)
+    drive, zeta = _v.general_drive(drive, zeta)
+    if drive is not None:
+        return _drv.floquet(eps, mu, drive, zeta)[3]
     return _floquet(eps, mu)[1]
 
 
-def rotation_number(eps, mu):
+def rotation_number(eps, mu, drive=None, zeta=0.0):
     """Mean clockwise turns per drive period of the phase point (see :class:`Floquet`).
 
     Parameters
     ----------
-    eps, mu : array_like, broadcast together
-        As in :func:`floquet`.
+    eps, mu, drive, zeta :
+        As in :func:`floquet` (with damping: that of the undamped ``phi = exp(c t/2) theta``).
 
     Returns
     -------
@@ -215,10 +233,13 @@ def rotation_number(eps, mu):
         ``theta(t)`` per period is twice this.
     """
     eps, mu = _v.arnold(eps, mu)
+    drive, zeta = _v.general_drive(drive, zeta)
+    if drive is not None:
+        return _drv.floquet(eps, mu, drive, zeta)[4]
     return _floquet(eps, mu)[2] / (2.0 * PI)
 
 
-def monodromy(T, A, l=1.0, g=G_EARTH):
+def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """The one-period matrix ``M = E(T) H(T)`` acting on ``(theta, theta')``.
 
     Parameters
@@ -226,11 +247,15 @@ def monodromy(T, A, l=1.0, g=G_EARTH):
     T, A, l, g : array_like, broadcast together
         Half-period [s], acceleration amplitude, rod length, gravity; each > 0.
         ``A <= g`` is accepted (the second phase is then hyperbolic or free flight).
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
+    damping : array_like, optional
+        Viscous damping ``c`` >= 0 [1/s]; broadcasts.
 
     Returns
     -------
     ndarray, shape ``(..., 2, 2)``
-        ``det M = 1``. Entries overflow to ``inf`` once ``w_h T > 710``.
+        ``det M = exp(-2 c T)`` (1 undamped). Entries overflow to ``inf`` once ``w_h T > 710``.
 
     Notes
     -----
@@ -240,6 +265,9 @@ def monodromy(T, A, l=1.0, g=G_EARTH):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
+    drive, c = _v.general_drive(drive, damping, "damping")
+    if drive is not None:
+        return _drv.monodromy(T, A, l, g, drive, c)
     return _monodromy(*np.broadcast_arrays(T, A, l, g))
 
 
@@ -258,7 +286,7 @@ def _chebyshev_pair(k, tau, growth, theta, stable):
     return U(k), U(k - 1.0)
 
 
-def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH):
+def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Exact solution of the linear equation (2.3) at the times ``t``.
 
     Parameters
@@ -271,6 +299,11 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH):
     T, A, l, g : array_like
         Drive half-period, acceleration amplitude, rod length, gravity; each > 0.
         All arguments broadcast together.
+    drive : Drive or str, optional
+        The pivot's motion; the paper's square wave by default. Piecewise-constant drives
+        are solved exactly; the sine drive is integrated (DOP853, rtol 1e-11).
+    damping : array_like, optional
+        Viscous damping ``c`` >= 0 [1/s].
 
     Returns
     -------
@@ -299,6 +332,9 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
+    drive, c = _v.general_drive(drive, damping, "damping")
+    if drive is not None:
+        return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
     t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)
     eps = T * np.sqrt(A / (8.0 * l))
     mu = np.sqrt(g / A)

@@ -20,6 +20,7 @@ import numpy as np
 
 from . import _exact as X
 from . import _validate as _v
+from .drives import _api as _drv
 from .parameters import G_EARTH, SQRT8, _phase_angles
 
 __all__ = [
@@ -131,7 +132,7 @@ def _verdict(eps, mu):
 
 
 # ---------------------------------------------------------------- public API
-def is_stable(eps, mu):
+def is_stable(eps, mu, drive=None, zeta=0.0):
     """Whether the upright position is (strongly) stable at Arnold's ``(eps, mu)``.
 
     Parameters
@@ -139,41 +140,56 @@ def is_stable(eps, mu):
     eps : array_like
         ``eps = T sqrt(A / (8 l))``, finite and > 0.
     mu : array_like
-        ``mu = sqrt(g / A)``, finite and > 0; ``mu >= 1`` (``A <= g``) is always unstable.
-        ``eps`` and ``mu`` broadcast together.
+        ``mu = sqrt(g / A)``, finite and > 0; ``mu >= 1`` (``A <= g``) is always unstable
+        for the square wave. ``eps`` and ``mu`` broadcast together.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
+    zeta : array_like, optional
+        Damping ratio ``c / (2 sqrt(g/l))`` >= 0 (``docs/drives.md`` section 3); broadcasts.
 
     Returns
     -------
     ndarray of bool
-        True where ``alpha + n pi < u < beta + n pi`` for some ``n >= 0``.
+        True where ``alpha + n pi < u < beta + n pi`` for some ``n >= 0`` (square wave,
+        undamped); in general where both Floquet multipliers lie strictly inside the unit
+        circle, or on it and distinct (``|tr M_phi| < 2 cosh(c T)``).
 
     Notes
     -----
     Theorems 3.3-3.4 and Corollary 4.1; ``docs/theory.md`` section 5. Points exactly
     on an edge (a 2T- or 4T-periodic solution exists, ``|tr M| = 2``) are unstable.
+    Other drives and damping: ``docs/drives.md``.
     """
     eps, mu = _v.arnold(eps, mu)
+    drive, zeta = _v.general_drive(drive, zeta)
+    if drive is not None:
+        return _drv.verdict(eps, mu, drive, zeta)[0]
     return _verdict(eps, mu)[0]
 
 
-def zone_index(eps, mu):
+def zone_index(eps, mu, drive=None, zeta=0.0):
     """Index ``n`` of the stability zone containing ``(eps, mu)``, or -1 where unstable.
 
     Parameters
     ----------
-    eps, mu : array_like, broadcast together
+    eps, mu, drive, zeta :
         As in :func:`is_stable`.
 
     Returns
     -------
     ndarray of int
+        Zone ``n`` is where the rotation angle per period lies in ``(n pi, (n + 1) pi)``
+        (``docs/drives.md`` section 2); for the square wave ``alpha + n pi < u < beta + n pi``.
     """
     eps, mu = _v.arnold(eps, mu)
+    drive, zeta = _v.general_drive(drive, zeta)
+    if drive is not None:
+        return _drv.verdict(eps, mu, drive, zeta)[1]
     stable, n = _verdict(eps, mu)
     return np.where(stable, n, -1).astype(np.int64)
 
 
-def zone_edges(mu, n):
+def zone_edges(mu, n, drive=None, zeta=0.0):
     """Edges ``eps_lo < eps_hi`` of stability zone ``n`` at the given ``mu``.
 
     Parameters
@@ -182,6 +198,11 @@ def zone_edges(mu, n):
         ``0 < mu < 1``.
     n : int or array_like of int
         Zone index, ``n >= 0``; broadcasts with ``mu``.
+    drive, zeta : optional
+        As in :func:`is_stable`. For other drives and with damping the edges are found by
+        safeguarded root solves to about 1e-14 relative (``docs/drives.md``); NaN where the
+        drive has no such zone at this ``mu``; where damping has joined zones ``n`` and
+        ``n + 1``, ``eps_hi`` of one is ``eps_lo`` of the other.
 
     Returns
     -------
@@ -198,8 +219,12 @@ def zone_edges(mu, n):
     a double's resolution of ``eps`` the two edges round to the same number; use
     :func:`zone_width` for the width.
     """
-    mu = _v.in_range("mu", mu, 0.0, 1.0)
+    drive, zeta = _v.general_drive(drive, zeta)
     n = _v.nonnegative_int("n", n)
+    if drive is not None:
+        mu = _v.positive("mu", mu)
+        return _drv.edges(mu, n, drive, zeta)
+    mu = _v.in_range("mu", mu, 0.0, 1.0)
     return _edges_eps(mu, n)
 
 
@@ -310,12 +335,12 @@ class StabilityMargin:
     margin: np.ndarray
 
 
-def stability_margin(eps, mu):
+def stability_margin(eps, mu, drive=None, zeta=0.0):
     """Signed relative distance from ``(eps, mu)`` to the nearest zone edge along ``eps``.
 
     Parameters
     ----------
-    eps, mu : array_like, broadcast together
+    eps, mu, drive, zeta :
         As in :func:`is_stable`.
 
     Returns
@@ -323,6 +348,10 @@ def stability_margin(eps, mu):
     StabilityMargin
     """
     eps, mu = _v.arnold(eps, mu)
+    drive, zeta = _v.general_drive(drive, zeta)
+    if drive is not None:
+        stable, zone, lo, hi, margin = _drv.margin(eps, mu, drive, zeta)
+        return StabilityMargin(stable=stable, zone=zone, eps_lo=lo, eps_hi=hi, margin=margin)
     eps, mu = np.broadcast_arrays(eps, mu)
     ell = mu < 1.0
     mus = np.where(ell, mu, 0.5)
@@ -352,7 +381,7 @@ def stability_margin(eps, mu):
     )
 
 
-def stability_grid(eps, mu, out=None):
+def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
     """Exact stability verdicts over the grid ``eps`` x ``mu``.
 
     Parameters
@@ -364,6 +393,10 @@ def stability_grid(eps, mu, out=None):
     out : ndarray of bool, shape ``(len(mu), len(eps))``, optional
         C-contiguous array to write into (saves allocating a fresh image when
         grids are computed repeatedly).
+    drive : Drive or str, optional
+        As in :func:`is_stable`.
+    zeta : float, optional
+        Damping ratio ``c / (2 sqrt(g/l))`` >= 0 (one value for the whole grid).
 
     Returns
     -------
@@ -379,6 +412,9 @@ def stability_grid(eps, mu, out=None):
     The cost is ``O(len(mu) * zones * log len(eps))`` plus writing the output.
     """
     eps, mu = _v.arnold(eps, mu)
+    drive, zeta = _v.general_drive(drive, zeta)
+    if zeta is not None and zeta.ndim != 0:
+        raise _v.KapitzaValueError(f"zeta must be a single number for a grid; got shape {zeta.shape}")
     if eps.ndim != 1 or mu.ndim != 1:
         raise _v.KapitzaValueError(
             f"eps and mu must be 1-D arrays; got shapes {eps.shape} and {mu.shape}"
@@ -398,6 +434,11 @@ def stability_grid(eps, mu, out=None):
                 f"out must be a writeable C-contiguous bool array of shape {shape}")
         out.fill(False)
     target = out
+    if drive is not None:
+        _drv.grid(eps, mu, drive, np.full(mu.size, float(zeta)), out)
+        if order is not None:
+            target[:, order] = out.copy()
+        return target
     rows = np.flatnonzero(mu < 1.0)
     if rows.size:
         m = mu[rows]
@@ -426,7 +467,7 @@ def stability_grid(eps, mu, out=None):
     return target
 
 
-def period_edges(A, n, l=1.0, g=G_EARTH):
+def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Half-periods ``T_lo < T_hi`` bounding stability zone ``n`` for fixed ``A > g``.
 
     Parameters
@@ -437,18 +478,27 @@ def period_edges(A, n, l=1.0, g=G_EARTH):
         Zone index ``>= 0``.
     l, g : float or array_like
         Rod length and gravity, > 0. All broadcast together.
+    drive : Drive or str, optional
+        As in :func:`is_stable`.
+    damping : array_like, optional
+        Viscous damping ``c`` >= 0 [1/s] (``theta'' + c theta' = ...``).
 
     Returns
     -------
     T_lo, T_hi : ndarray
         For even ``n``: ``(T_{n+1}, T~_{n+1})``; for odd ``n``: ``(T~_{n+1}, T_{n+1})``
-        (Corollary 4.1).
+        (Corollary 4.1). NaN where another drive has no zone ``n`` at this ``A``.
     """
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     n = _v.nonnegative_int("n", n)
+    drive, c = _v.general_drive(drive, damping, "damping")
     mu = np.sqrt(g / A)
+    if drive is not None:
+        lo, hi = _drv.edges(mu, n, drive, _drv.zeta_of(c, l, g))
+        scale = np.sqrt(8.0 * l / A)
+        return lo * scale, hi * scale
     if np.any(mu >= 1.0):
         bad = np.broadcast_to(A, mu.shape)[mu >= 1.0].flat[0]
         raise _v.KapitzaValueError(
@@ -459,7 +509,7 @@ def period_edges(A, n, l=1.0, g=G_EARTH):
     return lo * scale, hi * scale
 
 
-def amplitude_edges(T, n, l=1.0, g=G_EARTH):
+def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Amplitudes ``A_lo < A_hi`` bounding stability zone ``n`` for fixed half-period ``T``.
 
     Parameters
@@ -470,6 +520,9 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH):
         Zone index ``>= 0``.
     l, g : float or array_like
         Rod length and gravity, > 0. All broadcast together.
+    drive, damping : optional
+        As in :func:`period_edges`; other drives and damping are solved by bisection on the
+        zone index along ``A`` (``docs/drives.md``).
 
     Returns
     -------
@@ -487,6 +540,14 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH):
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     n = _v.nonnegative_int("n", n)
+    drive, c = _v.general_drive(drive, damping, "damping")
+    if drive is not None:
+        T, n, l, g, c = np.broadcast_arrays(T, n, l, g, c)
+        pairs = [_drv.along_amplitude(*args, drive, cc) for *args, cc in
+                 zip(T.ravel(), n.ravel(), l.ravel(), g.ravel(), c.ravel())]
+        lo = np.array([p[0] for p in pairs]).reshape(T.shape)
+        hi = np.array([p[1] for p in pairs]).reshape(T.shape)
+        return lo, hi
     T, n, l, g = np.broadcast_arrays(T, n, l, g)
     kappa = 2.0 * g * T * T / l
 

@@ -44,8 +44,8 @@ def floquet(eps, mu, drive, zeta):
     lam1 = np.where(elliptic, rot1, big + 0j)
     lam2 = np.where(elliptic, rot2, small + 0j)
     mult = np.stack([lam1, lam2], axis=-1)
-    growth = np.where(elliptic, -kappa, growth)
-    return trace, det, mult, growth, theta / (2.0 * PI), stable, zone
+    growth = np.where(elliptic, 0.0 - kappa, growth)
+    return trace, det, mult, growth, theta / (2.0 * PI) + 0.0, stable, zone
 
 
 def verdict(eps, mu, drive, zeta):
@@ -164,3 +164,132 @@ def along_amplitude(T, n, l, g, drive, c):
     _, A_hi = _bisect_bits(lambda A: reached(A, n + 1, False), np.zeros(1), hi)
     A_lo, _ = _bisect_bits(lambda A: reached(A, n, True), np.zeros(1), A_hi)
     return float(A_lo[0]), float(A_hi[0])
+
+
+# ---------------------------------------------------------------- motion of the linear equation
+def _segment_flow(s, h):
+    """Entries (a, b, c, d) of the exact flow of ``x'' = s x`` over ``h`` (physical units)."""
+    from ..propagation import _flow
+
+    c, sd, ds = _flow(np.asarray(s, float), np.asarray(h, float))
+    return c, sd, ds, c
+
+
+def _mul(P, Q):
+    a, b, c, d = P
+    e, f, g_, h = Q
+    return a * e + b * g_, a * f + b * h, c * e + d * g_, c * f + d * h
+
+
+def monodromy(T, A, l, g, drive, c):
+    """``M_theta`` over one period ``2T`` of ``theta'' + c theta' = (g + a(t))/l theta``, shape ``(..., 2, 2)``.
+
+    Piecewise-constant drives: ``exp(-c T) S^{-1} (prod of phi-flows) S`` with the stiffness of
+    each step raised by ``c^2/4`` (``docs/drives.md`` section 3). The sine drive: one period
+    integrated by DOP853 (rtol 1e-12).
+    """
+    T, A, l, g, c = np.broadcast_arrays(*(np.asarray(x, float) for x in (T, A, l, g, c)))
+    with np.errstate(over="ignore", invalid="ignore"):
+        if isinstance(drive, PiecewiseConstant):
+            P = (np.ones(T.shape), np.zeros(T.shape), np.zeros(T.shape), np.ones(T.shape))
+            for lev, f in zip(drive.levels, drive.fractions):
+                P = _mul(_segment_flow((g + A * lev) / l + 0.25 * c * c, 2.0 * f * T), P)
+        else:
+            P = _ivp_period(T, A, l, g, drive)
+        a, b, cc, d = P
+        half = 0.5 * c
+        # S^{-1} P S with S = [[1, 0], [c/2, 1]]
+        m11 = a + b * half
+        m12 = b
+        m21 = cc + (d - a) * half - b * half * half
+        m22 = d - b * half
+        e = np.exp(-c * T)
+        M = np.stack([np.stack([m11, m12], -1), np.stack([m21, m22], -1)], -2) * e[..., None, None]
+    return M
+
+
+def _ivp_period(T, A, l, g, drive, rtol=1e-12):
+    """The undamped-phi flow over one period of a smooth drive (DOP853), entrywise arrays."""
+    from scipy.integrate import solve_ivp
+
+    out = [np.empty(T.shape) for _ in range(4)]
+    for idx in np.ndindex(T.shape):
+        Ti, Ai, li, gi = T[idx], A[idx], l[idx], g[idx]
+        cols = []
+        for y0 in ((1.0, 0.0), (0.0, 1.0)):
+            sol = solve_ivp(lambda t, y: [y[1], (gi + Ai * drive._shape(t / Ti)) / li * y[0]],
+                            (0.0, 2.0 * Ti), y0, method="DOP853", rtol=rtol, atol=1e-14 * max(1.0, abs(y0[1])))
+            cols.append(sol.y[:, -1])
+        out[0][idx], out[2][idx] = cols[0]
+        out[1][idx], out[3][idx] = cols[1]
+    return tuple(out)
+
+
+def linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c):
+    """Exact ``theta(t), theta'(t)`` of the damped linear equation for a piecewise-constant drive.
+
+    Whole periods by ``M^k = exp(-k c T) S^{-1} (U_{k-1}(tau) M_phi - U_{k-2}(tau) I) S``
+    (Cayley-Hamilton with Chebyshev polynomials of the half-trace of the undamped
+    ``phi``-system), then the steps of the last, partial period; the sine drive is
+    integrated by DOP853 (rtol 1e-11) instead.
+    """
+    from ..propagation import _chebyshev_pair
+
+    t, theta0, dtheta0, T, A, l, g, c = np.broadcast_arrays(
+        *(np.asarray(x, float) for x in (t, theta0, dtheta0, T, A, l, g, c)))
+    if not isinstance(drive, PiecewiseConstant):
+        return _ivp_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
+    eps = T * np.sqrt(A / (8.0 * l))
+    mu = np.sqrt(g / A)
+    zeta = zeta_of(c, l, g)
+    mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+    f = drive._floquet0(eps, mu_c)
+    period = 2.0 * T
+    k = np.floor(t / period)
+    r = t - k * period
+    over = r >= period
+    k = np.where(over, k + 1.0, k)
+    r = np.where(over, r - period, np.maximum(r, 0.0))
+    half = 0.5 * c
+    # phi-state at t = 0
+    p0 = theta0
+    q0 = dtheta0 + half * theta0
+    Mphi = (np.ones(T.shape), np.zeros(T.shape), np.zeros(T.shape), np.ones(T.shape))
+    for lev, fr in zip(drive.levels, drive.fractions):
+        Mphi = _mul(_segment_flow((g + A * lev) / l + half * half, fr * period), Mphi)
+    u1, u2 = _chebyshev_pair(k, f.tau, f.growth, f.theta, f.zone >= 0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        a, b, cc, d = Mphi
+        p = np.where(k == 0, p0, (u1 * a - u2) * p0 + u1 * b * q0)
+        q = np.where(k == 0, q0, u1 * cc * p0 + (u1 * d - u2) * q0)
+        start = 0.0
+        for lev, fr in zip(drive.levels, drive.fractions):
+            h = fr * period
+            dt = np.clip(r - start, 0.0, h)
+            fa, fb, fc, fd = _segment_flow((g + A * lev) / l + half * half, dt)
+            p, q = fa * p + fb * q, fc * p + fd * q
+            start = start + h
+        decay = np.exp(-half * t)
+        th = decay * p
+        dth = decay * (q - half * p)
+    bad = ~(np.isfinite(th) & np.isfinite(dth))
+    if bad.any():
+        i = tuple(np.argwhere(bad)[0])
+        raise OverflowError(f"the motion grows beyond the range of a double (t = {float(t[i]):.6g} s)")
+    return th, dth
+
+
+def _ivp_motion(t, theta0, dtheta0, T, A, l, g, drive, c, rtol=1e-11):
+    from scipy.integrate import solve_ivp
+
+    th = np.empty(t.shape)
+    dth = np.empty(t.shape)
+    for idx in np.ndindex(t.shape):
+        if t[idx] == 0:
+            th[idx], dth[idx] = theta0[idx], dtheta0[idx]
+            continue
+        Ti, Ai, li, gi, ci = T[idx], A[idx], l[idx], g[idx], c[idx]
+        sol = solve_ivp(lambda tt, y: [y[1], (gi + Ai * drive._shape(np.mod(tt / Ti, 2.0))) / li * y[0] - ci * y[1]],
+                        (0.0, t[idx]), (theta0[idx], dtheta0[idx]), method="DOP853", rtol=rtol, atol=1e-13)
+        th[idx], dth[idx] = sol.y[:, -1]
+    return th, dth
