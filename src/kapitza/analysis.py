@@ -92,12 +92,68 @@ class StabilityReport:
     zeta: float = 0.0
     determinant: float = 1.0
 
+    @property
+    def frequency(self) -> float | None:
+        """Drive frequency ``1/(2T)`` [Hz], when given physically."""
+        return None if self.T is None else 0.5 / self.T
+
+    def lines(self) -> list[tuple[str, str]]:
+        """``(label, text)`` rows: what ``kapitza stability`` prints, and the HTML table shows."""
+        rows = []
+        if self.T is not None:
+            rows.append(("parameters", f"T = {_fmt(self.T)} s (frequency {_fmt(self.frequency, 6)} Hz), "
+                                       f"A = {_fmt(self.A)} m/s^2, l = {_fmt(self.l)} m, g = {_fmt(self.g)} m/s^2"))
+        rows.append(("drive", self.drive))
+        if self.zeta > 0:
+            c = f"c = {_fmt(self.damping, 6)} 1/s, " if self.damping is not None else ""
+            rows.append(("damping", f"{c}ratio zeta = {_fmt(self.zeta, 6)}; det M = {_fmt(self.determinant)}"))
+        rows.append(("Arnold", f"eps = {_fmt(self.eps)}, mu = {_fmt(self.mu)}"))
+        rows.append(("verdict", self.verdict))
+        lam = ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}" for z in self.multipliers)
+        crit = "|tr M| < 2" if self.zeta == 0 else "|tr M| < 1 + det M"
+        rows.append(("trace tr M", f"{_fmt(self.trace)}   (stable iff {crit})"))
+        rows.append(("multipliers", lam))
+        rows.append(("growth", f"{_fmt(self.growth)} per period 2T (log of the largest |multiplier|"
+                               + ("; < 0: motions decay)" if self.zeta > 0 else ")")))
+        rows.append(("rotation number", f"{_fmt(self.rotation_number)} turns per period"))
+        if self.nearest_zone >= 0:
+            where = "in" if self.stable else "nearest"
+            rows.append((f"zone ({where})", f"n = {self.nearest_zone}: {_fmt(self.eps_lo)} < eps < {_fmt(self.eps_hi)}"))
+            if self.T_lo is not None:
+                rows.append(("", f"{_fmt(self.T_lo)} < T < {_fmt(self.T_hi)} s at this A"))
+                rows.append(("", f"{_fmt(self.A_lo)} < A < {_fmt(self.A_hi)} m/s^2 at this T"))
+            pct = 100.0 * self.margin
+            if self.stable:
+                rows.append(("margin", f"{pct:.4g}% (T may change by this fraction at fixed A before stability is lost)"))
+            else:
+                rows.append(("margin", f"{pct:.4g}% (T must change by this fraction at fixed A to reach zone "
+                                       f"{self.nearest_zone})"))
+        return rows
+
+    def __str__(self) -> str:
+        return "\n".join(f"{k:<16} {v}" if k else f"{'':<16} {v}" for k, v in self.lines())
+
+    def _repr_html_(self) -> str:
+        import html
+
+        body = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th><td style='text-align:left'>"
+                       f"{html.escape(v)}</td></tr>" for k, v in self.lines())
+        return f"<table>{body}</table>"
+
     def as_dict(self) -> dict:
         """JSON-ready dictionary (complex multipliers as ``[re, im]`` pairs)."""
         d = asdict(self)
         d["multipliers"] = [[float(z.real), float(z.imag)] for z in self.multipliers]
         return {k: (None if isinstance(v, float) and not np.isfinite(v) and k not in ("trace", "margin") else v)
                 for k, v in d.items()}
+
+
+def _fmt(v, digits=12):
+    if v is None:
+        return "-"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    return str(v)
 
 
 def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=0.0,

@@ -37,33 +37,100 @@ def finite_float(text: str) -> float:
     return v
 
 
-def add_parameters(p: argparse.ArgumentParser, *, required=True):
-    """The parameter options: --T/--A (with --l, --g) or --eps/--mu."""
+def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
+    """The parameter options: --T/--A (with --l, --g) or --eps/--mu; with ``rig`` also the drive,
+    the damping and the units of a rig (frequency, stroke, a uniform rod)."""
     g = p.add_argument_group(
-        "parameters (give --T and --A, or --eps and --mu)",
+        "parameters (give --T and --A, or --eps and --mu" + (", or --frequency with --stroke or --amplitude)" if rig
+                                                              else ")"),
     )
-    g.add_argument("--T", type=finite_float, metavar="SECONDS", help="half-period of the square-wave drive (period 2T)")
-    g.add_argument("--A", type=finite_float, metavar="M/S^2", help="amplitude of the pivot acceleration")
-    g.add_argument("--l", type=finite_float, default=1.0, metavar="M", help="rod length (default 1)")
+    g.add_argument("--T", type=finite_float, metavar="SECONDS", help="half-period of the drive (period 2T)")
+    g.add_argument("--A", type=finite_float, metavar="M/S^2",
+                   help="amplitude (scale) of the pivot acceleration")
+    g.add_argument("--l", type=finite_float, default=None, metavar="M",
+                   help="equivalent length of the pendulum (default 1; a point mass on a massless rod)")
     g.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"gravity (default {G_EARTH})")
     g.add_argument("--eps", type=finite_float, help="Arnold's eps = T sqrt(A/(8 l))")
     g.add_argument("--mu", type=finite_float, help="Arnold's mu = sqrt(g/A); mu >= 1 means A <= g")
+    if rig:
+        r = p.add_argument_group("the rig (drive, damping, measured units)")
+        r.add_argument("--drive", default="square", metavar="DRIVE",
+                       help="square (default, the paper's), sine, rectangular:DUTY or steps:LEVELS:FRACTIONS "
+                            "(accelerations LEVELS x A for FRACTIONS of the period, zero mean)")
+        r.add_argument("--duty", type=finite_float, metavar="D",
+                       help="shortcut for --drive rectangular:D (+A for the fraction D of the period)")
+        r.add_argument("--damping", type=finite_float, default=0.0, metavar="1/S",
+                       help="viscous damping c in theta'' + c theta' = ... (default 0)")
+        r.add_argument("--zeta", type=finite_float, default=None,
+                       help="damping ratio c / (2 sqrt(g/l)), with --eps/--mu")
+        r.add_argument("--frequency", type=finite_float, metavar="HZ", help="drive frequency, instead of --T")
+        r.add_argument("--stroke", type=finite_float, metavar="M",
+                       help="peak-to-peak travel of the pivot, with --frequency, instead of --A")
+        r.add_argument("--amplitude", type=finite_float, metavar="M",
+                       help="displacement amplitude (half the stroke), with --frequency, instead of --A")
+        r.add_argument("--rod", type=finite_float, metavar="M",
+                       help="a uniform rod of this length pivoted at one end (equivalent length 2/3 of it), "
+                            "instead of --l")
+
+
+def _drive_from(args):
+    from ..drives import parse_drive
+
+    if getattr(args, "duty", None) is not None:
+        if args.drive not in ("square", "rectangular"):
+            raise CLIError(f"--duty goes with a rectangular drive; got --drive {args.drive}")
+        return parse_drive(f"rectangular:{args.duty!r}")
+    return parse_drive(args.drive)
 
 
 def parameters_from(args) -> dict:
     """Keyword arguments for :func:`kapitza.analyze` from the parsed options."""
-    phys = args.T is not None or args.A is not None
+    rig = hasattr(args, "drive")
+    freq = rig and (args.frequency is not None or args.stroke is not None or args.amplitude is not None)
+    phys = args.T is not None or args.A is not None or freq
     arn = args.eps is not None or args.mu is not None
+    if rig and args.rod is not None and args.l is not None:
+        raise CLIError("give --l or --rod, not both")
+    l = args.l if args.l is not None else 1.0
+    if rig and args.rod is not None:
+        from ..system import Pendulum
+
+        l = Pendulum.uniform_rod(args.rod).l
+    extra = {}
+    if rig:
+        extra["drive"] = _drive_from(args)
     if phys and arn:
-        raise CLIError("give either --T and --A, or --eps and --mu, not both")
+        raise CLIError("give either physical parameters (--T/--A or --frequency) or --eps and --mu, not both")
     if phys:
-        if args.T is None or args.A is None:
-            raise CLIError("--T and --A must be given together")
-        return dict(T=args.T, A=args.A, l=args.l, g=args.g)
+        if freq:
+            if args.frequency is None:
+                raise CLIError("--stroke and --amplitude go with --frequency")
+            if args.T is not None:
+                raise CLIError("give --T or --frequency, not both")
+            given = [k for k in ("stroke", "amplitude", "A") if getattr(args, k) is not None]
+            if len(given) != 1:
+                raise CLIError("with --frequency give exactly one of --stroke, --amplitude, --A")
+            T, A = extra["drive"].from_rig(args.frequency, stroke=args.stroke, amplitude=args.amplitude,
+                                           acceleration=args.A)
+            T, A = float(T), float(A)
+        else:
+            if args.T is None or args.A is None:
+                raise CLIError("--T and --A must be given together")
+            T, A = args.T, args.A
+        if rig:
+            if args.zeta is not None:
+                raise CLIError("with physical parameters give the damping as --damping C (1/s), not --zeta")
+            extra["damping"] = args.damping
+        return dict(T=T, A=A, l=l, g=args.g, **extra)
     if arn:
         if args.eps is None or args.mu is None:
             raise CLIError("--eps and --mu must be given together")
-        return dict(eps=args.eps, mu=args.mu)
+        if rig:
+            if args.damping:
+                raise CLIError("with --eps/--mu give the damping as --zeta (ratio c / (2 sqrt(g/l))), not --damping")
+            if args.zeta is not None:
+                extra["zeta"] = args.zeta
+        return dict(eps=args.eps, mu=args.mu, **extra)
     raise CLIError("give the parameters: --T and --A (physical) or --eps and --mu (Arnold)")
 
 

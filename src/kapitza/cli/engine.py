@@ -19,10 +19,14 @@ def register(sub):
         "margin: signed relative distance to the nearest zone edge along eps, i.e. the fraction by which\n"
         "the drive period may change at fixed A (> 0 inside a zone, < 0 outside). With --T/--A the zone is\n"
         "also given as intervals of T (at this A) and of A (at this T).",
-        epilog="examples:\n  kapitza stability --T 0.15 --A 100\n  kapitza stability --eps 0.5 --mu 0.3 --json",
+        epilog="examples:\n  kapitza stability --T 0.15 --A 100\n  kapitza stability --eps 0.5 --mu 0.3 --json\n"
+        "  kapitza stability --drive sine --frequency 40 --amplitude 0.01 --rod 0.3 --damping 0.2\n"
+        "  kapitza stability --duty 0.3 --T 0.15 --A 100 --check && echo stable",
     )
-    add_parameters(p)
+    add_parameters(p, rig=True)
     p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    p.add_argument("--check", action="store_true",
+                   help="exit with status 1 when the upright is unstable (0 when stable), for scripts")
     p.set_defaults(func=cmd_stability)
 
     p = sub.add_parser(
@@ -102,30 +106,9 @@ def cmd_stability(args):
     rep = analyze(**parameters_from(args))
     if args.json:
         print_json(rep.as_dict())
-        return 0
-    lines = []
-    if rep.T is not None:
-        lines.append(f"parameters       T = {_fmt(rep.T)} s, A = {_fmt(rep.A)} m/s^2, l = {_fmt(rep.l)} m, g = {_fmt(rep.g)} m/s^2")
-    lines.append(f"Arnold           eps = {_fmt(rep.eps)}, mu = {_fmt(rep.mu)}")
-    lines.append(f"verdict          {rep.verdict}")
-    lam = ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}" for z in rep.multipliers)
-    lines.append(f"trace tr M       {_fmt(rep.trace)}   (stable iff |tr M| < 2)")
-    lines.append(f"multipliers      {lam}")
-    lines.append(f"growth           {_fmt(rep.growth)} per period 2T (log of the largest |multiplier|)")
-    lines.append(f"rotation number  {_fmt(rep.rotation_number)} turns per period")
-    if rep.nearest_zone >= 0:
-        where = "in" if rep.stable else "nearest"
-        lines.append(f"zone ({where}){' ' * (9 - len(where))}n = {rep.nearest_zone}: {_fmt(rep.eps_lo)} < eps < {_fmt(rep.eps_hi)}")
-        if rep.T_lo is not None:
-            lines.append(f"                 {_fmt(rep.T_lo)} < T < {_fmt(rep.T_hi)} s at this A")
-            lines.append(f"                 {_fmt(rep.A_lo)} < A < {_fmt(rep.A_hi)} m/s^2 at this T")
-        pct = 100.0 * rep.margin
-        if rep.stable:
-            lines.append(f"margin           {pct:.4g}% (T may change by this fraction at fixed A before stability is lost)")
-        else:
-            lines.append(f"margin           {pct:.4g}% (T must change by this fraction at fixed A to reach zone {rep.nearest_zone})")
-    print("\n".join(lines))
-    return 0
+    else:
+        print(rep)
+    return 1 if (args.check and not rep.stable) else 0
 
 
 # ------------------------------------------------------------------ periods

@@ -111,8 +111,9 @@ def _physical_from(args):
     """``(T, A, l, g)`` from --T/--A or --eps/--mu (with --l, --g), validated."""
     kw = parameters_from(args)
     if "eps" in kw:
-        T, A = to_physical(kw["eps"], kw["mu"], args.l, args.g)
-        kw = dict(T=float(T), A=float(A), l=args.l, g=args.g)
+        l = args.l if args.l is not None else 1.0
+        T, A = to_physical(kw["eps"], kw["mu"], l, args.g)
+        kw = dict(T=float(T), A=float(A), l=l, g=args.g)
     rep = analyze(**kw)
     return kw["T"], kw["A"], kw["l"], kw["g"], rep
 

@@ -1,0 +1,57 @@
+"""kapitza stability for a real rig: drives, damping, frequency and stroke, a rod, --check."""
+import json
+
+import numpy as np
+import pytest
+
+import kapitza as K
+from cli_util import assert_one_line_error, run
+
+
+def test_rig_units_reach_the_same_report_as_T_and_A(capsys):
+    # a square wave at 3.3333 Hz with stroke A T^2 / 4
+    T, A = 0.15, 100.0
+    code, out, _ = run(["stability", "--frequency", repr(1 / (2 * T)), "--stroke", repr(A * T * T / 4), "--json"], capsys)
+    assert code == 0
+    rep = json.loads(out)
+    assert rep["T"] == pytest.approx(T, rel=1e-14) and rep["A"] == pytest.approx(A, rel=1e-14)
+    assert rep["verdict"] == "stable (zone 0)"
+
+
+def test_uniform_rod_uses_two_thirds_of_its_length(capsys):
+    """The newcomer's rod: the verdict at T = 0.19, A = 100 differs between l = 1 and a 1 m rod."""
+    code, out, _ = run(["stability", "--T", "0.19", "--A", "100", "--rod", "1", "--json"], capsys)
+    rod = json.loads(out)
+    assert rod["l"] == pytest.approx(2 / 3)
+    assert rod["stable"] == bool(K.is_stable(*K.to_arnold(0.19, 100, 2 / 3)))
+    assert rod["stable"] != bool(K.is_stable(*K.to_arnold(0.19, 100, 1.0)))
+
+
+def test_drive_damping_and_check_exit_status(capsys):
+    code, out, _ = run(["stability", "--duty", "0.3", "--T", "0.15", "--A", "100", "--damping", "0.3", "--check"], capsys)
+    assert code == 1 and "rectangular wave, duty 0.3" in out and "c = 0.3 1/s" in out
+    code, out, _ = run(["stability", "--T", "0.15", "--A", "100", "--check"], capsys)
+    assert code == 0 and "stable (zone 0)" in out
+    code, out, _ = run(["stability", "--eps", "0.53", "--mu", "0.3", "--zeta", "0.1", "--json"], capsys)
+    rep = json.loads(out)
+    assert rep["zeta"] == 0.1 and rep["growth"] < 0
+    assert rep["determinant"] == pytest.approx(np.exp(-4 * np.sqrt(8) * 0.1 * 0.3 * 0.53))
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--T", "0.1", "--A", "100", "--drive", "triangle"], "drive"),
+    (["--T", "0.1", "--A", "100", "--duty", "1.5"], "duty"),
+    (["--T", "0.1", "--A", "100", "--drive", "sine", "--duty", "0.3"], "--duty"),
+    (["--T", "0.1", "--A", "100", "--damping", "-1"], "damping"),
+    (["--T", "0.1", "--A", "100", "--zeta", "0.1"], "--damping"),
+    (["--eps", "0.5", "--mu", "0.3", "--damping", "1"], "--zeta"),
+    (["--frequency", "3"], "exactly one"),
+    (["--frequency", "3", "--stroke", "0.1", "--amplitude", "0.05"], "exactly one"),
+    (["--stroke", "0.1", "--A", "100"], "--frequency"),
+    (["--T", "0.1", "--frequency", "3", "--stroke", "0.1"], "--T or --frequency"),
+    (["--T", "0.1", "--A", "100", "--rod", "1", "--l", "1"], "--rod"),
+    (["--T", "0.1", "--A", "100", "--rod", "-1"], "length"),
+])
+def test_bad_rig_input_is_one_line(argv, needle, capsys):
+    code, _, err = run(["stability", *argv], capsys)
+    assert_one_line_error(code, err, needle)
