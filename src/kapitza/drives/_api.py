@@ -64,6 +64,13 @@ def window_edges(drive, mu, e0, e1, zeta):
     zeta = np.broadcast_to(np.asarray(zeta, float), mu.shape)
     if isinstance(drive, PiecewiseConstant) and not np.any(zeta > 0) and drive.name != "square":
         return window_zones(drive, mu, np.full(mu.size, e0), np.full(mu.size, e1))
+    if drive.name == "sine" and not np.any(zeta > 0):
+        from ..mathieu import _sine_window
+
+        ok = np.flatnonzero(mu < 1.0)
+        q_max = np.full(ok.size, 16.0 * e1 * e1 / PI**2)
+        rows, zone, q_lo, q_hi = _sine_window(mu[ok], q_max)
+        return ok[rows], zone, 0.25 * PI * np.sqrt(q_lo), 0.25 * PI * np.sqrt(q_hi)
     n_lo, n_hi = _zone_range(drive, mu, zeta, e0, e1)
     counts = np.maximum(n_hi - n_lo + 1, 0)
     r_idx = np.repeat(np.arange(mu.size), counts)
@@ -95,8 +102,8 @@ def _zone_range(drive, mu, zeta, e0, e1):
     if isinstance(drive, PiecewiseConstant):
         rate, _ = _window_margin(mu_c, drive.levels, drive._durations)
         B = (len(drive.levels) + 1) * PI
-    else:  # sine: theta_rot within pi of the averaged elliptic angle
-        rate = SQRT8 * 2.0 * np.sqrt(np.maximum(1.0 - mu_c * mu_c, 0.0)) * 2.0 / PI
+    else:  # sine: zone n lies near sqrt(q) (1 - mu^2) = 2n + 1 (a_n ~ -2q + 2(2n+1) sqrt q), sqrt q = 4 eps/pi
+        rate = 2.0 * np.maximum(1.0 - mu_c * mu_c, 0.0)
         B = 2.0 * PI
     n_lo = np.maximum(np.floor((rate * e0 - B) / PI) - 1, 0).astype(np.int64)
     n_hi = np.floor((rate * e1 + B) / PI).astype(np.int64) + 1

@@ -39,9 +39,12 @@ class SineWave(Drive):
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
 
     def _edges0(self, mu, n):
-        from ..mathieu import sine_zone_edges
+        from ..mathieu import _sine_edges
 
-        return sine_zone_edges(mu, n)
+        mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
+        ok = mu < 1.0  # no attracting part of the period when A <= g (mu >= 1)
+        lo, hi = _sine_edges(np.where(ok, mu, 0.5), n)
+        return np.where(ok, lo, np.nan), np.where(ok, hi, np.nan)
 
     @property
     def label(self) -> str:
