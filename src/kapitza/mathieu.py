@@ -348,7 +348,7 @@ def _hill_half_trace(a, q):
     tail = tail - q * q / 16.0 * (1.0 / (X - 1.0) + 1.0 / X + 2.0 * np.log1p(-1.0 / X))
     logs = logs + 2.0 * tail
     x = 0.5 * PI * np.sqrt(-a)
-    with np.errstate(over="ignore", under="ignore"):
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         delta0 = D * np.exp(np.minimum(logs, 700.0))
         sh2 = np.sinh(x) ** 2
         tau = 1.0 + 2.0 * delta0 * sh2
@@ -430,6 +430,17 @@ def _sine_window(mu, q_max):
         q_lo.append(lo_f[r, k])
         q_hi.append(hi)
     return np.concatenate(rows), np.concatenate(zone), np.concatenate(q_lo), np.concatenate(q_hi)
+
+
+def _sine_log_tau(eps, mu):
+    """``log|tr M / 2|`` of the undamped sine drive over 2T (Hill's determinant only)."""
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    e, m = eps.ravel(), mu.ravel()
+    q = 16.0 * e * e / PI**2
+    out = np.empty(e.size)
+    for i in range(0, e.size, 2048):
+        out[i:i + 2048] = _hill_half_trace(-2.0 * m[i:i + 2048] ** 2 * q[i:i + 2048], q[i:i + 2048])[1]
+    return out.reshape(eps.shape)
 
 
 def _sine_zone_of(eps, mu):

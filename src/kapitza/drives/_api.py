@@ -71,12 +71,53 @@ def window_edges(drive, mu, e0, e1, zeta):
         q_max = np.full(ok.size, 16.0 * e1 * e1 / PI**2)
         rows, zone, q_lo, q_hi = _sine_window(mu[ok], q_max)
         return ok[rows], zone, 0.25 * PI * np.sqrt(q_lo), 0.25 * PI * np.sqrt(q_hi)
+    if np.any(zeta > 0) and drive.name != "square":
+        return _damped_window(drive, mu, zeta, e0, e1)
     n_lo, n_hi = _zone_range(drive, mu, zeta, e0, e1)
     counts = np.maximum(n_hi - n_lo + 1, 0)
     r_idx = np.repeat(np.arange(mu.size), counts)
     z_idx = n_lo[r_idx] + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
     lo, hi = drive._edges(mu[r_idx], z_idx, zeta[r_idx])
     return r_idx, z_idx, lo, hi
+
+
+def _damped_window(drive, mu, zeta, e0, e1):
+    """Damped zones of a chart ``[e0, e1]``: from the undamped ``phi``-zones in ``[0, 2 e1]``.
+
+    Damped zone ``n`` lies between the ``phi``-zones ``n - 1`` and ``n + 1``; the ``phi``-zones in
+    view come from the undamped window method at ``mu_c``. A damped edge beyond ``2 e1`` (in a
+    gap that reaches out of that window) is reported as ``inf``: the chart paints to its end.
+    """
+    from ._base import _damped_edges
+
+    mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+    live = np.flatnonzero(mu_c < 1.0) if drive.name == "sine" else np.arange(mu.size)
+    cap = 2.0 * e1
+    r0, z0, lo0, hi0 = window_edges(drive, mu_c[live], 0.0, cap, np.zeros(live.size))
+    r0 = live[r0]
+    keep = np.isfinite(lo0) & (lo0 <= cap)
+    r0, z0, lo0, hi0 = r0[keep], z0[keep], lo0[keep], hi0[keep]
+    # phi-edges by (row, zone)
+    key = r0 * 100000 + z0
+    order = np.argsort(key)
+    key, lo0, hi0 = key[order], lo0[order], hi0[order]
+
+    def look(rows, zones, arr, default):
+        k = rows * 100000 + zones
+        i = np.clip(np.searchsorted(key, k), 0, max(key.size - 1, 0))
+        hit = (key.size > 0) & (key[i] == k) if key.size else np.zeros(k.shape, bool)
+        return np.where(hit, arr[i] if key.size else default, default)
+
+    rows, zones = r0[order], key % 100000
+    lo_n = lo0
+    hi_n = np.minimum(hi0, cap)
+    hi_prev = np.where(zones == 0, 0.0, look(rows, zones - 1, hi0, np.nan))
+    lo_next = look(rows, zones + 1, lo0, cap)
+    ok = np.isfinite(hi_prev)
+    rows, zones, lo_n, hi_n, hi_prev, lo_next = (x[ok] for x in (rows, zones, lo_n, hi_n, hi_prev, lo_next))
+    lo, hi = _damped_edges(drive, mu[rows], zones, zeta[rows], phi=(lo_n, hi_n, hi_prev, lo_next))
+    hi = np.where((hi >= cap) | (lo_next >= cap) & (hi >= lo_next), np.inf, hi)
+    return rows, zones, lo, hi
 
 
 def grid(eps, mu, drive, zeta, out):

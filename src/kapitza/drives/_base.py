@@ -106,6 +106,10 @@ class Drive:
     def _edges0(self, mu, n):  # pragma: no cover - protocol
         raise NotImplementedError
 
+    def _log_tau0(self, eps, mu):
+        """``log|tr M / 2|`` of the undamped drive (a drive may give it more cheaply)."""
+        return self._floquet0(eps, mu, certify=False).log_tau
+
     # ------------------------------------------------------------ descriptions
     def describe(self) -> str:
         """A one-line description for reports."""
@@ -264,9 +268,8 @@ class Drive:
 def _excess(drive, eps, mu, zeta):
     """G = log|tau_phi| - log cosh(kappa): the damped upright is stable iff G < 0 (or on a zone)."""
     mu_c = mu * np.sqrt(1.0 + zeta * zeta)
-    f = drive._floquet0(eps, mu_c)
-    G = f.log_tau - log_cosh(2.0 * SQRT8 * zeta * mu * eps)
-    return np.where(f.zone >= 0, -np.inf, G)
+    # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
+    return drive._log_tau0(eps, mu_c) - log_cosh(2.0 * SQRT8 * zeta * mu * eps)
 
 
 def _bisect(drive, mu, zeta, lo, hi, rising):
@@ -292,21 +295,28 @@ def _gap_argmax(drive, mu, zeta, lo, hi):
     d = a + r * (b - a)
     Gc = _excess(drive, c, mu, zeta)
     Gd = _excess(drive, d, mu, zeta)
+    best_x = np.where(Gc >= Gd, c, d)
+    best_G = np.maximum(Gc, Gd)
     for _ in range(100):
-        left = Gc >= Gd  # the maximum lies in (a, d)
-        b = np.where(left, d, b)
-        a = np.where(left, a, c)
-        p = np.where(left, b - r * (b - a), a + r * (b - a))
-        Gp = _excess(drive, p, mu, zeta)
-        c, d = np.where(left, p, d), np.where(left, c, p)
-        Gc, Gd = np.where(left, Gp, Gd), np.where(left, Gc, Gp)
-        if np.all(b - a <= 4e-16 * b):
+        # an unstable point is all a bracket needs: rows with G > 0 found are done
+        live = (best_G <= 0) & (b - a > 4e-16 * b)
+        if not live.any():
             break
-    x = 0.5 * (a + b)
-    return x, _excess(drive, x, mu, zeta)
+        left = Gc >= Gd  # the maximum lies in (a, d)
+        b = np.where(live & left, d, b)
+        a = np.where(live & ~left, c, a)
+        p = np.where(left, b - r * (b - a), a + r * (b - a))
+        Gp = np.full(p.shape, -np.inf)
+        Gp[live] = _excess(drive, p[live], mu[live], zeta[live])
+        c, d = np.where(live, np.where(left, p, d), c), np.where(live, np.where(left, c, p), d)
+        Gc, Gd = np.where(live, np.where(left, Gp, Gd), Gc), np.where(live, np.where(left, Gc, Gp), Gd)
+        better = live & (Gp > best_G)
+        best_x = np.where(better, p, best_x)
+        best_G = np.where(better, Gp, best_G)
+    return best_x, best_G
 
 
-def _damped_edges(drive, mu, n, zeta):
+def _damped_edges(drive, mu, n, zeta, phi=None):
     """Edges of damped zone ``n``: each lies in the gap next to the undamped ``phi``-zone.
 
     The damped zone ``n`` contains the undamped zone ``n`` of the ``phi``-system (at
@@ -316,10 +326,13 @@ def _damped_edges(drive, mu, n, zeta):
     ``n - 1`` and the damped lower edge of zone ``n``. Where the maximum is <= 0 the
     damping has joined the two zones; both edges are then reported at that maximum.
     """
-    mu_c = mu * np.sqrt(1.0 + zeta * zeta)
-    lo_n, hi_n = drive._edges0(mu_c, n)
-    _, hi_prev = drive._edges0(mu_c, np.maximum(n - 1, 0))
-    lo_next, _ = drive._edges0(mu_c, n + 1)
+    if phi is None:
+        mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+        lo_n, hi_n = drive._edges0(mu_c, n)
+        _, hi_prev = drive._edges0(mu_c, np.maximum(n - 1, 0))
+        lo_next, _ = drive._edges0(mu_c, n + 1)
+    else:  # the phi-system's edges, known already (a chart's window; lo_next may be a cap)
+        lo_n, hi_n, hi_prev, lo_next = phi
     # gap below zone n: (hi_{n-1}, lo_n), or (0, lo_0) for zone 0
     gap_lo = np.where(n == 0, 0.0, hi_prev)
     x_lo, G_lo = _gap_argmax(drive, mu, zeta, gap_lo, lo_n)

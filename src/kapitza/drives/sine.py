@@ -38,6 +38,11 @@ class SineWave(Drive):
         tau, log_tau, growth, theta, zone = _sine_floquet0(eps, mu)
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
 
+    def _log_tau0(self, eps, mu):
+        from ..mathieu import _sine_log_tau
+
+        return _sine_log_tau(eps, mu)
+
     def _edges0(self, mu, n):
         from ..mathieu import _sine_edges
 

@@ -63,14 +63,20 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
     if ax is None:
         _, ax = plt.subplots()
     drawn = set()
-    for i, c in enumerate(curves):
-        colour = DRIVE_COLOURS[i % len(DRIVE_COLOURS)]
-        label = c.drive + (f", damping ratio {c.zeta:g}" if c.zeta > 0 else "")
+    names = list(dict.fromkeys(c.drive for c in curves))
+    for c in curves:
+        colour = DRIVE_COLOURS[names.index(c.drive) % len(DRIVE_COLOURS)]
+        damped = c.zeta > 0
+        label = c.drive + (f", damping ratio {c.zeta:g}" if damped else "")
+        style = dict(color=colour, linewidth=1.1, linestyle=(0, (6, 2, 1, 2)) if damped else "-")
         for k in range(c.zones.size):
-            ok = np.isfinite(c.lo[k]) & np.isfinite(c.hi[k])
-            ax.fill_betweenx(c.mu[ok], c.lo[k][ok], c.hi[k][ok], color=colour, alpha=0.18, linewidth=0)
-            ax.plot(c.lo[k][ok], c.mu[ok], color=colour, linewidth=1.1, label=label if k == 0 else None)
-            ax.plot(c.hi[k][ok], c.mu[ok], color=colour, linewidth=1.1)
+            ok = np.isfinite(c.lo[k]) & ~np.isnan(c.hi[k])
+            hi = np.minimum(c.hi[k][ok], eps_range[1])  # an edge beyond the view: paint to its end
+            if not damped:  # damped zones as outlines over the undamped fills
+                ax.fill_betweenx(c.mu[ok], c.lo[k][ok], hi, color=colour, alpha=0.18, linewidth=0)
+            ax.plot(c.lo[k][ok], c.mu[ok], label=label if k == 0 else None, **style)
+            fin = np.isfinite(c.hi[k][ok])
+            ax.plot(np.where(fin, hi, np.nan), c.mu[ok], **style)
         if averaging and c.drive not in drawn:  # the criterion does not depend on the damping
             drawn.add(c.drive)
             ax.plot(c.averaging, c.mu, color=colour, linewidth=1.0, linestyle=(0, (4, 3)))
@@ -95,8 +101,9 @@ def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
     ax2.set_title("zone 0 near the averaging limit", fontsize=9)
     if title:
         fig.suptitle(title)
-    _style.caption(fig, "The upright is stable inside the filled zones; each colour is one drive. All drives share "
-                        "Arnold's axes: T is half the drive period, A its acceleration scale. Dashed: each drive's "
+    _style.caption(fig, "The upright is stable inside the filled zones; each colour is one drive, dash-dotted with "
+                        "damping. All drives share Arnold's axes: T is half the drive period, A its acceleration "
+                        "scale. Dashed: each drive's "
                         r"high-frequency (averaging) criterion $\langle v^2\rangle = g\,l$, which the exact lower "
                         r"edge of zone 0 approaches as $\mu \to 0$.")
     return fig
