@@ -2,14 +2,18 @@
 
 Exact stability zones, periodic motions (Csizmadia & Hatvani, Theorems 3.3-3.4,
 Corollary 4.1), Floquet data and exact linear motion, vectorised over numpy
-arrays; nonlinear motion, stroboscopic maps and basins in :mod:`kapitza.motion`.
+arrays; other drives (duty cycles, steps, the sine) and damping in :mod:`kapitza.drives`
+(``docs/drives.md``); nonlinear motion, stroboscopic maps and basins in :mod:`kapitza.motion`.
 See ``docs/theory.md`` for the mathematics and conventions.
 
 Arnold's parameters ``eps = T sqrt(A/(8 l))`` and ``mu = sqrt(g/A)`` are used
 throughout; :func:`to_arnold` and :func:`to_physical` convert.
 """
-from . import analysis, motion, parameters, periodic, phase_plane, propagation, zones
+from . import analysis, drives, limits, mathieu, motion, parameters, periodic, phase_plane, propagation, system, zones
 from ._validate import KapitzaValueError
+from .drives import RectangularWave, SineWave, SquareWave, StepDrive, parse_drive
+from .limits import averaging_threshold, threshold_table
+from .system import Pendulum, Rig
 from .analysis import *  # noqa: F401,F403
 from .parameters import *  # noqa: F401,F403
 from .periodic import *  # noqa: F401,F403
@@ -27,6 +31,18 @@ __all__ = [
     *propagation.__all__,
     *periodic.__all__,
     *analysis.__all__,
+    # drives and the rig
+    "SquareWave",
+    "RectangularWave",
+    "StepDrive",
+    "SineWave",
+    "parse_drive",
+    "Pendulum",
+    "Rig",
+    "averaging_threshold",
+    "threshold_table",
+    "drives",
+    "mathieu",
     "phase_plane",
     "motion",
     "simulate",

@@ -1,10 +1,13 @@
 """Atomic file output: write to a temporary file in the target folder, then rename.
 
-An interrupted run never leaves a half-written file behind.
+An interrupted run never leaves a half-written file behind. Files get the permissions a
+normal write would give (0666 less the umask); a symlink is written through to its target; a
+path that is a FIFO, a device or a directory is refused, never replaced.
 """
 from __future__ import annotations
 
 import csv
+import errno
 import io
 import json
 import os
@@ -25,9 +28,19 @@ def atomic_path(path, suffix=None):
     infer the format from the name (matplotlib, Pillow) still work.
     """
     path = Path(path)
+    if path.is_symlink():
+        # write through a link to a regular file, as a plain open() would, not over the link itself
+        path = Path(os.path.realpath(path))
+    if path.exists() and not path.is_file():
+        raise OSError(errno.EEXIST, "exists and is not a regular file (kapitza writes only regular files)",
+                      str(path))
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix or path.suffix, dir=path.parent)
     os.close(fd)
+    # mkstemp creates 0600; give the file what a normal write would: 0666 less the umask
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
     try:
         yield Path(tmp)
         os.replace(tmp, path)

@@ -53,6 +53,8 @@ class StabilityReport:
         Physical parameters, when given.
     drive : str
         The pivot's motion (:meth:`kapitza.drives.Drive.describe`).
+    pendulum : str or None
+        What swings and which length the formulas use, when known (:class:`kapitza.Pendulum`).
     damping : float or None
         Viscous damping ``c`` [1/s], when given physically.
     zeta : float
@@ -88,6 +90,7 @@ class StabilityReport:
     A_lo: float | None = None
     A_hi: float | None = None
     drive: str = "square wave (+A for T, -A for T)"
+    pendulum: str | None = None
     damping: float | None = None
     zeta: float = 0.0
     determinant: float = 1.0
@@ -103,6 +106,8 @@ class StabilityReport:
         if self.T is not None:
             rows.append(("parameters", f"T = {_fmt(self.T)} s (frequency {_fmt(self.frequency, 6)} Hz), "
                                        f"A = {_fmt(self.A)} m/s^2, l = {_fmt(self.l)} m, g = {_fmt(self.g)} m/s^2"))
+        if self.pendulum:
+            rows.append(("pendulum", self.pendulum))
         rows.append(("drive", self.drive))
         if self.zeta > 0:
             c = f"c = {_fmt(self.damping, 6)} 1/s, " if self.damping is not None else ""

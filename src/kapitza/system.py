@@ -157,6 +157,8 @@ class Rig:
         """The stability report of this rig at ``T, A`` or ``frequency`` with ``stroke``/``amplitude``/``A``."""
         from .analysis import analyze
 
+        from dataclasses import replace
+
         T, A = self.physical(**kwargs)
         p = self.pendulum
-        return analyze(T=T, A=A, l=p.l, g=p.g, drive=self.drive, damping=p.damping)
+        return replace(analyze(T=T, A=A, l=p.l, g=p.g, drive=self.drive, damping=p.damping), pendulum=p.describe())

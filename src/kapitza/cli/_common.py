@@ -96,6 +96,7 @@ def parameters_from(args) -> dict:
         from ..system import Pendulum
 
         l = Pendulum.uniform_rod(args.rod).l
+        args.pendulum = Pendulum.uniform_rod(args.rod).describe()
     extra = {}
     if rig:
         extra["drive"] = _drive_from(args)

@@ -103,7 +103,11 @@ def _fmt(v, digits=12):
 
 
 def cmd_stability(args):
+    from dataclasses import replace
+
     rep = analyze(**parameters_from(args))
+    if getattr(args, "pendulum", None):
+        rep = replace(rep, pendulum=args.pendulum)
     if args.json:
         print_json(rep.as_dict())
     else:
