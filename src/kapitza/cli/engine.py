@@ -94,14 +94,6 @@ def register(sub):
 
 
 # ------------------------------------------------------------------ stability
-def _fmt(v, digits=12):
-    if v is None:
-        return "-"
-    if isinstance(v, float):
-        return f"{v:.{digits}g}"
-    return str(v)
-
-
 def cmd_stability(args):
     from dataclasses import replace
 
