@@ -139,3 +139,19 @@ def test_edges_of_general_drives_bound_their_zones(duty, mu, four):
                 steps.append(np.nextafter(steps[-1], away))
             z = drive._floquet0(np.array(steps), np.full(257, mu)).zone
             assert np.any(z == -1), (n, e, z)
+
+
+def test_thin_zone_of_an_extreme_duty_cycle():
+    """A short strong attracting pulse (duty 0.947) has zones ~450 ulp wide at eps ~ 5.3, where
+    tr M cancels 1e12-sized terms: the edges still bound the certified zone."""
+    drive = kd.RectangularWave(0.9473483686985562)
+    mu = np.array([0.11454894248223582])
+    lo, hi = drive._edges0(mu, 2)
+    assert hi[0] > lo[0]
+    for e, away in ((lo[0], -np.inf), (hi[0], np.inf)):
+        steps = [e]
+        for _ in range(256):
+            steps.append(np.nextafter(steps[-1], away))
+        assert np.any(drive._floquet0(np.array(steps), np.full(257, mu[0])).zone == -1)
+    mid = 0.5 * (lo + hi)
+    assert drive._floquet0(mid, mu).zone[0] == 2

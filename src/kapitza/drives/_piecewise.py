@@ -338,11 +338,12 @@ def _asinh_tau(eps, mu, levels, durations):
     segs = _segments(eps, mu, levels, durations)
     (a, _, _, d), L, _ = _product(segs)
     half = 0.5 * (a + d)
-    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore", under="ignore"):
         log_tau = L + np.log(np.abs(half))
-        small = np.arcsinh(half * np.exp(np.minimum(L, 30.0)))
+        # |tau| < e^30: asinh of tau itself (L may be large while tau, after cancellation, is not)
+        small = np.arcsinh(np.sign(half) * np.exp(np.minimum(log_tau, 30.0)))
         big = np.sign(half) * (log_tau + np.log1p(np.sqrt(1.0 + np.exp(-2.0 * np.maximum(log_tau, 0.0)))))
-    return np.where(L <= 30.0, small, big)
+    return np.where(log_tau <= 30.0, small, big)
 
 
 def _tau_minus_one(eps, mu, levels, durations):
