@@ -54,11 +54,7 @@ def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
     g.add_argument("--mu", type=finite_float, help="Arnold's mu = sqrt(g/A); mu >= 1 means A <= g")
     if rig:
         r = p.add_argument_group("the rig (drive, damping, measured units)")
-        r.add_argument("--drive", default="square", metavar="DRIVE",
-                       help="square (default, the paper's), sine, rectangular:DUTY or steps:LEVELS:FRACTIONS "
-                            "(accelerations LEVELS x A for FRACTIONS of the period, zero mean)")
-        r.add_argument("--duty", type=finite_float, metavar="D",
-                       help="shortcut for --drive rectangular:D (+A for the fraction D of the period)")
+        add_drive(r)
         r.add_argument("--damping", type=finite_float, default=0.0, metavar="1/S",
                        help="viscous damping c in theta'' + c theta' = ... (default 0)")
         r.add_argument("--zeta", type=finite_float, default=None,
@@ -73,6 +69,20 @@ def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
                             "instead of --l")
 
 
+def add_drive(g):
+    """--drive and --duty (the pivot's motion)."""
+    g.add_argument("--drive", default="square", metavar="DRIVE",
+                   help="square (default, the paper's), sine, rectangular:DUTY or steps:LEVELS:FRACTIONS "
+                        "(accelerations LEVELS x A for FRACTIONS of the period, zero mean)")
+    g.add_argument("--duty", type=finite_float, metavar="D",
+                   help="shortcut for --drive rectangular:D (+A for the fraction D of the period)")
+
+
+def drive_from(args):
+    """The drive of --drive/--duty."""
+    return _drive_from(args)
+
+
 def _drive_from(args):
     from ..drives import parse_drive
 
@@ -85,7 +95,7 @@ def _drive_from(args):
 
 def parameters_from(args) -> dict:
     """Keyword arguments for :func:`kapitza.analyze` from the parsed options."""
-    rig = hasattr(args, "drive")
+    rig = hasattr(args, "frequency")
     freq = rig and (args.frequency is not None or args.stroke is not None or args.amplitude is not None)
     phys = args.T is not None or args.A is not None or freq
     arn = args.eps is not None or args.mu is not None

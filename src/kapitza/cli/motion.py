@@ -8,7 +8,8 @@ import numpy as np
 from .. import _io
 from ..analysis import analyze
 from ..parameters import to_physical
-from ._common import CLIError, add_parameters, finite_float, format_table, out_stem, parameters_from, print_json
+from ._common import (CLIError, add_drive, add_parameters, drive_from, finite_float, format_table, out_stem,
+                      parameters_from, print_json)
 
 
 def register(sub):
@@ -25,6 +26,7 @@ def register(sub):
         "  kapitza simulate --eps 0.53 --mu 0.31 --theta0 0.2 --damping 0.5 --json",
     )
     add_parameters(p)
+    _add_drive(p)
     _add_start(p)
     p.add_argument("--periods", type=finite_float, default=20.0, help="duration in drive periods 2T (default 20)")
     p.add_argument("--points-per-period", type=int, default=200, help="samples per period (default 200)")
@@ -50,6 +52,7 @@ def register(sub):
         "  kapitza animate --T 0.15 --A 100 --theta0 0.1 --out upright.mp4 --fps 30",
     )
     add_parameters(p)
+    _add_drive(p)
     _add_start(p)
     p.add_argument("--periods", type=finite_float, default=10.0, help="duration in drive periods 2T (default 10)")
     p.add_argument("--model", choices=["nonlinear", "linear"], default="nonlinear")
@@ -77,6 +80,7 @@ def register(sub):
         "  kapitza basin --T 0.15 --A 100 --model nonlinear --resolution 301 --workers 2 --json",
     )
     add_parameters(p)
+    _add_drive(p)
     p.add_argument("--tol", type=finite_float, default=0.5, metavar="RAD", help="window half-width (default 0.5 rad)")
     p.add_argument("--periods", type=int, default=50, help="periods 2T to follow (default 50)")
     p.add_argument("--theta-max", type=finite_float, default=None, metavar="RAD", help="grid half-width in theta (default tol)")
@@ -98,6 +102,10 @@ def _add_start(p):
     g.add_argument("--dtheta0", type=finite_float, default=0.0, metavar="RAD/S", help="angular velocity (default 0)")
 
 
+def _add_drive(p):
+    add_drive(p.add_argument_group("the pivot's motion"))
+
+
 def _add_solver(p):
     g = p.add_argument_group("solver")
     g.add_argument("--damping", type=finite_float, default=0.0, metavar="C", help="linear damping c [1/s] (default 0)")
@@ -114,7 +122,8 @@ def _physical_from(args):
         l = args.l if args.l is not None else 1.0
         T, A = to_physical(kw["eps"], kw["mu"], l, args.g)
         kw = dict(T=float(T), A=float(A), l=l, g=args.g)
-    rep = analyze(**kw)
+    args.drive_obj = drive_from(args)
+    rep = analyze(**kw, drive=args.drive_obj, damping=getattr(args, "damping", 0.0) or 0.0)
     return kw["T"], kw["A"], kw["l"], kw["g"], rep
 
 
@@ -144,7 +153,7 @@ def cmd_simulate(args):
     _check_count("strobe-periods", args.strobe_periods, 1, 100000)
     model = "nonlinear" if args.model == "both" else args.model
     common = dict(periods=args.periods, points_per_period=args.points_per_period, c=args.damping,
-                  method=args.method, rtol=args.rtol, atol=args.atol)
+                  method=args.method, rtol=args.rtol, atol=args.atol, drive=args.drive_obj)
     traj = simulate(args.theta0, args.dtheta0, T, A, l, g, model=model, **common)
     linear, linear_note = None, None
     if args.model == "both":
@@ -170,7 +179,8 @@ def cmd_simulate(args):
         reach = max(abs(args.theta0), 0.6) if args.theta0 else 0.6
         th_ens = np.linspace(reach / args.orbits, reach, args.orbits)
         orbits = stroboscopic_map(th_ens, 0.0, T, A, l, g, periods=args.strobe_periods, every=1,
-                                  model=model, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol)
+                                  model=model, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
+                                  drive=args.drive_obj)
         rows = ((i, int(k), orbits.theta[j, i], orbits.dtheta[j, i]) for i in range(args.orbits)
                 for j, k in enumerate(orbits.n))
         files.append(_io.write_csv(stem.parent / (stem.name + "-strobe.csv"), ["orbit", "k", "theta", "dtheta"], rows,
@@ -184,6 +194,7 @@ def cmd_simulate(args):
         print_json(summary)
         return 0
     print(f"parameters   T = {T:.6g} s, A = {A:.6g} m/s^2, l = {l:g} m, g = {g:g} m/s^2 (eps = {rep.eps:.6g}, mu = {rep.mu:.6g})")
+    print(f"drive        {rep.drive}" + (f", damping c = {args.damping:g} 1/s" if args.damping else ""))
     print(f"upright      {rep.verdict}")
     print(f"start        theta0 = {args.theta0:g} rad, dtheta0 = {args.dtheta0:g} rad/s")
     rows = []
@@ -221,7 +232,8 @@ def cmd_animate(args):
     from ..motion import simulate
 
     T, A, l, g, rep = _physical_from(args)
-    common = dict(periods=args.periods, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol)
+    common = dict(periods=args.periods, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
+                  drive=args.drive_obj)
     traj = simulate(args.theta0, args.dtheta0, T, A, l, g, model=args.model, **common)
     linear = None
     if args.compare_linear and args.model != "linear":
@@ -262,10 +274,11 @@ def cmd_basin(args):
         bar = ProgressBar(f"basin ({m})", enabled=not args.quiet)
         basins.append(basin(T, A, l, g, periods=args.periods, tol=args.tol, theta_max=args.theta_max,
                             dtheta_max=args.dtheta_max, n_theta=args.resolution, n_dtheta=args.resolution, model=m,
-                            workers=args.workers, progress=bar))
+                            workers=args.workers, progress=bar, drive=args.drive_obj))
     # The demonstration: a small tilt from rest, a tenth of the window.
     probe = 0.1 * args.tol
-    demo = {m: int(survival(probe, 0.0, T, A, l, g, periods=args.periods, tol=args.tol, model=m)) for m in models}
+    demo = {m: int(survival(probe, 0.0, T, A, l, g, periods=args.periods, tol=args.tol, model=m,
+                            drive=args.drive_obj)) for m in models}
     stem = out_stem(args.out)
     fig = basin_figure(basins)
     paths = save(fig, stem)

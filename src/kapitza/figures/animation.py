@@ -184,8 +184,9 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     path = path.with_suffix("." + fmt)
 
     th, _ = traj.at(times)
-    yp = _displacement(times, traj.T, traj.A)
-    acc = _acceleration(times, traj.T, traj.A)
+    drive = getattr(traj, "drive", None)
+    yp = _displacement(times, traj.T, traj.A) if drive is None else drive.displacement(times, traj.T, traj.A)
+    acc = _acceleration(times, traj.T, traj.A) if drive is None else drive.acceleration(times, traj.T, traj.A)
     l = traj.l
     bx = -l * np.sin(th)
     by = yp + l * np.cos(th)
@@ -194,7 +195,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     gs = fig.add_gridspec(1, 2, width_ratios=[1.0, 1.35])
     ax = fig.add_subplot(gs[0])
     axt = fig.add_subplot(gs[1])
-    stroke = 0.25 * traj.A * traj.T**2
+    drive = getattr(traj, "drive", None)
+    stroke = 0.25 * traj.A * traj.T**2 if drive is None else float(drive.stroke(traj.T, traj.A))
     xlim, ylim = _scene_limits(l, stroke)
     ax.set_xlim(*xlim)
     ax.set_ylim(*ylim)
@@ -239,7 +241,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     axt.set_ylabel("θ  (rad from upright)")
     axt.grid(True, linewidth=0.4, color="0.88")  # opaque: GIF palettes dither translucent lines
     axt.legend(loc="upper left", fontsize=7, framealpha=0.85)
-    fig.suptitle(title or parameter_label(traj.T, traj.A, traj.l, traj.g), fontsize=8.5)
+    fig.suptitle(title or parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c),
+                 fontsize=8.5)
 
     trail_n = max(2, int(round(2.0 * traj.T * fps * slowdown)))  # about one drive period
     dense_t = traj.t
@@ -258,7 +261,10 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
             jl = min(int(np.searchsorted(lin_t, times[k], side="right")), lin_end)
             lline.set_data(lin_t[:jl], lin_th[:jl])
         now.set_data([times[k]], [th[k]])
-        phase = "a = +A (hyperbolic)" if acc[k] > 0 else "a = -A (elliptic)"
+        if drive is None:
+            phase = "a = +A (hyperbolic)" if acc[k] > 0 else "a = -A (elliptic)"
+        else:
+            phase = f"a = {acc[k] / traj.A:+.2f} A" + (" (repels)" if traj.g + acc[k] > 0 else " (attracts)")
         clock.set_text(f"t = {times[k]:7.3f} s  ({times[k] / (2 * traj.T):6.2f} periods)\n"
                        f"θ = {th[k]:+8.3f} rad\n{phase}")
         return dynamic

@@ -56,9 +56,9 @@ def _broken(theta, other, jump=np.pi):
     return np.insert(theta, cut, np.nan), np.insert(other, cut, np.nan)
 
 
-def parameter_label(T, A, l, g):
+def parameter_label(T, A, l, g, drive=None, c=0.0):
     """One-line parameter description with the stability verdict of the upright."""
-    rep = analyze(T=T, A=A, l=l, g=g)
+    rep = analyze(T=T, A=A, l=l, g=g, drive=drive, damping=c)
     return (f"T = {T:g} s, A = {A:g} m/s², l = {l:g} m, g = {g:g} m/s² "
             f"(ε = {rep.eps:.4g}, μ = {rep.mu:.4g}): upright {rep.verdict}")
 
@@ -256,10 +256,15 @@ def time_series_figure(traj, *, linear=None, tol=None, title=None):
     plot_pivot(traj, axp)
     ax.tick_params(labelbottom=False)
     ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
-    ax.set_title(title or "Pendulum on a square-wave vibrating pivot: angle from the upright", fontsize=10)
-    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g) + f". Start θ = {traj.theta0:g} rad, θ' = "
-            f"{traj.dtheta0:g} rad/s at the start of a hyperbolic phase (a = +A). Lower panel: the pivot's height, "
-            "parabolic in each phase, stroke A T²/4.")
+    drive = getattr(traj, "drive", None)
+    if drive is None:
+        ax.set_title(title or "Pendulum on a square-wave vibrating pivot: angle from the upright", fontsize=10)
+        pivot_text = "parabolic in each phase, stroke A T²/4."
+    else:
+        ax.set_title(title or f"Pendulum on a vibrating pivot ({drive.label}): angle from the upright", fontsize=10)
+        pivot_text = f"{drive.describe()}, stroke {1000 * float(drive.stroke(traj.T, traj.A)):.3g} mm."
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c) + f". Start θ = {traj.theta0:g} rad, θ' = "
+            f"{traj.dtheta0:g} rad/s at t = 0 (a = +A). Lower panel: the pivot's height, " + pivot_text)
     return fig
 
 
@@ -270,7 +275,7 @@ def phase_portrait_figure(traj, *, title=None):
     plot_phase_portrait(traj, ax)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8, frameon=False)
     fig.suptitle(title or "Phase portrait", fontsize=10)
-    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g) + f". {traj.periods:g} periods 2T; dots: the "
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c) + f". {traj.periods:g} periods 2T; dots: the "
             "state once per period (t = 2kT), i.e. the stroboscopic map. θ' jumps in slope, not in value, at the "
             "switches.")
     return fig

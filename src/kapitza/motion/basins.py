@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as _v
+from ..drives import as_drive
 from ..parameters import G_EARTH
 from ._maps import AMPLITUDES, STEPS, phases
 from .nonlinear import MODELS, _choice, _physical
@@ -99,7 +100,7 @@ def _run_chunks(theta, dtheta, plan, periods, tol, model, chunk, workers, progre
 
 
 def survival(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, model="nonlinear",
-             chunk=4096, workers=1, progress=None):
+             chunk=4096, workers=1, progress=None, drive=None):
     """How many whole drive periods each motion stays within ``tol`` of the upright.
 
     Parameters
@@ -116,6 +117,8 @@ def survival(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, mo
         The full, undamped equation (exact phase flows) or its linearisation (2.3).
     chunk, workers, progress
         As in :func:`kapitza.motion.stroboscopic_map`.
+    drive : Drive or str, optional
+        A piecewise-constant drive (:mod:`kapitza.drives`); the paper's square wave by default.
 
     Returns
     -------
@@ -140,7 +143,12 @@ def survival(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, mo
     workers = int(_v.nonnegative_int("workers", workers, minimum=1))
     th = np.ascontiguousarray(theta0, dtype=float).ravel()
     om = np.ascontiguousarray(dtheta0, dtype=float).ravel()
-    out = _run_chunks(th, om, phases(T, A, l, g), periods, tol, model, chunk, workers, progress)
+    d = as_drive(drive)
+    if not hasattr(d, "levels"):
+        raise _v.KapitzaValueError(f"basins follow exact step flows and need a piecewise-constant drive; "
+                                   f"got drive {d.describe()}")
+    plan = phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g)
+    out = _run_chunks(th, om, plan, periods, tol, model, chunk, workers, progress)
     return out.reshape(theta0.shape)
 
 
@@ -199,7 +207,7 @@ class Basin:
 
 
 def basin(T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, theta_max=None, dtheta_max=None, n_theta=121,
-          n_dtheta=121, model="nonlinear", chunk=4096, workers=1, progress=None) -> Basin:
+          n_dtheta=121, model="nonlinear", chunk=4096, workers=1, progress=None, drive=None) -> Basin:
     """The basin of the upright on a grid of initial states.
 
     Parameters
@@ -219,7 +227,7 @@ def basin(T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, theta_max=None, dtheta
     n_theta, n_dtheta : int, optional
         Grid points (>= 2 each).
     model : {'nonlinear', 'linear'}
-    chunk, workers, progress
+    chunk, workers, progress, drive
         As in :func:`survival`.
 
     Returns
@@ -237,6 +245,6 @@ def basin(T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, theta_max=None, dtheta
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)
     grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model,
-                    chunk=chunk, workers=workers, progress=progress)
+                    chunk=chunk, workers=workers, progress=progress, drive=drive)
     return Basin(theta0=th, dtheta0=om, periods_survived=grid, periods=int(periods), tol=tol, model=model,
                  T=T, A=A, l=l, g=g)

@@ -318,6 +318,116 @@ def phase_energy(t, theta, dtheta, T, A, l=1.0, g=G_EARTH):
     return 0.5 * dtheta * dtheta + s * np.cos(theta)
 
 
+# ------------------------------------------------------------------ other drives
+def _drive_of(drive):
+    """``None`` for the paper's square wave (its own code path), else the drive object."""
+    from ..drives import as_drive
+
+    d = as_drive(drive)
+    return None if d.name == "square" else d
+
+
+def _exact_motion_plan(t, theta0, dtheta0, plan):
+    """Exact flows through the steps ``plan = ((s, duration), ...)`` of each period (scalar
+    parameters; any ``t`` and initial states, broadcast)."""
+    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape)
+    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape)
+    th = np.broadcast_to(theta0, traj).ravel().copy()
+    om = np.broadcast_to(dtheta0, traj).ravel().copy()
+    K = len(plan)
+    dur = np.array([d for _, d in plan])
+    starts = np.concatenate([[0.0], np.cumsum(dur)[:-1]])
+    period = float(np.sum(dur))
+    ic = np.broadcast_to(np.arange(th.size).reshape(traj), full).ravel()
+    tf = np.broadcast_to(t, full).ravel()
+    k = np.floor(tf / period)
+    r = tf - k * period
+    over = r >= period
+    k = np.where(over, k + 1.0, k)
+    r = np.where(over, r - period, np.maximum(r, 0.0))
+    i = np.clip(np.searchsorted(starts, r, side="right") - 1, 0, K - 1)
+    rr = r - starts[i]
+    p_all = (k * K + i).astype(np.int64)
+    order = np.argsort(p_all, kind="stable")
+    ps = p_all[order]
+    last = int(ps[-1]) if ps.size else 0
+    out_th = np.empty(tf.size)
+    out_om = np.empty(tf.size)
+    lo = 0
+    for p in range(last + 1):
+        s, d = plan[p % K]
+        hi = int(np.searchsorted(ps, p, side="right"))
+        if hi > lo:
+            sel = order[lo:hi]
+            kk = ic[sel]
+            th1, om1 = _phase_step(th[kk], om[kk], np.full(sel.size, s), rr[sel])
+            at = rr[sel] == 0.0
+            out_th[sel] = np.where(at, th[kk], th1)
+            out_om[sel] = np.where(at, om[kk], om1)
+            lo = hi
+        if p < last:
+            th, om = _phase_step(th, om, np.full(th.size, s), np.full(th.size, d))
+    return out_th.reshape(full), out_om.reshape(full)
+
+
+def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, drive):
+    """DOP853 for any drive, restarted at every step of a piecewise-constant drive (or every
+    half-period of a smooth one), never across a jump of the acceleration."""
+    from scipy.integrate import solve_ivp
+
+    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape)
+    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape)
+    th0 = np.broadcast_to(theta0, traj).ravel()
+    om0 = np.broadcast_to(dtheta0, traj).ravel()
+    tu, inv = np.unique(np.broadcast_to(t, full).ravel(), return_inverse=True)
+    n_all = th0.size
+    Y = np.empty((tu.size, n_all))
+    W = np.empty((tu.size, n_all))
+    t_end = float(tu[-1]) if tu.size else 0.0
+    if hasattr(drive, "levels"):
+        marks = np.concatenate([[0.0], np.cumsum([2.0 * f * T for f in drive.fractions])])
+    else:
+        marks = np.array([0.0, T, 2.0 * T])
+    period = 2.0 * T
+    n_per = int(np.floor(t_end / period)) + 1
+    bounds = np.unique(np.concatenate([k * period + marks for k in range(n_per)]))
+    bounds = np.concatenate([bounds[bounds < t_end], [t_end]])
+    chunk = _chunk_size(rtol)
+    sin = (lambda z: z) if linear else np.sin
+    for a in range(0, n_all, chunk):
+        b = min(a + chunk, n_all)
+        n = b - a
+        scale = 1.0 / np.sqrt(2.0 * n)
+        y = np.concatenate([th0[a:b], om0[a:b]])
+        at0 = tu == 0.0
+        Y[at0, a:b] = th0[a:b]
+        W[at0, a:b] = om0[a:b]
+        for t0, t1 in zip(bounds[:-1], bounds[1:]):
+            if t1 <= t0:
+                continue
+            mid = 0.5 * (t0 + t1)
+            if hasattr(drive, "levels"):
+                s_c = (g + A * float(drive._shape(np.array([np.mod(mid / T, 2.0)]))[0])) / l
+
+                def rhs(_, z, s_c=s_c):
+                    return np.concatenate([z[n:], s_c * sin(z[:n]) - c * z[n:]])
+            else:
+                def rhs(tt, z):
+                    s_t = (g + A * drive._shape(np.mod(tt / T, 2.0))) / l
+                    return np.concatenate([z[n:], s_t * sin(z[:n]) - c * z[n:]])
+            sel = np.flatnonzero((tu > t0) & (tu <= t1))
+            sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol * scale, atol=atol * scale,
+                            t_eval=tu[sel] if sel.size else None, dense_output=False)
+            if sol.status != 0:
+                raise RuntimeError(f"DOP853 failed on [{t0:g}, {t1:g}] s: {sol.message}")
+            if sel.size:
+                Y[sel, a:b] = sol.y[:n].T
+                W[sel, a:b] = sol.y[n:].T
+            y = sol.y[:, -1] if sel.size and sol.t[-1] == t1 else _last_state(rhs, t0, t1, y, rtol * scale, atol * scale)
+    ic = np.broadcast_to(np.arange(n_all).reshape(traj), full).ravel()
+    return Y[inv.ravel(), ic].reshape(full), W[inv.ravel(), ic].reshape(full)
+
+
 # ------------------------------------------------------------------ a trajectory
 @dataclass(frozen=True)
 class Trajectory:
@@ -335,6 +445,8 @@ class Trajectory:
         ``'nonlinear'`` or ``'linear'``.
     method : str
         ``'exact'`` or ``'dop853'``.
+    drive : Drive or None
+        The pivot's motion (``None``: the paper's square wave).
     """
 
     t: np.ndarray
@@ -351,16 +463,21 @@ class Trajectory:
     method: str = "exact"
     rtol: float = field(default=1e-10, repr=False)
     atol: float = field(default=1e-12, repr=False)
+    drive: object = None
 
     @property
     def pivot(self) -> np.ndarray:
         """Pivot height above its mean position [m] at ``t`` (:func:`pivot_displacement`)."""
+        if self.drive is not None:
+            return self.drive.displacement(self.t, self.T, self.A)
         return _displacement(self.t, self.T, self.A)
 
     @property
     def energy(self) -> np.ndarray:
         """:func:`phase_energy` along the samples (nonlinear model)."""
-        s = (self.g + _acceleration(self.t, self.T, self.A)) / self.l
+        a = self.drive.acceleration(self.t, self.T, self.A) if self.drive is not None else \
+            _acceleration(self.t, self.T, self.A)
+        s = (self.g + a) / self.l
         return 0.5 * self.dtheta**2 + s * np.cos(self.theta)
 
     @property
@@ -371,7 +488,7 @@ class Trajectory:
     def at(self, t):
         """The same motion (same model and method) at other times ``t >= 0``."""
         return _motion(self.model, self.method, _times(t), self.theta0, self.dtheta0,
-                       self.T, self.A, self.l, self.g, self.c, self.rtol, self.atol)
+                       self.T, self.A, self.l, self.g, self.c, self.rtol, self.atol, self.drive)
 
     def strobe(self):
         """``(t_k, theta_k, dtheta_k)`` at ``t_k = 2 k T`` within the sampled span."""
@@ -385,7 +502,15 @@ class Trajectory:
         return zip(self.t, self.theta, self.dtheta, self.pivot)
 
 
-def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol):
+def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive=None):
+    if drive is not None:
+        if model == "linear" and method == "exact":
+            return linear_motion(t, theta0, dtheta0, T, A, l, g, drive=drive, damping=c)
+        if method == "exact":
+            return _exact_motion_plan(t, np.asarray(theta0, float), np.asarray(dtheta0, float),
+                                      drive.phases(float(T), float(A), float(l), float(g)))
+        return _integrated_drive(t, np.asarray(theta0, float), np.asarray(dtheta0, float), float(T), float(A),
+                                 float(l), float(g), float(c), rtol, atol, model == "linear", drive)
     if model == "linear":
         if method == "exact":
             return linear_motion(t, theta0, dtheta0, T, A, l, g)
@@ -398,7 +523,7 @@ def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol):
 
 
 def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_per_period=200, t=None,
-             model="nonlinear", c=0.0, method=None, rtol=1e-10, atol=1e-12) -> Trajectory:
+             model="nonlinear", c=0.0, method=None, rtol=1e-10, atol=1e-12, drive=None) -> Trajectory:
     """Simulate one motion from ``(theta0, dtheta0)`` and sample it.
 
     Parameters
@@ -422,6 +547,10 @@ def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_pe
         As in :func:`nonlinear_motion`.
     rtol, atol : float, optional
         Tolerances of ``'dop853'``.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
+        Piecewise-constant drives are exact step by step (undamped); the sine drive and
+        damping use DOP853.
 
     Returns
     -------
@@ -437,6 +566,12 @@ def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_pe
     T, A, l, g = (float(v) for v in _physical(T, A, l, g))
     c = float(_damping(c))
     _choice("model", model, MODELS)
+    drive = _drive_of(drive)
+    if drive is not None and not hasattr(drive, "levels"):
+        if method == "exact":
+            raise _v.KapitzaValueError(f"method='exact' needs a piecewise-constant drive; got {drive.describe()} "
+                                       "(use method='dop853')")
+        method = "dop853" if method is None else method
     method = _method(method, c, model)
     rtol, atol = _tolerances(rtol, atol)
     if t is None:
@@ -450,6 +585,6 @@ def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_pe
         t = _times(t).ravel()
         if t.size and np.any(np.diff(t) < 0):
             raise _v.KapitzaValueError("t must be increasing")
-    th, om = _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol)
+    th, om = _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive)
     return Trajectory(t=t, theta=np.asarray(th), dtheta=np.asarray(om), theta0=theta0, dtheta0=dtheta0,
-                      T=T, A=A, l=l, g=g, c=c, model=model, method=method, rtol=rtol, atol=atol)
+                      T=T, A=A, l=l, g=g, c=c, model=model, method=method, rtol=rtol, atol=atol, drive=drive)

@@ -1,0 +1,76 @@
+"""Nonlinear motion, stroboscopic maps, basins and the motion commands for other drives."""
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import kapitza as K
+import kapitza.drives as kd
+from kapitza.motion import basin, stroboscopic_map
+from kapitza._validate import KapitzaValueError
+from cli_util import assert_one_line_error, run
+
+T, A = 0.15, 100.0
+
+
+def test_two_equal_steps_move_exactly_like_the_square_wave():
+    a = K.simulate(0.3, 0.5, T, A, periods=7)
+    b = K.simulate(0.3, 0.5, T, A, periods=7, drive=kd.StepDrive([1, -1], [0.5, 0.5]))
+    np.testing.assert_allclose(b.theta, a.theta, atol=1e-13)
+    s0 = stroboscopic_map(np.linspace(-0.4, 0.4, 9), 0.1, T, A, periods=30)
+    s1 = stroboscopic_map(np.linspace(-0.4, 0.4, 9), 0.1, T, A, periods=30, drive=kd.RectangularWave(0.5))
+    np.testing.assert_allclose(s1.theta, s0.theta, atol=1e-11)
+
+
+@pytest.mark.parametrize("drive", [kd.RectangularWave(0.3), kd.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3])],
+                         ids=["rect30", "steps4"])
+def test_exact_step_flows_agree_with_dop853(drive):
+    ex = K.simulate(0.4, -1.0, T, A, periods=4, drive=drive)
+    iv = K.simulate(0.4, -1.0, T, A, periods=4, drive=drive, method="dop853", rtol=1e-12, atol=1e-13)
+    assert ex.method == "exact" and iv.method == "dop853"
+    np.testing.assert_allclose(ex.theta, iv.theta, atol=1e-8)
+    # the pivot and the energy use the drive's own motion
+    np.testing.assert_allclose(ex.pivot, drive.displacement(ex.t, T, A))
+
+
+def test_sine_motion_against_a_direct_integration():
+    tr = K.simulate(0.2, 0.0, T, A, periods=3, drive="sine", rtol=1e-11)
+    assert tr.method == "dop853"
+    sol = solve_ivp(lambda t, y: [y[1], (9.81 + A * np.sin(np.pi * t / T)) * np.sin(y[0])], (0, tr.t[-1]),
+                    [0.2, 0.0], method="DOP853", rtol=1e-12, atol=1e-14, t_eval=tr.t, max_step=T / 20)
+    np.testing.assert_allclose(tr.theta, sol.y[0], atol=1e-7)
+    with pytest.raises(KapitzaValueError, match="piecewise-constant"):
+        K.simulate(0.2, 0.0, T, A, drive="sine", method="exact")
+
+
+def test_damped_linear_motion_of_a_drive_decays_like_its_multipliers():
+    d = kd.RectangularWave(0.4)
+    tr = K.simulate(0.1, 0.0, T, A, periods=40, points_per_period=4, drive=d, c=1.0, model="linear")
+    rep = K.analyze(T=T, A=A, drive=d, damping=1.0)
+    assert rep.stable and rep.growth < 0
+    # the states at t = 2kT are the powers of the damped monodromy applied to the start
+    M = K.monodromy(T, A, drive=d, damping=1.0)
+    x = np.array([0.1, 0.0])
+    for k in range(1, 41):
+        x = M @ x
+        assert tr.theta[4 * k] == pytest.approx(x[0], abs=1e-9)
+    assert np.abs(np.linalg.eigvals(M)).max() == pytest.approx(np.exp(rep.growth), rel=1e-12)
+
+
+def test_basins_of_step_drives_and_the_sine_refused():
+    b = basin(T, A, drive=kd.RectangularWave(0.4), n_theta=21, n_dtheta=21, periods=10)
+    assert 0 < b.fraction < 1
+    with pytest.raises(KapitzaValueError, match="piecewise-constant"):
+        basin(T, A, drive="sine")
+
+
+def test_motion_commands_take_a_drive(tmp_path, capsys):
+    code, out, err = run(["simulate", "--T", "0.15", "--A", "100", "--drive", "sine", "--periods", "2", "--json"], capsys)
+    assert code == 0, err
+    assert '"dop853"' in out
+    code, out, err = run(["simulate", "--T", "0.15", "--A", "100", "--duty", "0.4", "--periods", "2"], capsys)
+    assert code == 0 and "rectangular wave, duty 0.4" in out
+    code, _, err = run(["basin", "--T", "0.15", "--A", "100", "--drive", "sine", "--quiet", "--out", str(tmp_path / "b")],
+                       capsys)
+    assert_one_line_error(code, err, "piecewise-constant")
+    code, _, err = run(["simulate", "--T", "0.15", "--A", "100", "--drive", "square:2"], capsys)
+    assert_one_line_error(code, err, "no parameters")
