@@ -55,3 +55,22 @@ def test_drive_damping_and_check_exit_status(capsys):
 def test_bad_rig_input_is_one_line(argv, needle, capsys):
     code, _, err = run(["stability", *argv], capsys)
     assert_one_line_error(code, err, needle)
+
+
+def test_zones_and_chart_take_a_drive(tmp_path, capsys):
+    import csv
+
+    out = tmp_path / "z.csv"
+    code, _, err = run(["zones", "--drive", "sine", "--zeta", "0.1", "--zones", "2", "--points", "5",
+                        "--out", str(out)], capsys)
+    assert code == 0, err
+    rows = list(csv.DictReader(line for line in open(out) if not line.startswith("#")))
+    mu = np.array([float(r["mu"]) for r in rows if r["n"] == "1"])
+    lo = np.array([float(r["eps_lo"]) for r in rows if r["n"] == "1"])
+    ref, _ = K.zone_edges(mu, 1, drive="sine", zeta=0.1)
+    np.testing.assert_allclose(lo, ref, rtol=1e-15)
+    code, _, err = run(["chart", "--duty", "0.3", "--points", "100", "--out", str(tmp_path / "c")], capsys)
+    assert code == 0, err
+    assert (tmp_path / "c.png").stat().st_size > 0
+    code, _, err = run(["chart", "--drive", "sine", "--plane", "physical", "--out", str(tmp_path / "p")], capsys)
+    assert_one_line_error(code, err, "--plane arnold")

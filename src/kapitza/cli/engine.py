@@ -8,7 +8,8 @@ import numpy as np
 from .. import _io
 from ..analysis import analyze
 from ..periodic import boundary_table
-from ._common import CLIError, add_parameters, finite_float, format_table, out_stem, parameters_from, print_json
+from ._common import (CLIError, add_drive, add_parameters, drive_from, finite_float, format_table, out_stem,
+                      parameters_from, print_json)
 
 
 def register(sub):
@@ -57,6 +58,8 @@ def register(sub):
     p.add_argument("--points", type=int, default=200, help="mu values (default 200)")
     p.add_argument("--out", metavar="FILE", help="write to FILE (.csv or .json)")
     p.add_argument("--json", action="store_true", help="print JSON to standard output")
+    add_drive(p.add_argument_group("the pivot's motion"))
+    p.add_argument("--zeta", type=finite_float, default=0.0, help="damping ratio c / (2 sqrt(g/l)) (default 0)")
     p.set_defaults(func=cmd_zones)
 
     p = sub.add_parser(
@@ -90,6 +93,9 @@ def register(sub):
     p.add_argument("--l", type=finite_float, default=1.0, help="rod length in m, for --plane physical and --mark-T/--mark-A")
     p.add_argument("--g", type=finite_float, default=9.81, help="gravity in m/s^2, for --plane physical and --mark-T/--mark-A")
     p.add_argument("--title", default=None)
+    add_drive(p.add_argument_group("the pivot's motion (arnold plane)"))
+    p.add_argument("--zeta", type=finite_float, default=0.0,
+                   help="damping ratio c / (2 sqrt(g/l)) (default 0; arnold plane)")
     p.set_defaults(func=cmd_chart)
 
 
@@ -127,11 +133,11 @@ def cmd_periods(args):
 
 
 # ------------------------------------------------------------------ zones
-def _zone_rows(n_zones, mu):
+def _zone_rows(n_zones, mu, drive=None, zeta=0.0):
     from ..zones import zone_edges
 
     n = np.arange(n_zones)
-    lo, hi = zone_edges(mu[None, :], n[:, None])
+    lo, hi = zone_edges(mu[None, :], n[:, None], drive=drive, zeta=zeta)
     return n, lo, hi
 
 
@@ -145,7 +151,10 @@ def cmd_zones(args):
     if args.out and Path(args.out).suffix.lower() not in (".csv", ".json"):
         raise CLIError(f"--out must end in .csv or .json; got {args.out!r}")
     mu = np.linspace(args.mu_min, args.mu_max, args.points)
-    n, lo, hi = _zone_rows(args.zones, mu)
+    drive = drive_from(args)
+    if args.zeta < 0:
+        raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
+    n, lo, hi = _zone_rows(args.zones, mu, drive, args.zeta)
     kinds = lambda k: ("2T", "4T") if k % 2 == 0 else ("4T", "2T")  # noqa: E731
     records = [
         dict(n=int(k), lower_edge=kinds(k)[0], upper_edge=kinds(k)[1], mu=mu, eps_lo=lo[i], eps_hi=hi[i])
@@ -157,7 +166,8 @@ def cmd_zones(args):
         else:
             rows = ([int(k), m, lo[i, j], hi[i, j], *kinds(k)] for i, k in enumerate(n) for j, m in enumerate(mu))
             _io.write_csv(args.out, ["n", "mu", "eps_lo", "eps_hi", "lower_edge", "upper_edge"], rows,
-                          comments=["zone n is eps_lo < eps < eps_hi at fixed mu; eps = T sqrt(A/(8 l)), mu = sqrt(g/A)"])
+                          comments=["zone n is eps_lo < eps < eps_hi at fixed mu; eps = T sqrt(A/(8 l)), mu = sqrt(g/A)",
+                                    f"drive: {drive.describe()}; damping ratio zeta = {args.zeta!r}"])
     if args.json:
         print_json(dict(zones=records))
     elif not args.out:
@@ -190,10 +200,36 @@ def cmd_chart(args):
             raise CLIError("--mark-T and --mark-A must be given together")
         rep = analyze(T=args.mark_T, A=args.mark_A, l=args.l, g=args.g)
         mark = (rep, f"T = {args.mark_T:g} s, A = {args.mark_A:g} m/s$^2$")
+    drive = drive_from(args)
+    if args.zeta < 0:
+        raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
+    general = drive.name != "square" or args.zeta > 0
+    if general and args.plane != "arnold":
+        raise CLIError("--plane physical draws the square wave without damping; use --plane arnold for other "
+                       "drives and damping")
+    if general and mark is not None:
+        rep = mark[0]
+        rep = analyze(eps=rep.eps, mu=rep.mu, drive=drive, zeta=args.zeta)
+        mark = (rep, mark[1])
     stem = out_stem(args.out)
     fig = new_figure(8.6, 5.2)
     ax = fig.add_subplot()
-    if args.plane == "arnold":
+    if general:
+        from ..figures.drives import drive_curves, plot_drive_comparison
+
+        if not (0.0 <= args.eps_min < args.eps_max <= 50.0):
+            raise CLIError(f"need 0 <= eps-min < eps-max <= 50; got {args.eps_min:g}, {args.eps_max:g}")
+        if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
+            raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
+        mu_s = np.linspace(max(args.mu_min, 1e-3), min(args.mu_max, 0.999), min(args.points, 4000))
+        curves = drive_curves(drive, mu_s, args.eps_max, args.zeta)
+        plot_drive_comparison([curves], ax, eps_range=(args.eps_min, args.eps_max),
+                              mu_range=(args.mu_min, args.mu_max))
+        header = ["drive", "zeta", "n", "mu", "eps_lo", "eps_hi"]
+        xy = (lambda r: (r.eps, r.mu))
+        ax.set_title(args.title or f"Exact stability zones: {drive.label}"
+                     + (f", damping ratio {args.zeta:g}" if args.zeta > 0 else ""))
+    elif args.plane == "arnold":
         if not (0.0 <= args.eps_min < args.eps_max):
             raise CLIError(f"need 0 <= eps-min < eps-max; got {args.eps_min:g}, {args.eps_max:g}")
         if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
@@ -224,10 +260,15 @@ def cmd_chart(args):
         ax.plot([x], [y], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
                 label=f"{label}: {rep.verdict.split(':')[0].split(' (')[0]}")
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    ax.set_title(args.title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
-    caption(fig, rf"Shaded: the upright position is stable, {what}. "
-                 r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
-                 + extra)
+    if general:
+        caption(fig, f"Shaded: the upright position is stable ({drive.describe()}"
+                     + (f", damping ratio {args.zeta:g}" if args.zeta > 0 else "")
+                     + r"); lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$.")
+    else:
+        ax.set_title(args.title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
+        caption(fig, rf"Shaded: the upright position is stable, {what}. "
+                     r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
+                     + extra)
     formats = ("png", "svg", "pdf") if args.pdf else ("png", "svg")
     paths = save(fig, stem, formats)
     import matplotlib.pyplot as plt

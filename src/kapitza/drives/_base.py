@@ -335,6 +335,16 @@ def _damped_edges(drive, mu, n, zeta, phi=None):
         lo_n, hi_n, hi_prev, lo_next = phi
     # gap below zone n: (hi_{n-1}, lo_n), or (0, lo_0) for zone 0
     gap_lo = np.where(n == 0, 0.0, hi_prev)
+    # no phi-zone n (no attracting part left at mu_c): no damped zone either
+    ok = np.isfinite(lo_n) & np.isfinite(hi_n) & np.isfinite(gap_lo)
+    if not ok.all():
+        out_lo = np.full(mu.shape, np.nan)
+        out_hi = np.full(mu.shape, np.nan)
+        if ok.any():
+            nxt = np.where(np.isfinite(lo_next), lo_next, 4.0 * hi_n)
+            out_lo[ok], out_hi[ok] = _damped_edges(drive, mu[ok], n[ok], zeta[ok],
+                                                   phi=(lo_n[ok], hi_n[ok], hi_prev[ok], nxt[ok]))
+        return out_lo, out_hi
     x_lo, G_lo = _gap_argmax(drive, mu, zeta, gap_lo, lo_n)
     x_hi, G_hi = _gap_argmax(drive, mu, zeta, hi_n, lo_next)
     edge_lo = np.where(G_lo > 0, _bisect(drive, mu, zeta, x_lo, lo_n, rising=False), x_lo)

@@ -64,6 +64,7 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
         _, ax = plt.subplots()
     drawn = set()
     names = list(dict.fromkeys(c.drive for c in curves))
+    undamped = {c.drive for c in curves if c.zeta == 0}
     for c in curves:
         colour = DRIVE_COLOURS[names.index(c.drive) % len(DRIVE_COLOURS)]
         damped = c.zeta > 0
@@ -72,7 +73,7 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
         for k in range(c.zones.size):
             ok = np.isfinite(c.lo[k]) & ~np.isnan(c.hi[k])
             hi = np.minimum(c.hi[k][ok], eps_range[1])  # an edge beyond the view: paint to its end
-            if not damped:  # damped zones as outlines over the undamped fills
+            if not damped or c.drive not in undamped:  # damped zones as outlines over the undamped fills
                 ax.fill_betweenx(c.mu[ok], c.lo[k][ok], hi, color=colour, alpha=0.18, linewidth=0)
             ax.plot(c.lo[k][ok], c.mu[ok], label=label if k == 0 else None, **style)
             fin = np.isfinite(c.hi[k][ok])
