@@ -74,3 +74,12 @@ def test_zones_and_chart_take_a_drive(tmp_path, capsys):
     assert (tmp_path / "c.png").stat().st_size > 0
     code, _, err = run(["chart", "--drive", "sine", "--plane", "physical", "--out", str(tmp_path / "p")], capsys)
     assert_one_line_error(code, err, "--plane arnold")
+
+
+def test_python_dash_m_kapitza():
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-m", "kapitza", "stability", "--eps", "0.5", "--mu", "0.3", "--check"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0 and "stable (zone 0)" in proc.stdout
