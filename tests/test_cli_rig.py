@@ -83,3 +83,12 @@ def test_python_dash_m_kapitza():
     proc = subprocess.run([sys.executable, "-m", "kapitza", "stability", "--eps", "0.5", "--mu", "0.3", "--check"],
                           capture_output=True, text=True)
     assert proc.returncode == 0 and "stable (zone 0)" in proc.stdout
+
+
+def test_closed_pipe_is_quiet():
+    import subprocess
+    import sys
+
+    proc = subprocess.run(f"{sys.executable} -m kapitza zones --zones 40 --points 400 --json | head -c 10",
+                          shell=True, capture_output=True, text=True)
+    assert proc.stderr == "" and len(proc.stdout) == 10

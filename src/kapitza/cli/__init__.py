@@ -65,6 +65,13 @@ def main(argv=None) -> int:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"kapitza {args.command}: error: {msg}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # the reader went away (``kapitza ... | head``): nothing is wrong, say nothing
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
     except OverflowError as exc:
         print(f"kapitza {args.command}: error: {exc}", file=sys.stderr)
         return 2
