@@ -185,34 +185,21 @@ def characteristic_b(n, q):
 def _pencil(kind, parity, mu2, N):
     """``C = D^{-1/2} B D^{-1/2}`` for each mu (shape ``(len(mu2), N, N)``): its negative
     eigenvalues ``nu`` give the roots ``q = -1/nu`` of ``char(q) = -2 mu^2 q``."""
-    d_of, s0, shift = _family(kind, parity)
-    if kind == "a" and parity == 0:
-        # eliminate the first coefficient: row 0 gives c_0 = -c_1 / (sqrt 2 mu^2); what is left
-        # is the b_{2k+2}-shaped family with 2 mu^2 - 1/mu^2 in the first diagonal entry of B
-        d = (2.0 * np.arange(1, N + 1, dtype=float)) ** 2
-        first = 2.0 * mu2 - 1.0 / mu2
-    else:
-        d = d_of(np.arange(N, dtype=float))
-        first = 2.0 * mu2 + shift
-    Bd = np.broadcast_to(2.0 * mu2[:, None], (mu2.size, N)).copy()
-    Bd[:, 0] = first
-    off = np.ones(N - 1)
-    if not (kind == "a" and parity == 0):
-        off[0] = s0
-    s = 1.0 / np.sqrt(d)
-    C = np.zeros((mu2.size, N, N))
+    diag, off = _pencil_bands(kind, parity, mu2, N)
     idx = np.arange(N)
-    C[:, idx, idx] = Bd * (s * s)[None, :]
-    C[:, idx[:-1], idx[1:]] = (off * s[:-1] * s[1:])[None, :]
-    C[:, idx[1:], idx[:-1]] = (off * s[:-1] * s[1:])[None, :]
+    C = np.zeros((mu2.size, N, N))
+    C[:, idx, idx] = diag
+    C[:, idx[:-1], idx[1:]] = off
+    C[:, idx[1:], idx[:-1]] = off
     return C
 
 
 def _pencil_bands(kind, parity, mu2, N):
     """Diagonal and off-diagonal of :func:`_pencil`'s matrix (rows of ``mu2``)."""
-    C = None
     d_of, s0, shift = _family(kind, parity)
     if kind == "a" and parity == 0:
+        # eliminate the first coefficient: row 0 gives c_0 = -c_1 / (sqrt 2 mu^2); what is left
+        # is the b_{2k+2}-shaped family with 2 mu^2 - 1/mu^2 in the first diagonal entry of B
         d = (2.0 * np.arange(1, N + 1, dtype=float)) ** 2
         first = 2.0 * mu2 - 1.0 / mu2
         off = np.ones(N - 1)
@@ -224,7 +211,6 @@ def _pencil_bands(kind, parity, mu2, N):
     s = 1.0 / np.sqrt(d)
     diag = np.broadcast_to(2.0 * mu2[:, None], (mu2.size, N)).copy()
     diag[:, 0] = first
-    del C
     return diag * (s * s)[None, :], off * s[:-1] * s[1:]
 
 
@@ -250,12 +236,7 @@ def _edge_q(kind, parity, k, mu):
         grp = np.flatnonzero(N == Nv)
         diag, off = _pencil_bands(kind, parity, mu2[grp], int(Nv))
         if Nv <= 160:
-            idx = np.arange(Nv)
-            C = np.zeros((grp.size, Nv, Nv))
-            C[:, idx, idx] = diag
-            C[:, idx[:-1], idx[1:]] = off
-            C[:, idx[1:], idx[:-1]] = off
-            ev = np.linalg.eigvalsh(C)[np.arange(grp.size), k[grp]]
+            ev = np.linalg.eigvalsh(_pencil(kind, parity, mu2[grp], int(Nv)))[np.arange(grp.size), k[grp]]
         else:
             ev = np.array([eigvalsh_tridiagonal(diag[j], off, select="i", select_range=(kk, kk))[0]
                            for j, kk in enumerate(k[grp])])
