@@ -56,11 +56,18 @@ def test_damped_linear_motion_of_a_drive_decays_like_its_multipliers():
     assert np.abs(np.linalg.eigvals(M)).max() == pytest.approx(np.exp(rep.growth), rel=1e-12)
 
 
-def test_basins_of_step_drives_and_the_sine_refused():
+def test_basins_of_step_drives_and_of_the_sine():
     b = basin(T, A, drive=kd.RectangularWave(0.4), n_theta=21, n_dtheta=21, periods=10)
     assert 0 < b.fraction < 1
-    with pytest.raises(KapitzaValueError, match="piecewise-constant"):
-        basin(T, A, drive="sine")
+    # the sine (DOP853): a start survives exactly when its sampled motion stays in the window
+    s = basin(T, A, drive="sine", n_theta=9, n_dtheta=9, periods=6)
+    assert 0 < s.fraction < 1
+    for i in (0, 4, 8):
+        for j in (2, 4, 6):
+            tr = K.simulate(s.theta0[j], s.dtheta0[i], T, A, periods=6, points_per_period=64, drive="sine",
+                            rtol=1e-10)
+            inside = np.all(np.abs(tr.theta) <= s.tol)
+            assert inside == (s.periods_survived[i, j] == 6)
 
 
 def test_motion_commands_take_a_drive(tmp_path, capsys):
@@ -69,8 +76,9 @@ def test_motion_commands_take_a_drive(tmp_path, capsys):
     assert '"dop853"' in out
     code, out, err = run(["simulate", "--T", "0.15", "--A", "100", "--duty", "0.4", "--periods", "2"], capsys)
     assert code == 0 and "rectangular wave, duty 0.4" in out
-    code, _, err = run(["basin", "--T", "0.15", "--A", "100", "--drive", "sine", "--quiet", "--out", str(tmp_path / "b")],
-                       capsys)
-    assert_one_line_error(code, err, "piecewise-constant")
+    code, out, err = run(["basin", "--T", "0.15", "--A", "100", "--drive", "sine", "--quiet", "--resolution", "11",
+                          "--periods", "5", "--out", str(tmp_path / "b")], capsys)
+    assert code == 0, err
+    assert (tmp_path / "b.png").stat().st_size > 0
     code, _, err = run(["simulate", "--T", "0.15", "--A", "100", "--drive", "square:2"], capsys)
     assert_one_line_error(code, err, "no parameters")
