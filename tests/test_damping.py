@@ -156,3 +156,24 @@ def test_damped_grid_is_pixel_exact():
     E, MU = np.meshgrid(eps, mu)
     ref, _ = _api.verdict(E, MU, sq, np.full(E.shape, 0.2))
     assert np.array_equal(out, ref), np.argwhere(out != ref)[:5]
+
+
+@pytest.mark.parametrize("drive", DRIVES, ids=lambda d: d.name)
+def test_damped_edges_against_a_40_digit_product(drive):
+    """At a damped edge |tr M_phi / 2| = cosh(kappa) (40+ digits, mpmath product at mu_c), and
+    the points 1e-9 inside and outside are stable and unstable by the certified verdict."""
+    from mpmath import mp
+
+    zeta = 0.25
+    mu = np.array([0.3, 0.55])
+    E = [_api.edges(mu, n, drive, np.full(2, zeta)) for n in range(3)]
+    for n in range(2):
+        lo, hi = E[n]
+        joined = np.concatenate([(lo == E[n - 1][1]) if n else np.zeros(2, bool), hi == E[n + 1][0]])
+        for e, m in zip(np.concatenate([lo, hi])[~joined], np.concatenate([mu, mu])[~joined]):
+            mu_c = m * np.sqrt(1 + zeta**2)
+            (t, _), = _tau_mp(np.array([e]), np.array([mu_c]), drive.levels, drive._durations)
+            kappa = 2 * np.sqrt(8) * zeta * m * e
+            with mp.workdps(40):
+                target = float(mp.cosh(mp.mpf(kappa)))
+            assert abs(abs(t) - target) < 1e-9 * max(1.0, target) * (1 + abs(t))
