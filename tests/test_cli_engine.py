@@ -42,7 +42,7 @@ def test_stability_json_physical_and_unstable(capsys):
     code, out, _ = run(["stability", "--T", "0.3", "--A", "100", "--l", "1", "--g", "9.81", "--json"], capsys)
     assert code == 0
     d = json.loads(out)
-    assert d["stable"] is False and d["zone"] == -1 and d["verdict"].startswith("unstable (")
+    assert d["stable"] is False and d["zone"] == -1 and d["verdict"].startswith("unstable: parametric resonance, 4T-type")
     assert d["T"] == 0.3 and d["A"] == 100.0 and d["margin"] < 0
     assert d["T_lo"] < d["T_hi"] and not (d["T_lo"] < 0.3 < d["T_hi"])
 

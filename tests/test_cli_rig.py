@@ -92,3 +92,21 @@ def test_closed_pipe_is_quiet():
     proc = subprocess.run(f"{sys.executable} -m kapitza zones --zones 40 --points 400 --json | head -c 10",
                           shell=True, capture_output=True, text=True)
     assert proc.stderr == "" and len(proc.stdout) == 10
+
+
+def test_rig_margins_along_frequency_and_stroke():
+    """At a fixed stroke eps is fixed and mu ~ 1/f; the frequency interval's ends are zone edges."""
+    rep = K.analyze(T=0.5064, A=100.0)        # zone 1, thin
+    assert rep.zone == 1 and rep.frequency_lo < rep.frequency < rep.frequency_hi
+    k = rep.stroke / (rep.A * rep.T**2)
+    for f_edge, inside in ((rep.frequency_lo, 1.0 + 1e-7), (rep.frequency_hi, 1.0 - 1e-7)):
+        for factor, stable in ((inside, True), (2.0 - inside, False)):
+            f = f_edge * factor
+            T = 0.5 / f
+            A = rep.stroke / (k * T * T)
+            assert K.analyze(T=T, A=A).stable == stable
+    # the stroke interval at this frequency is the A interval scaled
+    assert rep.stroke_lo / rep.stroke == pytest.approx(rep.A_lo / rep.A)
+    weak = K.analyze(T=0.01, A=100.0)
+    assert weak.verdict.startswith("unstable: the drive is too weak") and weak.frequency_lo > weak.frequency
+    assert "no upper limit" in str(weak)

@@ -185,9 +185,12 @@ def test_analyze_report_against_the_reference(eps, mu):
         assert rep.verdict.startswith("always unstable") and rep.zone == -1
     elif r.stable:
         assert rep.verdict == f"stable (zone {rep.zone})"
+    elif rep.nearest_zone == 0 and rep.eps <= rep.eps_lo:
+        # below zone 0 the upright simply falls (a real multiplier > 1): said in those words
+        assert r.trace > 0 and rep.verdict.startswith("unstable: the drive is too weak")
     else:
         kind = "2T" if r.trace > 0 else "4T"
-        assert rep.verdict.startswith(f"unstable ({kind}-type")
+        assert rep.verdict.startswith(f"unstable: parametric resonance, {kind}-type")
     assert (rep.trace_margin > 0) == r.stable
 
 

@@ -117,7 +117,7 @@ def test_verdict_text_for_A_at_most_g():
         assert d["eps_lo"] is None and d["eps_hi"] is None
     # just below A = g the zones exist again and the report says which is nearest
     rep = K.analyze(eps=0.5, mu=1 - 1e-9)
-    assert rep.verdict.startswith("unstable (") and rep.nearest_zone == 0
+    assert rep.verdict.startswith("unstable: ") and rep.nearest_zone == 0
 
 
 def test_A_just_above_g_is_handled_without_loss():

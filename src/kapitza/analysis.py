@@ -28,8 +28,9 @@ class StabilityReport:
         Arnold's parameters.
     stable : bool
     verdict : str
-        A sentence: ``"stable (zone 0)"``, ``"unstable (2T-type resonance)"``,
-        or ``"always unstable: no elliptic phase (A <= g)"``.
+        A sentence: ``"stable (zone 0)"``; ``"unstable: the drive is too weak to hold it up ..."``
+        below zone 0; ``"unstable: parametric resonance, 2T-type ..."`` (or ``4T-type``) between
+        zones; or ``"always unstable: no elliptic phase (A <= g)"``.
     zone : int
         Zone containing the point, -1 where unstable.
     nearest_zone : int
@@ -63,6 +64,13 @@ class StabilityReport:
         ``det M = exp(-2 c T)``.
     T_lo, T_hi : float or None
         ``nearest_zone`` as an interval of half-periods at this ``A``.
+    stroke : float or None
+        Peak-to-peak travel of the pivot [m].
+    frequency_lo, frequency_hi : float or None
+        ``nearest_zone`` as an interval of drive frequencies [Hz] at this stroke (how a shaker
+        is turned: its stroke fixed, its frequency changed; ``eps`` stays fixed, ``mu`` varies).
+    stroke_lo, stroke_hi : float or None
+        ``nearest_zone`` as an interval of strokes [m] at this frequency (``A`` scales with it).
     A_lo, A_hi : float or None
         ``nearest_zone`` as an interval of amplitudes at this ``T``.
     """
@@ -89,6 +97,11 @@ class StabilityReport:
     T_hi: float | None = None
     A_lo: float | None = None
     A_hi: float | None = None
+    stroke: float | None = None
+    frequency_lo: float | None = None
+    frequency_hi: float | None = None
+    stroke_lo: float | None = None
+    stroke_hi: float | None = None
     drive: str = "square wave (+A for T, -A for T)"
     pendulum: str | None = None
     damping: float | None = None
@@ -127,6 +140,18 @@ class StabilityReport:
             if self.T_lo is not None:
                 rows.append(("", f"{_fmt(self.T_lo)} < T < {_fmt(self.T_hi)} s at this A"))
                 rows.append(("", f"{_fmt(self.A_lo)} < A < {_fmt(self.A_hi)} m/s^2 at this T"))
+            if self.frequency_lo is not None:
+                f = self.frequency
+                if np.isfinite(self.frequency_hi):
+                    rows.append(("", f"{_fmt(self.frequency_lo, 6)} < frequency < {_fmt(self.frequency_hi, 6)} Hz at "
+                                     f"this stroke ({_pct(self.frequency_lo, f)} / {_pct(self.frequency_hi, f)})"))
+                else:
+                    rows.append(("", f"frequency > {_fmt(self.frequency_lo, 6)} Hz at this stroke "
+                                     f"({_pct(self.frequency_lo, f)}; no upper limit)"))
+            if self.stroke_lo is not None:
+                st = self.stroke
+                rows.append(("", f"{_fmt(1e3 * self.stroke_lo, 6)} < stroke < {_fmt(1e3 * self.stroke_hi, 6)} mm at "
+                                 f"this frequency ({_pct(self.stroke_lo, st)} / {_pct(self.stroke_hi, st)})"))
             pct = 100.0 * self.margin
             if self.stable:
                 rows.append(("margin", f"{pct:.4g}% (T may change by this fraction at fixed A before stability is lost)"))
@@ -151,6 +176,57 @@ class StabilityReport:
         d["multipliers"] = [[float(z.real), float(z.imag)] for z in self.multipliers]
         return {k: (None if isinstance(v, float) and not np.isfinite(v) and k not in ("trace", "margin") else v)
                 for k, v in d.items()}
+
+
+def _unstable_verdict(tau, nearest, eps, eps_lo):
+    """The way of being unstable, in words a user recognises."""
+    if nearest == 0 and eps <= eps_lo:
+        return ("unstable: the drive is too weak to hold it up (it falls; below zone 0, "
+                "one multiplier real and > 1)")
+    if tau > 0:
+        return "unstable: parametric resonance, 2T-type (multipliers real, positive)"
+    return "unstable: parametric resonance, 4T-type, period doubling (multipliers real, negative)"
+
+
+def _pct(edge, value):
+    """The change from ``value`` to ``edge`` in percent, with its sign."""
+    return f"{100.0 * (edge / value - 1.0):+.3g} %"
+
+
+def _rig_margins(eps, mu, zone, drive, zeta, T, A, stroke):
+    """Frequency interval of ``zone`` at this stroke and stroke interval at this frequency.
+
+    At a fixed stroke ``A`` grows like ``f^2`` and ``T = 1/(2f)``, so ``eps`` is fixed and
+    ``mu`` falls like ``1/f``; the zone is an interval of ``mu`` there (its edges ``eps_lo(mu)``,
+    ``eps_hi(mu)`` both grow with ``mu``), found by bisection on the zone index read from the
+    rotation angle. At a fixed frequency the stroke is proportional to ``A``.
+    """
+    from .drives import as_drive
+    from .drives._piecewise import _bisect_bits
+
+    d = as_drive(drive)
+    e = np.array([eps])
+    z = np.array([zeta])
+
+    def level(m):
+        tau, growth, theta, st, zn, _ = d._floquet(np.broadcast_to(e, m.shape), m, np.broadcast_to(z, m.shape))
+        return np.where(st, zn + 0.5, np.rint(theta / np.pi))
+
+    # The angle falls as mu grows: [mu_lo, mu_hi] is where it lies in zone `zone`. Below
+    # mu = 1e-6 (A > 1e12 g) nothing is searched: a zone reaching there has no upper frequency.
+    lo, hi = np.full(1, 1e-6), np.full(1, 4.0)
+    f = 0.5 / T
+    out = dict(stroke=float(stroke))
+    above = level(lo)[0] < zone + 1   # still in the zone (or below it) at the smallest mu
+    mu_lo = lo if above else _bisect_bits(lambda m: level(m) < zone + 1, lo, hi)[0]
+    if level(hi)[0] <= zone:
+        mu_hi = _bisect_bits(lambda m: level(m) <= zone, lo, hi)[1]
+    else:
+        mu_hi = hi
+    if mu_lo[0] < mu_hi[0]:
+        out.update(frequency_lo=float(f * mu / mu_hi[0]),
+                   frequency_hi=float("inf") if above else float(f * mu / mu_lo[0]))
+    return out
 
 
 def _fmt(v, digits=12):
@@ -231,16 +307,19 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     elif stable:
         verdict = f"stable (zone {int(zone)})"
     else:
-        kind = "2T" if tau > 0 else "4T"
-        verdict = f"unstable ({kind}-type resonance: multipliers real, {'positive' if tau > 0 else 'negative'})"
+        verdict = _unstable_verdict(tau, int(m.zone), eps, float(m.eps_lo))
     phys = {}
     if physical:
         phys = dict(T=T, A=A, l=l, g=g)
         nz = int(m.zone)
+        stroke = 0.25 * A * T * T
+        phys["stroke"] = stroke
         if nz >= 0:
             Tlo, Thi = period_edges(A, nz, l, g)
             Alo, Ahi = amplitude_edges(T, nz, l, g)
-            phys.update(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi))
+            phys.update(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi),
+                        stroke_lo=float(stroke * Alo / A), stroke_hi=float(stroke * Ahi / A))
+            phys.update(_rig_margins(eps, mu, nz, None, 0.0, T, A, stroke))
     return StabilityReport(
         eps=float(eps),
         mu=float(mu),
@@ -274,8 +353,7 @@ def _general_report(eps, mu, drive, zeta, physical, T, A, l, g, c):
     elif np.all(np.isnan(lo)) and int(nz) < 0:
         verdict = "always unstable: the drive has no attracting phase at this mu"
     else:
-        kind = "2T" if tau_phi > 0 else "4T"
-        verdict = f"unstable ({kind}-type: multipliers real, {'positive' if tau_phi > 0 else 'negative'})"
+        verdict = _unstable_verdict(tau_phi, int(nz), eps, float(lo))
     phys = {}
     if physical:
         phys = dict(T=T, A=A, l=l, g=g)
@@ -284,7 +362,12 @@ def _general_report(eps, mu, drive, zeta, physical, T, A, l, g, c):
 
             Tlo, Thi = period_edges(A, int(nz), l, g, drive=drive, damping=c)
             Alo, Ahi = amplitude_edges(T, int(nz), l, g, drive=drive, damping=c)
-            phys.update(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi))
+            stroke = float(drive.stroke(T, A))
+            phys.update(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi),
+                        stroke_lo=stroke * float(Alo) / A, stroke_hi=stroke * float(Ahi) / A)
+            phys.update(_rig_margins(eps, mu, int(nz), drive, zeta, T, A, stroke))
+        else:
+            phys["stroke"] = float(drive.stroke(T, A))
     return StabilityReport(
         eps=float(eps), mu=float(mu), stable=stable, verdict=verdict,
         zone=int(zone) if stable else -1, nearest_zone=int(nz), trace=float(trace),
