@@ -110,3 +110,20 @@ def test_rig_margins_along_frequency_and_stroke():
     weak = K.analyze(T=0.01, A=100.0)
     assert weak.verdict.startswith("unstable: the drive is too weak") and weak.frequency_lo > weak.frequency
     assert "no upper limit" in str(weak)
+
+
+def test_periods_by_mu_and_zones_json_with_out(tmp_path, capsys):
+    import json
+
+    code, out, _ = run(["periods", "--mu", repr((9.81 / 100) ** 0.5), "--count", "1", "--json"], capsys)
+    assert code == 0
+    assert json.loads(out)["periods"][0]["T"] == pytest.approx(0.10910018565, rel=1e-9)
+    code, _, err = run(["periods", "--mu", "1.5"], capsys)
+    assert_one_line_error(code, err, "--mu")
+    code, out, _ = run(["zones", "--zones", "2", "--points", "50", "--json", "--out", str(tmp_path / "z.json")], capsys)
+    assert code == 0 and json.loads(out) == {"wrote": str(tmp_path / "z.json"), "zones": 2, "points": 50}
+
+
+def test_analyze_says_it_takes_single_values():
+    with pytest.raises(ValueError, match="single values; got T of shape"):
+        K.analyze(T=[0.1, 0.2], A=100.0)

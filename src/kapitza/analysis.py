@@ -265,6 +265,12 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     ValueError
         If neither or both parameter sets are given, or a value is out of range.
     """
+    for name, v in (("eps", eps), ("mu", mu), ("T", T), ("A", A), ("l", l), ("g", g), ("damping", damping),
+                    ("zeta", zeta)):
+        if v is not None and np.ndim(v) != 0:
+            raise _v.KapitzaValueError(
+                f"analyze takes single values; got {name} of shape {np.shape(v)} (for arrays use "
+                "kapitza.floquet, is_stable, zone_index or stability_margin)")
     arnold = eps is not None or mu is not None
     physical = T is not None or A is not None
     if arnold == physical:

@@ -38,7 +38,8 @@ def register(sub):
         "equation (3.10)-(3.13) and the k that produce it.",
         epilog="example:\n  kapitza periods --A 100 --count 5 --csv periods.csv",
     )
-    p.add_argument("--A", type=finite_float, required=True, metavar="M/S^2", help="pivot acceleration amplitude (> g)")
+    p.add_argument("--A", type=finite_float, metavar="M/S^2", help="pivot acceleration amplitude (> g)")
+    p.add_argument("--mu", type=finite_float, help="Arnold's mu = sqrt(g/A) in (0, 1), instead of --A")
     p.add_argument("--l", type=finite_float, default=1.0, metavar="M", help="rod length (default 1)")
     p.add_argument("--g", type=finite_float, default=9.81, metavar="M/S^2", help="gravity (default 9.81)")
     p.add_argument("--count", type=int, default=4, help="number of zones, each giving one T_n and one T~_n (default 4)")
@@ -57,7 +58,8 @@ def register(sub):
     p.add_argument("--mu-max", type=finite_float, default=0.999, help="largest mu (default 0.999)")
     p.add_argument("--points", type=int, default=200, help="mu values (default 200)")
     p.add_argument("--out", metavar="FILE", help="write to FILE (.csv or .json)")
-    p.add_argument("--json", action="store_true", help="print JSON to standard output")
+    p.add_argument("--json", action="store_true",
+                   help="print JSON to standard output (with --out: only a summary of what was written)")
     add_drive(p.add_argument_group("the pivot's motion"))
     p.add_argument("--zeta", type=finite_float, default=0.0, help="damping ratio c / (2 sqrt(g/l)) (default 0)")
     p.set_defaults(func=cmd_zones)
@@ -117,6 +119,12 @@ def cmd_stability(args):
 def cmd_periods(args):
     if args.count < 1 or args.count > 100000:
         raise CLIError(f"--count must be between 1 and 100000; got {args.count}")
+    if (args.A is None) == (args.mu is None):
+        raise CLIError("give --A or --mu (one of them)")
+    if args.mu is not None:
+        if not (0.0 < args.mu < 1.0):
+            raise CLIError(f"--mu must lie in (0, 1); got {args.mu!r}")
+        args.A = args.g / args.mu**2
     table = boundary_table(args.A, args.count, args.l, args.g)
     header = ["name", "T", "period", "equation", "k", "zone", "edge", "eps", "mu"]
     rows = [[b.name, f"{b.T:.15g}", b.period, b.equation, b.k, b.zone, b.edge, f"{b.eps:.15g}", f"{b.mu:.15g}"] for b in table]
@@ -168,7 +176,9 @@ def cmd_zones(args):
             _io.write_csv(args.out, ["n", "mu", "eps_lo", "eps_hi", "lower_edge", "upper_edge"], rows,
                           comments=["zone n is eps_lo < eps < eps_hi at fixed mu; eps = T sqrt(A/(8 l)), mu = sqrt(g/A)",
                                     f"drive: {drive.describe()}; damping ratio zeta = {args.zeta!r}"])
-    if args.json:
+    if args.json and args.out:
+        print_json(dict(wrote=str(args.out), zones=int(args.zones), points=int(mu.size)))
+    elif args.json:
         print_json(dict(zones=records))
     elif not args.out:
         j = np.unique(np.linspace(0, mu.size - 1, min(mu.size, 6)).astype(int))
