@@ -55,7 +55,7 @@ def test_product_against_mpmath_far_out(drive):
     mu = np.array([0.3, 0.6, 0.2, 0.9])
     f = floquet_product(eps, mu, drive.levels, drive._durations)
     ref = _tau_mp(eps, mu, drive.levels, drive._durations)
-    for i, (t, lt) in enumerate(ref):
+    for i, (t, lt, *_) in enumerate(ref):
         assert np.sign(f.tau[i]) == np.sign(t)
         assert f.log_tau[i] == pytest.approx(lt, rel=1e-12)
         assert np.isfinite(f.growth[i]) and f.growth[i] > 0
@@ -172,7 +172,7 @@ def test_damped_edges_against_a_40_digit_product(drive):
         joined = np.concatenate([(lo == E[n - 1][1]) if n else np.zeros(2, bool), hi == E[n + 1][0]])
         for e, m in zip(np.concatenate([lo, hi])[~joined], np.concatenate([mu, mu])[~joined]):
             mu_c = m * np.sqrt(1 + zeta**2)
-            (t, _), = _tau_mp(np.array([e]), np.array([mu_c]), drive.levels, drive._durations)
+            (t, *_), = _tau_mp(np.array([e]), np.array([mu_c]), drive.levels, drive._durations)
             kappa = 2 * np.sqrt(8) * zeta * m * e
             with mp.workdps(40):
                 target = float(mp.cosh(mp.mpf(kappa)))

@@ -142,9 +142,13 @@ def lower_gap(x, u, w, n, D, mu):
     """
     a = w - alpha_x(x, D)
     small = (n == 0) & (u < 1.0) & (np.abs(a) < 2.0)
-    if np.any(small):
-        s = sin_half_a0(np.where(small, u, 0.5), D, mu)
-        a = np.where(small, 2.0 * np.arcsin(np.clip(s, -1.0, 1.0)), a)
+    idx = np.flatnonzero(small)
+    if idx.size:
+        # only the points on that branch (a few percent of a chart) pay for the series
+        a = np.array(a, dtype=float)
+        uu, DD, mm = (np.broadcast_to(v, a.shape).ravel()[idx] for v in (u, D, mu))
+        s = sin_half_a0(uu, DD, mm)
+        a.ravel()[idx] = 2.0 * np.arcsin(np.clip(s, -1.0, 1.0))
     return a
 
 
@@ -221,7 +225,7 @@ def floquet_hyperbolic(x, v):
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         vs = np.where(v > 0, v, 1.0)
         shc_v = np.where(v > 0, np.sinh(vs) / vs, 1.0)
-        cfac = (x * x + v * v) / (2.0 * x)
+        cfac = 0.5 * (x + v * (v / x))  # (x^2 + v^2)/(2x), without squaring x (x may be ~1e154)
         excess = 2.0 * np.sinh(0.5 * x) ** 2 * np.cosh(v) + 2.0 * np.sinh(0.5 * v) ** 2 + cfac * np.sinh(x) * shc_v
         ex = np.exp(-2.0 * x)
         ev = np.exp(-2.0 * v)

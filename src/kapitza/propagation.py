@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _certify
 from . import _exact as X
 from . import _validate as _v
 from .drives import _api as _drv
@@ -38,9 +39,31 @@ def _floquet(eps, mu):
     ell = mu < 1.0
     x, u, D = _phase_angles(eps, np.where(ell, mu, 0.5))
     n, a, b, tau, growth, theta = X.floquet_elliptic(x, u, D, np.where(ell, mu, 0.5))
+    stable_e = (a > 0) & (b < 0)
+    check = ell & (_certify.unsure(u, a, b, x) | (~stable_e & (growth <= 0.0) & (x + u <= _certify.MAX_PHASE)))
+    if np.any(check):
+        # signs lost to rounding (or an unstable point whose excess rounded to zero):
+        # the exact trace decides the verdict, the growth and the angle
+        tau, growth, theta, a, b = (np.array(v, dtype=float) for v in (tau, growth, theta, a, b))
+        t_e, _, st, acos_e = _certify.exact_half_trace(eps[check], mu[check])
+        nn = n[check]
+        even = np.mod(nn, 2.0) == 0.0
+        acos_t = np.where(st, acos_e, 0.0)
+        # just below zone n tr M has the sign (-1)^n, just above it the other sign
+        below = np.sign(t_e) == np.where(even, 1.0, -1.0)
+        theta[check] = np.where(st, nn * PI + np.where(even, acos_t, PI - acos_t),
+                                np.where(below, nn * PI, (nn + 1.0) * PI))
+        with np.errstate(over="ignore"):
+            tau[check] = t_e
+        growth[check] = np.where(st, 0.0, acos_e)
+        # a > 0 > b exactly where stable (the signs the rest of the code reads)
+        a[check] = np.where(st, 1.0, np.where(below, -1.0, 1.0))
+        b[check] = np.where(st, -1.0, np.where(below, -1.0, 1.0))
     if not ell.all():
-        xh = SQRT8 * eps * np.sqrt(1.0 + mu * mu)
-        v = SQRT8 * eps * np.sqrt(np.maximum((mu - 1.0) * (mu + 1.0), 0.0))
+        # sqrt(1 + mu^2) and sqrt(mu^2 - 1) without squaring mu (it may be ~1e300)
+        r = 1.0 / np.maximum(mu, 1.0)
+        xh = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(1.0 + r * r), np.hypot(1.0, mu))
+        v = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(np.maximum((1.0 - r) * (1.0 + r), 0.0)), 0.0)
         tau_h, growth_h = X.floquet_hyperbolic(xh, v)
         tau = np.where(ell, tau, tau_h)
         growth = np.where(ell, growth, growth_h)

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _certify
 from . import _exact as X
 from . import _validate as _v
 from .drives import _api as _drv
@@ -121,13 +122,20 @@ def _edges_eps(mu, n, q=None):
 
 
 def _verdict(eps, mu):
-    """(stable, n) for trusted input; mu >= 1 is unstable."""
+    """(stable, n) for trusted input; mu >= 1 is unstable. Certified: where the signs of
+    ``w - alpha``, ``w - beta`` are within rounding, tr M is decided in extended precision."""
     eps, mu = np.broadcast_arrays(eps, mu)
     ell = mu < 1.0
     mus = np.where(ell, mu, 0.5)
     x, u, D = _phase_angles(eps, mus)
     n, w = X.reduced(u)
-    stable = ell & (X.lower_gap(x, u, w, n, D, mus) > 0) & (w < X.beta_x(x, D))
+    a = X.lower_gap(x, u, w, n, D, mus)
+    b = w - X.beta_x(x, D)
+    stable = ell & (a > 0) & (b < 0)
+    check = ell & _certify.unsure(u, a, b, x)
+    if np.any(check):
+        stable = np.array(stable, dtype=bool)
+        stable[check] = _certify.exact_half_trace(eps[check], mu[check])[2]
     return stable, n
 
 
@@ -353,10 +361,15 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
         stable, zone, lo, hi, margin = _drv.margin(eps, mu, drive, zeta)
         return StabilityMargin(stable=stable, zone=zone, eps_lo=lo, eps_hi=hi, margin=margin)
     eps, mu = np.broadcast_arrays(eps, mu)
-    ell = mu < 1.0
+    # no zones where A <= g, and none resolvable once the phase u = w_e T exceeds 2^52 (its
+    # rounding is then more than a whole zone): the margin is -inf there, as for A <= g
+    u_all = SQRT8 * eps * np.sqrt(np.maximum((1.0 - mu) * (1.0 + mu), 0.0))
+    ell = (mu < 1.0) & (u_all < 2.0**52)
     mus = np.where(ell, mu, 0.5)
-    stable, n = _verdict(eps, mus)
+    eps_s = np.where(ell, eps, 1.0)
+    stable, n = _verdict(eps_s, mus)
     stable &= ell
+    eps = eps_s
     x, u, D = _phase_angles(eps, mus)
     w = u - n * PI
     below = X.lower_gap(x, u, w, n, D, mus) <= 0
@@ -371,6 +384,9 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     lo = np.where(use_b, lo_b, lo_n)
     hi = np.where(use_b, hi_b, hi_n)
     margin = np.where(use_b, d_b, d_n) / eps
+    # Edges are good to a few ulp; the certified verdict decides the sign of the margin.
+    tiny = np.finfo(float).smallest_subnormal
+    margin = np.where(stable, np.maximum(margin, tiny), np.minimum(margin, -tiny))
     nan = np.full(eps.shape, np.nan)
     return StabilityMargin(
         stable=stable,

@@ -154,9 +154,9 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     if certify and np.any(unsure):
         idx = np.flatnonzero(unsure)
         exact = _tau_mp(eps[idx], mu[idx], levels, durations)
-        log_tau[idx] = [lt for _, lt in exact]
-        tau[idx] = [t for t, _ in exact]
-        stable[idx] = [abs(t) < 1.0 for t, _ in exact]
+        log_tau[idx] = [r[1] for r in exact]
+        tau[idx] = [r[0] for r in exact]
+        stable[idx] = [r[2] for r in exact]
     growth = np.where(stable, 0.0, acosh_from_log(log_tau, tau))
     # Rotation: a generic direction on the zones, an eigenvector off them.
     x0 = np.ones_like(eps)
@@ -194,7 +194,8 @@ def _tau_mp(eps, mu, levels, durations):
     out = []
     for e, m in zip(eps.tolist(), mu.tolist()):
         rsum = sum(np.sqrt(8.0 * e * e * abs(m * m + s)) * h for s, h in zip(levels, durations))
-        dps = 40 + int(rsum / np.log(10.0))
+        # e^rsum-sized terms cancel far out; near eps -> 0, tr M/2 - 1 = O(rsum^4) is what decides
+        dps = 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
         with mpmath.workdps(dps):
             E, Mu = mpmath.mpf(e), mpmath.mpf(m)
             P = mpmath.eye(2)
@@ -213,12 +214,13 @@ def _tau_mp(eps, mu, levels, durations):
                     S = mpmath.matrix([[1, H], [0, 1]])
                 P = S * P
             t = (P[0, 0] + P[1, 1]) / 2
-            # the verdict needs |t| < 1 decided exactly: the rounded float keeps that order
-            # unless |t| is within an ulp of 1, where the float is taken towards "unstable"
-            tf = float(t)
-            if abs(tf) < 1.0 and abs(t) >= 1:
-                tf = float(np.sign(tf))
-            out.append((tf, float(mpmath.log(abs(t))) if t != 0 else -np.inf))
+            # the verdict |t| < 1 is decided here, in extended precision; the float of t may
+            # round to +-1 on either side
+            st = bool(abs(t) < 1)
+            # on a zone the rotation angle acos(t), off it the growth acosh|t|, each to full
+            # relative accuracy (t may round to +-1)
+            out.append((float(t), float(mpmath.log(abs(t))) if t != 0 else -np.inf, st,
+                        float(mpmath.acos(t)) if st else float(mpmath.acosh(abs(t)))))
     return out
 
 

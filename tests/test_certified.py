@@ -1,0 +1,46 @@
+"""Verdicts certified to the last bit for the square wave, and growth where rounding loses it."""
+import numpy as np
+import pytest
+
+import kapitza as K
+import oracle
+
+
+def test_reported_wrong_answers_are_right_now():
+    # an unstable point near an edge used to report growth 0 (truth 101.76)
+    eps, mu = 33.86932275003924, 0.9994776637671322
+    assert K.growth_rate(eps, mu) == pytest.approx(float(oracle.growth(eps, mu)), rel=1e-12)
+    # tr M = 1.99999999999999846 here: stable, and the margin says so
+    eps, mu = 0.5301303231328324, 0.4247369708803898
+    assert bool(K.is_stable(eps, mu)) is oracle.stable(eps, mu) is True
+    assert K.stability_margin(eps, mu).margin > 0
+    rep = K.analyze(eps=eps, mu=mu)
+    assert rep.stable and rep.margin > 0
+    # the reported stability --T 25.06 --A 12 case: growth matches the reference, not 0
+    e, m = K.to_arnold(25.059972220655787, 12.0)
+    assert K.growth_rate(e, m) == pytest.approx(float(oracle.growth(float(e), float(m))), rel=1e-10)
+
+
+def test_doubles_within_a_few_ulp_of_edges_get_the_exact_verdict():
+    rng = np.random.default_rng(8)
+    wrong = []
+    cases = 0
+    for mu in rng.uniform(0.05, 0.95, 40):
+        n = int(rng.integers(0, 4))
+        upper = bool(rng.integers(0, 2))
+        e0 = float(oracle.edge_eps(float(mu), n, upper))
+        pts = [e0]
+        for k in range(1, 5):
+            pts += [float(np.nextafter(pts[0] if k == 1 else pts[-2], np.inf))]
+        up, dn = [e0], [e0]
+        for _ in range(3):
+            up.append(float(np.nextafter(up[-1], np.inf)))
+            dn.append(float(np.nextafter(dn[-1], -np.inf)))
+        for e in sorted(set(up + dn)):
+            cases += 1
+            got = bool(K.is_stable(e, float(mu)))
+            if got != oracle.stable(e, float(mu)):
+                wrong.append((e, float(mu), n, upper))
+            # the margin's sign always agrees with the verdict
+            assert (K.stability_margin(e, float(mu)).margin > 0) == got
+    assert cases >= 200 and not wrong, wrong[:5]
