@@ -69,8 +69,11 @@ def register(sub):
         help="Figure-7-style chart of the exact stability zones (PNG, SVG, PDF)",
         description="Draw the exact stability zones on the eps-mu plane. Edges are exact curves (each a line,\n"
         "so thin tongues stay visible at any zoom); 2T-periodic edges (T_n) solid, 4T-periodic edges\n"
-        "(T~_n) dashed. Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.",
-        epilog="examples:\n  kapitza chart --out chart\n  kapitza chart --eps-min 2.2 --eps-max 2.4 --mu-min 0 --mu-max 0.3 --out zoom\n"
+        "(T~_n) dashed. Zones too thin to see in the window (n = 1-3) are also drawn magnified in panels\n"
+        "below (--no-magnify: not). Any window is recomputed exactly: --eps-min .. --mu-max zoom in.\n"
+        "Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.",
+        epilog="examples:\n  kapitza chart --out chart\n"
+        "  kapitza chart --eps-min 1.65 --eps-max 1.8 --mu-min 0 --mu-max 0.35 --out zoom   # zone 1 up close\n"
         "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set\n"
         "  kapitza chart --plane physical --l 0.5 --mark-T 0.1 --mark-A 150 --out rod",
     )
@@ -86,6 +89,8 @@ def register(sub):
     p.add_argument("--A-min", type=finite_float, default=None, help="physical plane window in m/s^2 (default g .. 50 g)")
     p.add_argument("--A-max", type=finite_float, default=None)
     p.add_argument("--no-G", dest="show_G", action="store_false", help="do not draw the curves G_m")
+    p.add_argument("--no-magnify", dest="magnify", action="store_false",
+                   help="do not add magnified panels of the thin zones 1-3 (arnold plane)")
     p.add_argument("--points", type=int, default=1200, help="mu samples per edge (default 1200)")
     p.add_argument("--pdf", action="store_true", help="also write OUT.pdf")
     p.add_argument("--mark-eps", type=finite_float, help="mark the point (eps, mu) given by --mark-eps/--mark-mu")
@@ -193,7 +198,7 @@ def cmd_zones(args):
 # ------------------------------------------------------------------ chart
 def cmd_chart(args):
     from ..figures._style import caption, new_figure, save
-    from ..figures.chart import plot_zones, plot_zones_physical
+    from ..figures.chart import magnified_zones, plot_tongue, plot_zones, plot_zones_physical, zone_chart_axes
 
     if not (2 <= args.points <= 200000):
         raise CLIError(f"--points must be between 2 and 200000; got {args.points}")
@@ -222,8 +227,16 @@ def cmd_chart(args):
         rep = analyze(eps=rep.eps, mu=rep.mu, drive=drive, zeta=args.zeta)
         mark = (rep, mark[1])
     stem = out_stem(args.out)
-    fig = new_figure(8.6, 5.2)
-    ax = fig.add_subplot()
+    magnify = []
+    if not general and args.plane == "arnold" and args.magnify:
+        if not (0.0 <= args.eps_min < args.eps_max) or not (0.0 <= args.mu_min < args.mu_max <= 1.0):
+            raise CLIError(f"need 0 <= eps-min < eps-max and 0 <= mu-min < mu-max <= 1; got eps {args.eps_min:g}.."
+                           f"{args.eps_max:g}, mu {args.mu_min:g}..{args.mu_max:g}")
+        magnify = magnified_zones((args.eps_min, args.eps_max), (args.mu_min, args.mu_max))
+    fig = new_figure(8.6, 7.4 if magnify else 5.2)
+    ax, zooms = zone_chart_axes(fig, len(magnify))
+    for zax, n in zip(zooms, magnify):
+        plot_tongue(n, zax, (args.mu_min, args.mu_max), points=min(args.points, 600))
     if general:
         from ..figures.drives import drive_curves, plot_drive_comparison
 
@@ -245,11 +258,14 @@ def cmd_chart(args):
         if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
             raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
         curves = plot_zones(ax, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), show_G=args.show_G,
-                            points=args.points)
+                            points=args.points).data
         header = ["n", "mu", "eps_lo", "eps_hi"]
         xy = (lambda r: (r.eps, r.mu))
         what = r"$\alpha + n\pi < \omega_e T < \beta + n\pi$ (zone $n$)"
         extra = r"; dotted: the curves $G_m$." if args.show_G else "."
+        if magnify:
+            extra += (" Lower panels: zone" + ("s " if len(magnify) > 1 else " ") + ", ".join(str(n) for n in magnify) + r", too thin to see above, "
+                      r"magnified ($\varepsilon$ from each tongue's midpoint, in the power of ten shown).")
     else:
         l, g = args.l, args.g
         if l <= 0 or g <= 0:
@@ -257,7 +273,7 @@ def cmd_chart(args):
         T_max = args.T_max if args.T_max is not None else 2.5 * (l / g) ** 0.5
         A_min = args.A_min if args.A_min is not None else g
         A_max = args.A_max if args.A_max is not None else 50.0 * g
-        curves = plot_zones_physical(ax, (args.T_min, T_max), (A_min, A_max), l=l, g=g, points=args.points)
+        curves = plot_zones_physical(ax, (args.T_min, T_max), (A_min, A_max), l=l, g=g, points=args.points).data
         header = ["n", "A", "T_lo", "T_hi"]
         xy = (lambda r: (r.T, r.A))
         what = rf"for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$ (zone $n$)"

@@ -14,18 +14,75 @@ ZONE_FILL = "#9ecae1"
 G_STYLE = dict(color="0.35", linestyle=":", linewidth=1.0)
 
 
-def new_figure(width=7.0, height=5.0, caption_lines=2):
-    """A figure with room at the bottom for a caption of ``caption_lines`` lines."""
-    fig = plt.figure(figsize=(width, height + 0.18 * caption_lines), layout="constrained")
-    return fig
+#: Caption font size [pt] and the height one caption line takes [inch].
+CAPTION_SIZE = 9
+_LINE_IN = 1.3 * CAPTION_SIZE / 72.0
+
+
+def new_figure(width=7.0, height=5.0, caption_lines=0):
+    """A figure ``width`` x ``height`` inches (constrained layout); :func:`caption` adds
+    the height its caption needs, so no blank band is left under it."""
+    return plt.figure(figsize=(width, height + _LINE_IN * caption_lines), layout="constrained")
+
+
+def _visible_length(word: str) -> float:
+    """Rough printed width of ``word`` in characters: mathtext commands and braces
+    take no room, a ``\\command`` one character."""
+    import re
+
+    if "$" not in word:
+        return len(word)
+    s = re.sub(r"\\(mathrm|mathit|,|;|!|left|right)", "", word)
+    s = re.sub(r"\\[A-Za-z]+", "x", s)
+    return len(s.replace("{", "").replace("}", "").replace("$", "").replace("^", "").replace("_", "")) * 0.9
+
+
+def wrap_caption(text: str, width_chars: float) -> list:
+    """Split ``text`` into balanced lines of at most about ``width_chars`` characters.
+
+    Spaces inside ``$...$`` never break a line (matplotlib's mathtext needs each formula
+    whole on one line), and the lines are evened out so that the last is not an orphan.
+    """
+    words, cur, in_math = [], "", False
+    for tok in text.split(" "):
+        cur = tok if not cur else cur + " " + tok
+        in_math ^= tok.count("$") % 2 == 1
+        if not in_math:
+            words.append(cur)
+            cur = ""
+    if cur:
+        words.append(cur)
+    lens = [_visible_length(w) for w in words]
+
+    def greedy(limit):
+        lines, line, n = [], [], 0.0
+        for w, ln in zip(words, lens):
+            if line and n + 1 + ln > limit:
+                lines.append(line)
+                line, n = [], 0.0
+            n = n + ln + (1 if line else 0)
+            line.append(w)
+        if line:
+            lines.append(line)
+        return lines
+
+    lines = greedy(width_chars)
+    # Shrink the limit while the line count stays the same: balanced lines, no orphan.
+    count, limit = len(lines), width_chars
+    while limit > 10:
+        trial = greedy(limit - 2)
+        if len(trial) > count:
+            break
+        lines, limit = trial, limit - 2
+    return [" ".join(line) for line in lines]
 
 
 def caption(fig, text: str):
-    """Put ``text`` under the axes as a caption (wrapped to the figure width)."""
-    import textwrap
-
-    width_chars = int(fig.get_figwidth() * 13)
-    fig.supxlabel("\n".join(textwrap.wrap(text, width_chars)), fontsize=9, ha="center", x=0.5)
+    """Put ``text`` under the axes as a caption, wrapped to the figure's width (mathtext kept
+    whole, lines balanced), and make the figure taller by exactly what the caption needs."""
+    lines = wrap_caption(text, fig.get_figwidth() * 72.0 / (0.52 * CAPTION_SIZE))
+    fig.set_figheight(fig.get_figheight() + _LINE_IN * len(lines) + 0.1)
+    return fig.supxlabel("\n".join(lines), fontsize=CAPTION_SIZE, ha="center", x=0.5)
 
 
 def save(fig, stem, formats=("png", "svg"), dpi=150):
@@ -38,3 +95,35 @@ def save(fig, stem, formats=("png", "svg"), dpi=150):
             fig.savefig(tmp, format=fmt, dpi=dpi)
         paths.append(p)
     return paths
+
+
+class Drawn(dict):
+    """What a ``plot_*`` function drew.
+
+    A dict ``name -> artist`` (or list of artists) with two attributes:
+
+    Attributes
+    ----------
+    ax : matplotlib Axes
+        The Axes drawn on (the one passed as ``ax=``, or the new one).
+    data : object or None
+        The numbers behind the drawing (e.g. :class:`kapitza.figures.chart.ZoneCurves`),
+        when the function computed them.
+    """
+
+    def __init__(self, ax, artists=None, data=None):
+        super().__init__(artists or {})
+        self.ax = ax
+        self.data = data
+
+    def __repr__(self):
+        return f"Drawn(ax={self.ax!r}, artists={sorted(self)!r}, data={type(self.data).__name__})"
+
+
+def place_legend(ax, inside=False, **kw):
+    """A legend for ``ax``: inside the axes (``inside=True``, best corner, framed)
+    or just outside its right edge (the captioned figures' default)."""
+    if inside:
+        return ax.legend(loc=kw.pop("loc", "best"), fontsize=kw.pop("fontsize", 8), framealpha=0.9, **kw)
+    return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=kw.pop("fontsize", 8), frameon=False,
+                     borderaxespad=0.0, **kw)

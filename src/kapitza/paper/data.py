@@ -519,7 +519,7 @@ def figure6_data(A=FIGURE6_A, l=1.0, g=G_EARTH, zones=4, samples=1500, zoom_samp
 
 
 # ------------------------------------------------------------------ Figure 7
-def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600) -> FigureData:
+def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600, magnify=(1, 2, 3), zoom_points=300) -> FigureData:
     """The exact stability zones on the ``eps``-``mu`` plane (Figure 7).
 
     Parameters
@@ -528,12 +528,18 @@ def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600) -> Figur
         The window.
     points : int
         ``mu`` samples per edge.
+    magnify : sequence of int
+        Zones drawn magnified in panels of their own (:func:`kapitza.figures.chart.tongue_curves`).
+    zoom_points : int
+        ``mu`` samples per edge on each magnified panel.
 
     Returns
     -------
     FigureData
         Series ``"zone n lower"`` / ``"zone n upper"`` (role ``"edge"``, ``meta``: ``zone``,
         ``edge``, ``period``) with ``x = eps``, ``y = mu``, and ``"G_m"`` (role ``"G"``).
+        Panels ``"zoom n"``: the edges of zone ``n`` as ``x = (eps - eps_mid(mu)) / 10^e``
+        (``meta``: ``zone``, ``edge``, ``period``, ``exponent`` e, and ``eps`` the exact edge).
 
     Notes
     -----
@@ -541,7 +547,7 @@ def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600) -> Figur
     the curves drawn by :func:`kapitza.figures.chart.plot_zones`; ``G_m``:
     ``2 sqrt 2 eps sqrt(1 - mu^2) = (2m + 1) pi/2`` (section 4).
     """
-    from ..figures.chart import zone_curves  # the sampling plot_zones draws (its module imports matplotlib)
+    from ..figures.chart import tongue_curves, zone_curves  # what plot_zones / plot_tongue draw
 
     points = int(_v.nonnegative_int("points", points, minimum=2))
     curves = zone_curves(eps_range, mu_range, points)
@@ -558,16 +564,33 @@ def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600) -> Figur
     m_max = int(np.floor((2.0 * SQRT8 * q.max() * eps_range[1] / PI - 1.0) / 2.0))
     for m in range(0, max(m_max, -1) + 1):
         series.append(Series(f"G_{m}", rf"$G_{m}$", G_m_curve(mu, m), mu, role="G", meta=dict(m=m)))
+    axes = dict(main=("eps = T sqrt(A)/sqrt(8 l)", "mu = sqrt(g/A)"))
+    magnify = [int(n) for n in magnify]
+    for n in magnify:
+        t = tongue_curves(n, mu_range, zoom_points)
+        panel = f"zoom {n}"
+        axes[panel] = (f"(eps - eps_mid(mu)) / 1e{t.exponent}", "mu = sqrt(g/A)")
+        lower_kind, upper_kind = ("2T", "4T") if n % 2 == 0 else ("4T", "2T")
+        for edge, x, e, kind in (("lower", t.lo, t.eps_lo, lower_kind), ("upper", t.hi, t.eps_hi, upper_kind)):
+            series.append(Series(f"zone {n} {edge} [{panel}]", "", x, t.mu, panel=panel, role="magnified edge",
+                                 meta=dict(zone=n, edge=edge, period=kind, exponent=t.exponent, eps=e)))
+    w = {n: float(np.subtract(*zone_edges(1e-9, n)[::-1])) for n in magnify}  # widest at mu -> 0
+    widths = ", ".join(f"{n}: {w[n]:.2g}" for n in magnify)
+    ratios = [w[a] / w[b] for a, b in zip(magnify, magnify[1:]) if w[b] > 0]
+    shrink = (f", and each is about {np.mean(ratios):.0f} times narrower than the one before" if ratios else "")
     return FigureData(
         number=7,
         title="The exact stability zones",
-        caption="Shaded: the upright position is stable, alpha + n pi < w_e T < beta + n pi (zone n labelled). "
-                "Solid blue: 2T-periodic edges T_n ((3.10), (3.11)); dashed red: 4T-periodic edges T~_n ((3.12), "
-                "(3.13)); dotted: the curves G_m, 2 sqrt(2) eps sqrt(1 - mu^2) = (2m+1) pi/2. "
-                "eps = T sqrt(A)/sqrt(8 l), mu = sqrt(g/A).",
+        caption=r"Shaded: the upright position is stable, $\alpha + n\pi < \omega_e T < \beta + n\pi$ (zone $n$). "
+                r"Solid blue: 2T-periodic edges $T_n$ (3.10, 3.11); dashed red: 4T-periodic edges $\tilde T_n$ "
+                r"(3.12, 3.13); dotted: the curves $G_m$, $2\sqrt{2}\,\varepsilon\sqrt{1-\mu^2} = (2m+1)\pi/2$, "
+                r"along which the tongues lie. Zones $n \geq 1$ are too thin to show as regions on the plane "
+                f"(largest widths in $\\varepsilon$, zone {widths}); the lower panels magnify them: "
+                r"$\varepsilon$ measured from each tongue's midpoint $\varepsilon_\mathrm{mid}(\mu)$, in the power "
+                r"of ten shown. Every tongue narrows to nothing as $\mu \to 1$" f"{shrink}.",
         parameters=dict(eps_range=[float(v) for v in eps_range], mu_range=[float(v) for v in mu_range],
-                        points=points, zones=[int(n) for n in curves.n]),
-        axes=dict(main=("eps = T sqrt(A)/sqrt(8 l)", "mu = sqrt(g/A)")),
+                        points=points, zones=[int(n) for n in curves.n], magnify=magnify, zoom_points=zoom_points),
+        axes=axes,
         series=tuple(series),
     )
 

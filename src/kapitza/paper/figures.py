@@ -54,7 +54,7 @@ def _axes(ax, count, width, height, caption_lines=3):
         if len(axes) != count:
             raise ValueError(f"this figure needs {count} Axes; got {len(axes)}")
         return axes
-    fig = new_figure(width, height, caption_lines)
+    fig = new_figure(width, height)
     return list(np.atleast_1d(fig.subplots(1, count)))
 
 
@@ -276,7 +276,7 @@ def figure6(ax=None, data=None):
     data = data or D.figure6_data()
     zoom_panels = [p for p in data.axes if p.startswith("zoom")]
     if ax is None:
-        fig = new_figure(9.0, 7.4, 4)
+        fig = new_figure(9.0, 7.4)
         gs = fig.add_gridspec(2, max(len(zoom_panels), 1), height_ratios=(2.3, 1.0))
         axes = [fig.add_subplot(gs[0, :])] + [fig.add_subplot(gs[1, i]) for i in range(len(zoom_panels))]
     else:
@@ -345,14 +345,41 @@ def figure6(ax=None, data=None):
 
 # ------------------------------------------------------------------ Figure 7
 def figure7(ax=None, data=None):
-    """Figure 7: the exact stability zones (drawn by :func:`kapitza.figures.chart.plot_zones`)."""
-    from ..figures.chart import plot_zones
+    """Figure 7: the exact stability zones (:func:`kapitza.figures.chart.plot_zones`) and the
+    thin zones magnified (:func:`kapitza.figures.chart.plot_tongue`). ``ax``: the main Axes,
+    then one per magnified zone."""
+    from ..figures.chart import plot_zones, zone_chart_axes
 
     data = data or D.figure7_data()
-    (ax,) = _axes(ax, 1, 7.0, 5.2, 3)
     par = data.parameters
-    plot_zones(ax, tuple(par["eps_range"]), tuple(par["mu_range"]), show_G=True, points=par["points"])
-    ax.set_title("The exact stability zones of the upright position", fontsize=10)
+    magnify = list(par.get("magnify", ()))
+    if ax is None:
+        main, zooms = zone_chart_axes(new_figure(8.2, 7.6), len(magnify))
+    else:
+        axes = list(np.atleast_1d(ax))
+        if len(axes) != 1 + len(magnify):
+            raise ValueError(f"Figure 7 needs {1 + len(magnify)} Axes; got {len(axes)}")
+        main, zooms = axes[0], axes[1:]
+    plot_zones(main, tuple(par["eps_range"]), tuple(par["mu_range"]), show_G=True, points=par["points"])
+    main.set_title("The exact stability zones of the upright position", fontsize=10)
+    for zax, n in zip(zooms, magnify):
+        panel = f"zoom {n}"
+        lo = data.series_named(f"zone {n} lower [{panel}]")
+        hi = data.series_named(f"zone {n} upper [{panel}]")
+        lower_2t = n % 2 == 0
+        zax.fill_betweenx(lo.y, lo.x, hi.x, color=ZONE_FILL, linewidth=0)
+        zax.plot(lo.x, lo.y, **(EDGE_2T if lower_2t else EDGE_4T))
+        zax.plot(hi.x, hi.y, **(EDGE_4T if lower_2t else EDGE_2T))
+        w = 1.15 * float(np.max(hi.x))
+        zax.set_xlim(-w, w)
+        zax.set_ylim(*par["mu_range"])
+        zax.axvline(0.0, color="0.8", linewidth=0.6, zorder=0)
+        zax.tick_params(labelsize=7)
+        e = lo.meta["exponent"]
+        zax.set_xlabel(rf"$(\varepsilon - \varepsilon_\mathrm{{mid}})\,/\,10^{{{e}}}$", fontsize=8)
+        zax.set_ylabel(r"$\mu$", fontsize=8)
+        mid = 0.5 * (lo.meta["eps"][0] + hi.meta["eps"][0])
+        zax.set_title(rf"zone {n} ($\varepsilon_\mathrm{{mid}}$ = {mid:.3f} at $\mu$ = 0)", fontsize=8)
     return data
 
 
