@@ -44,3 +44,19 @@ def test_doubles_within_a_few_ulp_of_edges_get_the_exact_verdict():
             # the margin's sign always agrees with the verdict
             assert (K.stability_margin(e, float(mu)).margin > 0) == got
     assert cases >= 200 and not wrong, wrong[:5]
+
+
+def test_far_out_inputs_give_finite_answers_and_no_warnings():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        # A <= g: growth x + v - ..., formed without squaring (true 2.83e154 fits a double)
+        assert K.growth_rate(0.5, 1e154) == pytest.approx(2.8284271247461903e154, rel=1e-12)
+        assert np.isfinite(K.growth_rate(0.5, 1e155))
+        lam = K.floquet_multipliers(0.5, 1e300)
+        assert not np.any(np.isnan(lam))
+        for kw in (dict(T=0.15, A=1e300), dict(T=1e300, A=100.0), dict(T=0.15, A=100.0, l=1e-300)):
+            rep = K.analyze(**kw)
+            assert not rep.stable and rep.nearest_zone == -1 and rep.margin == -np.inf
+            assert np.isfinite(rep.growth) and rep.growth > 0
