@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._base import PI, SQRT8
+from ._base import PI
 from ._piecewise import PiecewiseConstant, _bisect_bits, _window_margin, window_zones
 
 
