@@ -192,3 +192,27 @@ def test_no_nan_from_the_phase_plane_functions_at_extremes():
             _assert_no_nan(f(phis, d), f.__name__)
     for branch in (0, -1):
         _assert_no_nan(PP.G_inverse(np.array([-1e6, -400.0, 0.0, 400.0, 1e6]), branch), "G_inverse")
+
+
+@pytest.mark.parametrize("value, what", [
+    (np.array([0.5 + 3j]), "complex"),
+    ("1.5", "text"),
+    (b"1", "text"),
+    (True, "truth value"),
+    (np.ma.masked_array([0.5, 0.6], mask=[0, 1]), "masked"),
+    ([0.5, "x"], "real number"),
+    (10**400, "real number"),
+])
+def test_inputs_are_never_silently_converted(value, what):
+    """Complex values, text, truth values and masked entries are refused, not read as numbers."""
+    with pytest.raises(K.KapitzaValueError, match=f"eps must be a real number.*{what}"):
+        K.is_stable(value, 0.3)
+
+
+def test_counts_refuse_truth_values_text_and_huge_integers():
+    for bad in (True, "3", 10**400):
+        with pytest.raises(K.KapitzaValueError, match="n must be an integer"):
+            K.zone_edges(0.3, bad)
+    # an unmasked masked array and numpy scalars of any float type are fine
+    assert K.is_stable(np.ma.masked_array([0.5, 0.6], mask=[0, 0]), 0.3).all()
+    assert K.is_stable(np.float32(0.5), 0.3)

@@ -22,11 +22,32 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
     return f"{value!r}{where}"
 
 
+def _short(value) -> str:
+    """``repr(value)``, cut to a readable length."""
+    text = repr(value)
+    return text if len(text) <= 80 else text[:60] + f"... ({len(text)} characters)"
+
+
 def _as_float(name: str, value) -> np.ndarray:
+    what = f"{name} must be a real number or array of real numbers"
+    # Nothing is converted silently: text, truth values, complex numbers and masked entries
+    # are refused rather than read as numbers (or cut to their real part).
+    if isinstance(value, (str, bytes)):
+        raise KapitzaValueError(f"{what}; got the text {value!r}")
+    if isinstance(value, np.ma.MaskedArray) and np.ma.is_masked(value):
+        raise KapitzaValueError(f"{what}; got a masked array with masked entries")
+    raw = np.asarray(value)
+    if raw.dtype.kind == "b":
+        raise KapitzaValueError(f"{what}; got a truth value {_short(value)}")
+    if raw.dtype.kind == "c":
+        raise KapitzaValueError(f"{what}; got a complex value {_short(value)}")
+    if raw.dtype.kind in "USO" and any(isinstance(v, (str, bytes, bool, complex, np.bool_, np.complexfloating))
+                                       for v in raw.ravel().tolist()[:10000]):
+        raise KapitzaValueError(f"{what}; got {_short(value)}")
     try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise KapitzaValueError(f"{name} must be a real number or array of real numbers; got {value!r}") from None
+        arr = np.asarray(raw, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise KapitzaValueError(f"{what}; got {_short(value)}") from None
     if arr.size == 0:
         raise KapitzaValueError(f"{name} must not be empty")
     return arr
@@ -68,11 +89,13 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
     arr = np.asarray(value)
     if arr.size == 0:
         raise KapitzaValueError(f"{name} must not be empty")
+    if isinstance(value, (str, bytes)) or arr.dtype.kind in "bcUS":
+        raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(value)}")
     if arr.dtype.kind not in "iu":
         try:
             f = np.asarray(arr, dtype=float)
-        except (TypeError, ValueError):
-            raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {value!r}") from None
+        except (TypeError, ValueError, OverflowError):
+            raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(value)}") from None
         bad = ~(np.isfinite(f) & (f == np.round(f)))
         if bad.any():
             raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_first_bad(f, bad)}")
