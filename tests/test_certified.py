@@ -60,3 +60,34 @@ def test_far_out_inputs_give_finite_answers_and_no_warnings():
             rep = K.analyze(**kw)
             assert not rep.stable and rep.nearest_zone == -1 and rep.margin == -np.inf
             assert np.isfinite(rep.growth) and rep.growth > 0
+
+
+def test_fast_verdict_agrees_with_the_certified_path_at_every_distance_from_an_edge():
+    # The fast test (tan form with a rounding bound) decides alone only outside its bound;
+    # points from 0 to 2^40 ulp off edges of zones 0-39, at small, middling and near-1 mu,
+    # must get the verdict and zone of the closed forms with their mpmath decision.
+    from kapitza import zones as Z
+
+    rng = np.random.default_rng(11)
+    mus = np.concatenate([rng.uniform(0, 1, 24), 10 ** rng.uniform(-9, -1, 8), 1 - 10 ** rng.uniform(-9, -1, 8)])
+    ns = rng.integers(0, 40, mus.size)
+    ns[:12] = rng.integers(0, 3, 12)
+    lo, hi = K.zone_edges(mus, ns)
+    ks = np.unique(np.concatenate([np.arange(0, 8), np.round(np.geomspace(8, 2.0**40, 40))])).astype(np.int64)
+    eps, mu = [], []
+    for e0 in (lo, hi):
+        for sign in (1, -1):
+            eps.append((e0.view(np.int64)[:, None] + sign * ks[None, :]).view(float).ravel())
+            mu.append(np.repeat(mus, ks.size))
+    eps, mu = np.concatenate(eps), np.concatenate(mu)
+    fast, n_fast = Z._verdict(eps, mu)
+    careful, n_careful = Z._verdict_careful(eps, mu)
+    assert eps.size > 5000
+    assert np.array_equal(fast, careful)
+    assert np.array_equal(n_fast[careful], n_careful[careful])
+    # random points over the plane: the two agree everywhere, including mu >= 1
+    e = rng.uniform(0, 20, 20000)
+    m = rng.uniform(0, 1.2, 20000)
+    assert np.array_equal(Z._verdict(e, m)[0], Z._verdict_careful(e, m)[0])
+    assert np.array_equal(K.zone_index(e, m), np.where(Z._verdict_careful(e, m)[0],
+                                                       Z._verdict_careful(e, m)[1], -1))

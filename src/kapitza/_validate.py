@@ -65,6 +65,8 @@ def finite(name: str, value) -> np.ndarray:
 def positive(name: str, value) -> np.ndarray:
     """Return ``value`` as a float array; every element must satisfy 0 < value < inf."""
     arr = _as_float(name, value)
+    if arr.min() > 0 and arr.max() < np.inf:  # NaN fails both: two passes, no temporaries
+        return arr
     bad = ~(np.isfinite(arr) & (arr > 0))
     if bad.any():
         raise KapitzaValueError(f"{name} must be finite and > 0 (0 < {name} < inf); got {_first_bad(arr, bad)}")

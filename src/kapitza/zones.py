@@ -121,7 +121,76 @@ def _edges_eps(mu, n, q=None):
     return ulo / (SQRT8 * q), uhi / (SQRT8 * q)
 
 
-def _verdict(eps, mu):
+_CHUNK = 1 << 14  # points per block of the fast verdict: its temporaries stay in cache
+_EPS = np.finfo(float).eps
+
+
+def _verdict(eps, mu, want_n=True):
+    """(stable, n) for trusted input; mu >= 1 is unstable; ``n = floor(u / pi)`` (float; only
+    where ``want_n``, else None). Certified to the last bit.
+
+    Zone ``n`` is ``alpha < w < beta`` with ``w = u - n pi`` in ``[0, pi)``; since ``tan`` is
+    increasing on ``[0, pi/2)`` this is, with ``s = tan(w/2)`` and ``t = tanh(x/2)``,
+
+        D t < s < D / t        (``docs/theory.md`` section 5),
+
+    two comparisons after one ``tan`` and one ``tanh`` (no arctangent). Rounding: ``w`` is off
+    by at most ``8 eps (u + n)`` (``u`` to 3 eps relative; ``n pi`` formed with the rounded
+    ``pi`` and rounded itself: ``2.1 eps n``; for ``n = 0`` no subtraction), so ``s`` by
+    ``4 eps (u + n)(1 + s^2) + eps s``; ``D t`` and ``D/t`` carry about 5 eps relative (``D``
+    and ``tanh`` a few ulp each, ``x`` 3 ulp, damped by ``tanh``). Where ``s - D t`` or
+    ``D/t - s`` is within ``m = 4 eps (u + n)(1 + s^2) + 32 eps s`` of zero (when either side
+    is more than three times the other the sign is plain; otherwise the errors sum to less than
+    ``m``, with a factor two to spare on the ``eps s`` terms) the point goes
+    to :func:`_verdict_careful` -- the closed forms with their own bound, then mpmath. That is a
+    band of a few ulp about each edge (wider, ``~eps / mu^2`` relative, along zone 0's lower edge
+    at small ``mu``, where ``s`` and ``D t`` nearly cancel). The blocks of ``_CHUNK`` points are
+    computed in place, so a call costs a few passes over memory, not dozens.
+    """
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    shape = eps.shape
+    e_all = np.ascontiguousarray(eps).ravel()
+    m_all = np.ascontiguousarray(mu).ravel()
+    N = e_all.size
+    stable = np.empty(N, bool)
+    unsure = np.empty(N, bool)
+    n_out = np.empty(N) if want_n else None
+    k = max(1, min(_CHUNK, N))
+    p, q, y, t, u, n, s, r, g = (np.empty(k) for _ in range(9))
+    ok = np.empty(k, bool)
+    with np.errstate(all="ignore"):  # mu >= 1 gives NaN (or D = inf): never stable, never unsure
+        for i in range(0, N, _CHUNK):
+            j = min(i + _CHUNK, N)
+            if j - i < k:
+                p, q, y, t, u, n, s, r, g = (a[:j - i] for a in (p, q, y, t, u, n, s, r, g))
+                ok = ok[:j - i]
+            e, m = e_all[i:j], m_all[i:j]
+            np.multiply(m, m, out=p); p += 1.0; np.sqrt(p, out=p)                  # sqrt(1 + mu^2)
+            np.subtract(1.0, m, out=q); np.add(1.0, m, out=r); q *= r; np.sqrt(q, out=q)
+            np.multiply(e, SQRT8, out=y); np.multiply(y, q, out=u); y *= p; y *= 0.5  # u, x/2
+            np.divide(p, q, out=p)                                                 # D
+            np.tanh(y, out=t)
+            np.multiply(u, 1.0 / PI, out=n); np.floor(n, out=n)
+            if want_n:
+                n_out[i:j] = n
+            np.multiply(n, -PI, out=s); s += u; s *= 0.5; np.tan(s, out=s)         # tan(w/2)
+            u += n; u *= 4.0 * _EPS; np.multiply(s, s, out=r); r += 1.0; u *= r
+            np.multiply(s, 32.0 * _EPS, out=r); u += r                             # the bound m
+            np.multiply(p, t, out=r); np.subtract(s, r, out=r)                     # s - D t
+            np.divide(p, t, out=g); g -= s                                         # D/t - s
+            np.greater(r, 0.0, out=stable[i:j]); np.greater(g, 0.0, out=ok); stable[i:j] &= ok
+            np.abs(r, out=r); np.abs(g, out=g); np.minimum(r, g, out=r)
+            np.less_equal(r, u, out=unsure[i:j])
+    idx = np.flatnonzero(unsure)
+    if idx.size:
+        st, nn = _verdict_careful(e_all[idx], m_all[idx])
+        stable[idx] = st
+        if want_n:
+            n_out[idx] = nn
+    return stable.reshape(shape), (n_out.reshape(shape) if want_n else None)
+
+
+def _verdict_careful(eps, mu):
     """(stable, n) for trusted input; mu >= 1 is unstable. Certified: where the signs of
     ``w - alpha``, ``w - beta`` are within rounding, tr M is decided in extended precision."""
     eps, mu = np.broadcast_arrays(eps, mu)
@@ -172,7 +241,7 @@ def is_stable(eps, mu, drive=None, zeta=0.0):
     drive, zeta = _v.general_drive(drive, zeta)
     if drive is not None:
         return _drv.verdict(eps, mu, drive, zeta)[0]
-    return _verdict(eps, mu)[0]
+    return _verdict(eps, mu, want_n=False)[0]
 
 
 def zone_index(eps, mu, drive=None, zeta=0.0):
