@@ -10,7 +10,12 @@ same run:
   ``|2 cosh x cos u + (D - 1/D) sinh x sin u| < 2`` over the full grid, and against
   numerical Floquet analysis (solve_ivp, DOP853, per point, timed on a sample and
   extrapolated);
-* ``zone_edges`` for 10 zones x 10,000 mu values.
+* ``zone_edges`` for 10 zones x 10,000 mu values;
+* ``is_stable`` and ``zone_index`` on 10^7 random points (eps in (0, 4], mu in (0, 1)) against
+  the plain numpy trace formula on the same points and against the closed forms with
+  arctangents (``zones._verdict_careful``, the earlier path, now kept for the points inside the
+  rounding bound); min and median over repeats (the machine may be shared);
+* ``analyze`` for one parameter set, physical and Arnold's.
 """
 from __future__ import annotations
 
@@ -70,6 +75,14 @@ def floquet_ivp(eps, mu, rtol=1e-10, atol=1e-12):
             y = sol.y[:, -1]
         tr += y[j]
     return abs(tr) < 2.0
+
+
+def trace_points(eps, mu):
+    """|tr M| < 2 from the plain formula at scattered points (one vectorised pass)."""
+    x = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 + mu * mu)
+    u = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 - mu * mu)
+    D = x / u
+    return np.abs(2.0 * np.cosh(x) * np.cos(u) + (D - 1.0 / D) * np.sinh(x) * np.sin(u)) < 2.0
 
 
 def fresh_pages(nbytes):
@@ -157,6 +170,43 @@ def main(argv=None):
     t_edges = median_time(lambda: K.zone_edges(mu_e[None, :], n[:, None]), edge_repeats)
     print(f"  zone_edges: {t_edges[0] * 1e3:8.2f} ms  (min {t_edges[1] * 1e3:.2f}, max {t_edges[2] * 1e3:.2f})"
           f"  = {t_edges[0] / (2 * 10 * mu_e.size) * 1e9:.0f} ns per edge")
+
+    # ------------------------------------------------------------ pointwise verdicts
+    from kapitza import zones as Z
+
+    n_pts = 20_000 if tiny else 10_000_000
+    pt_repeats = 3 if tiny else 7
+    rng = np.random.default_rng(1)
+    pe = rng.uniform(0.0, 4.0, n_pts) + 1e-12
+    pm = rng.uniform(0.0, 1.0, n_pts)
+    print()
+    print(f"is_stable / zone_index on {n_pts:,} random points, eps in (0, 4], mu in (0, 1); "
+          f"min and median of {pt_repeats} repeats, ns per point")
+    per = {}
+    for name, fn in (("baseline: numpy trace formula", lambda: trace_points(pe, pm)),
+                     ("closed forms with arctangents (earlier path)", lambda: Z._verdict_careful(pe, pm)),
+                     ("is_stable", lambda: K.is_stable(pe, pm)),
+                     ("zone_index", lambda: K.zone_index(pe, pm))):
+        med, lo, _ = median_time(fn, pt_repeats)
+        per[name] = (lo / n_pts * 1e9, med / n_pts * 1e9)
+        print(f"  {name:46s} min {per[name][0]:7.1f}  median {per[name][1]:7.1f}")
+    agree = int(np.count_nonzero(K.is_stable(pe, pm) == Z._verdict_careful(pe, pm)[0]))
+    print(f"  is_stable agrees with the earlier path on {agree:,} of {n_pts:,} points")
+    b_min, b_med = per["baseline: numpy trace formula"]
+    s_min, s_med = per["is_stable"]
+    c_min, c_med = per["closed forms with arctangents (earlier path)"]
+    print(f"  ratio baseline / is_stable: {b_min / s_min:.2f}x (min), {b_med / s_med:.2f}x (median); "
+          f"earlier path / is_stable: {c_min / s_min:.2f}x (min), {c_med / s_med:.2f}x (median)")
+    print(f"  against the 357 ns per point recorded before the tan form: {357.0 / s_min:.1f}x (min)")
+
+    # ------------------------------------------------------------ analyze
+    print()
+    a_repeats = 20 if tiny else 200
+    print(f"analyze, one parameter set; min and median of {a_repeats} calls")
+    for label, kw in (("analyze(T=0.15, A=100) (with the rig's intervals)", dict(T=0.15, A=100.0)),
+                      ("analyze(eps=0.5, mu=0.3)", dict(eps=0.5, mu=0.3))):
+        med, lo, _ = median_time(lambda: K.analyze(**kw), a_repeats)
+        print(f"  {label:52s} min {lo * 1e3:7.3f} ms  median {med * 1e3:7.3f} ms")
 
     # ------------------------------------------------------------ targets
     print()
