@@ -36,3 +36,10 @@ def test_bench_drives_tiny_runs():
         assert needle in out, needle
     assert "pointwise verdicts disagree with the chart: 0 of" in out
     assert "solve_ivp verdicts differing from the exact ones on the sample: 0 of" in out
+
+
+def test_bench_basin_io_tiny_runs():
+    out = run_tiny("bench_basin_io.py")
+    for needle in ("baseline: row at a time", "columns=", "ratio baseline / columns", "--workers 1:", "--workers 2:"):
+        assert needle in out, needle
+    assert "files identical: True" in out

@@ -2,6 +2,8 @@
 import os
 import stat
 
+import numpy as np
+
 import pytest
 
 from kapitza import _io
@@ -38,3 +40,25 @@ def test_fifo_is_refused_not_replaced(tmp_path, capsys):
     code, _, err = run(["periods", "--A", "100", "--csv", str(fifo)], capsys)
     assert_one_line_error(code, err, str(fifo))
     assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+
+
+def test_csv_columns_write_the_same_text_as_rows(tmp_path):
+    from kapitza import _io
+
+    rng = np.random.default_rng(3)
+    n = 500
+    cols = [np.array(["linear", "a,b", 'say "x"', "nonlinear"] * (n // 4)), rng.normal(size=n) * 10.0 ** rng.integers(-300, 300, n),
+            np.repeat(np.linspace(-0.5, 0.5, n // 10), 10), rng.integers(-5, 50, n), rng.random(n) < 0.5]
+    rows = [[c[i].item() if isinstance(c[i], np.generic) else c[i] for c in cols] for i in range(n)]
+    rows = [[int(v) if isinstance(v, bool) else v for v in r] for r in rows]
+    a = _io.write_csv(tmp_path / "rows.csv", ["m", "x", "y", "k", "ok"], rows, comments=["c"])
+    b = _io.write_csv(tmp_path / "cols.csv", ["m", "x", "y", "k", "ok"], columns=cols, comments=["c"])
+    assert a.read_bytes() == b.read_bytes()
+    import csv
+
+    back = list(csv.reader(b.read_text().splitlines()[2:]))
+    assert [r[0] for r in back] == cols[0].tolist()  # text with separators and quotes survives
+    assert np.array_equal([float(r[1]) for r in back], cols[1])  # floats read back to the same doubles
+    # a single value fills its column
+    c = _io.write_csv(tmp_path / "one.csv", ["m", "x"], columns=["linear", np.arange(3.0)])
+    assert c.read_text() == "m,x\nlinear,0.0\nlinear,1.0\nlinear,2.0\n"

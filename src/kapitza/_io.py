@@ -90,13 +90,58 @@ def write_json(path, obj) -> Path:
     return write_text(path, json.dumps(to_jsonable(obj), indent=2) + "\n")
 
 
-def write_csv(path, header, rows, comments=()) -> Path:
-    """Write ``rows`` (iterable of sequences) under ``header``; ``comments`` become ``# `` lines."""
+def _cells(col, n):
+    """One column as ``n`` strings: floats as ``repr`` (shortest round-trip), truth values as
+    0/1, a single value (text or number) repeated."""
+    arr = np.asarray(col)
+    if arr.ndim == 0:
+        v = arr.item()
+        text = repr(float(v)) if isinstance(v, float) else str(int(v) if isinstance(v, bool) else v)
+        return [_quoted(text)] * n
+    if arr.shape != (n,):
+        raise ValueError(f"every column must have {n} entries; got shape {arr.shape}")
+    if arr.dtype.kind == "b":
+        arr = arr.astype(np.int8)
+    if arr.dtype.kind == "f":
+        arr = arr.astype(float)
+        fmt = float.__repr__
+    elif arr.dtype.kind in "USO":
+        def fmt(v):
+            return _quoted(str(v))
+    else:
+        fmt = str
+    # Grid axes and labels repeat: format each distinct value once and index.
+    uniq, inv = np.unique(arr, return_inverse=True)
+    if uniq.size <= n // 2:
+        return np.array([fmt(v) for v in uniq.tolist()], dtype=object)[inv.ravel()].tolist()
+    return list(map(fmt, arr.tolist()))
+
+
+def _quoted(text):
+    """A text cell as the csv module writes it (quoted where it holds a separator or quote)."""
+    return '"' + text.replace('"', '""') + '"' if any(c in text for c in ',"\n\r') else text
+
+
+def write_csv(path, header, rows=None, comments=(), *, columns=None) -> Path:
+    """Write ``rows`` (iterable of sequences), or ``columns`` (equal-length 1-D arrays, or single
+    values repeated down the column), under ``header``; ``comments`` become ``# `` lines.
+
+    Floats are written as ``repr`` (the shortest text that reads back to the same double). The
+    ``columns`` form formats each column with a few list operations rather than a call per
+    cell: about a second per million rows of five columns, where the row form takes tens.
+    """
     buf = io.StringIO()
     for c in comments:
         buf.write(f"# {c}\n")
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(header)
-    for r in rows:
-        w.writerow([repr(float(v)) if isinstance(v, (float, np.floating)) else v for v in r])
+    if columns is not None:
+        n = max((np.size(c) for c in columns if np.ndim(c) > 0), default=1)
+        cells = [_cells(c, n) for c in columns]
+        buf.write("\n".join(map(",".join, zip(*cells))))
+        if n:
+            buf.write("\n")
+    else:
+        for r in rows:
+            w.writerow([repr(float(v)) if isinstance(v, (float, np.floating)) else v for v in r])
     return write_text(path, buf.getvalue())

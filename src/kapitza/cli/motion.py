@@ -172,7 +172,7 @@ def cmd_simulate(args):
         stem = out_stem(args.out)
         header = ["t", "theta", "dtheta", "pivot_y"] + (["theta_linear", "dtheta_linear"] if linear is not None else [])
         cols = [traj.t, traj.theta, traj.dtheta, traj.pivot] + ([linear.theta, linear.dtheta] if linear is not None else [])
-        files.append(_io.write_csv(stem.with_suffix(".csv"), header, zip(*cols), comments=[
+        files.append(_io.write_csv(stem.with_suffix(".csv"), header, columns=cols, comments=[
             f"kapitza simulate: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2, c = {args.damping!r} 1/s",
             f"{traj.model} model ({traj.method}); theta from the upright [rad], dtheta [rad/s], pivot_y [m]"]))
         # An ensemble on the theta axis from near the upright out to the start (or 0.6 rad) for the map.
@@ -181,9 +181,10 @@ def cmd_simulate(args):
         orbits = stroboscopic_map(th_ens, 0.0, T, A, l, g, periods=args.strobe_periods, every=1,
                                   model=model, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
                                   drive=args.drive_obj)
-        rows = ((i, int(k), orbits.theta[j, i], orbits.dtheta[j, i]) for i in range(args.orbits)
-                for j, k in enumerate(orbits.n))
-        files.append(_io.write_csv(stem.parent / (stem.name + "-strobe.csv"), ["orbit", "k", "theta", "dtheta"], rows,
+        cols = [np.repeat(np.arange(args.orbits), orbits.n.size), np.tile(orbits.n, args.orbits),
+                orbits.theta.T.ravel(), orbits.dtheta.T.ravel()]
+        files.append(_io.write_csv(stem.parent / (stem.name + "-strobe.csv"), ["orbit", "k", "theta", "dtheta"],
+                                   columns=cols,
                                    comments=["states at t = 2kT of orbits started at theta0 = " +
                                              ", ".join(f"{v:.6g}" for v in th_ens) + " rad, dtheta0 = 0"]))
         if args.figures:
@@ -284,8 +285,9 @@ def cmd_basin(args):
     paths = save(fig, stem)
     plt.close(fig)
     header = ["model", "theta0", "dtheta0", "survived", "periods_survived"]
-    rows = ((b.model, *r) for b in basins for r in b.rows())
-    paths.append(_io.write_csv(stem.with_suffix(".csv"), header, rows, comments=[
+    cols = [np.concatenate([np.full(b.periods_survived.size, b.model) for b in basins])] + \
+        [np.concatenate(c) for c in zip(*(b.columns() for b in basins))]
+    paths.append(_io.write_csv(stem.with_suffix(".csv"), header, columns=cols, comments=[
         f"kapitza basin: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2; window |theta| <= {args.tol!r} rad "
         f"for {args.periods} periods 2T (survived = 1)"]))
     summary = dict(parameters=_parameters_dict(T, A, l, g, rep), tol=args.tol, periods=args.periods,

@@ -7,6 +7,9 @@ the tests run one against the other at small amplitude.
 """
 from __future__ import annotations
 
+import os
+from concurrent.futures import ProcessPoolExecutor
+
 import numpy as np
 
 from ..propagation import _apply, _flow
@@ -39,3 +42,32 @@ AMPLITUDES = {"nonlinear": _nonlinear_amplitude, "linear": _linear_amplitude}
 def phases(T, A, l, g):
     """``(s, duration)`` of the two phases of one period: ``s = (g + a)/l``."""
     return (((g + A) / l, T), ((g - A) / l, T))
+
+
+def usable_workers(workers, tasks):
+    """Worker processes worth starting: no more than the CPUs this process may run on, nor
+    than the tasks to share (asking for more only adds start-up cost)."""
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on every platform
+        cpus = os.cpu_count() or 1
+    return max(1, min(int(workers), cpus, tasks))
+
+
+def chunk_results(fn, bounds, args, workers=1, progress=None):
+    """``(a, b, fn(*args(a, b)))`` for each ``(a, b)`` in ``bounds``, in order: in this process,
+    or spread over :func:`usable_workers` processes. ``progress(done, total)`` after each."""
+    total = len(bounds)
+    workers = usable_workers(workers, total)
+    if workers > 1:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            futures = [pool.submit(fn, *args(a, b)) for a, b in bounds]
+            for i, ((a, b), f) in enumerate(zip(bounds, futures)):
+                yield a, b, f.result()
+                if progress is not None:
+                    progress(i + 1, total)
+    else:
+        for i, (a, b) in enumerate(bounds):
+            yield a, b, fn(*args(a, b))
+            if progress is not None:
+                progress(i + 1, total)

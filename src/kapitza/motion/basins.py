@@ -21,7 +21,6 @@ nonlinear one, apart from islands the linear model cannot see.
 """
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,7 +28,7 @@ import numpy as np
 from .. import _validate as _v
 from ..drives import as_drive
 from ..parameters import G_EARTH
-from ._maps import AMPLITUDES, STEPS, phases
+from ._maps import AMPLITUDES, STEPS, chunk_results, phases
 from .nonlinear import MODELS, _choice, _physical
 
 __all__ = ["survival", "Basin", "basin"]
@@ -123,19 +122,9 @@ def _survival_integrated(theta, dtheta, T, A, l, g, drive, periods, tol, model, 
 def _run_chunks(theta, dtheta, plan, periods, tol, model, chunk, workers, progress):
     bounds = [(a, min(a + chunk, theta.size)) for a in range(0, theta.size, chunk)]
     out = np.empty(theta.size, dtype=np.int64)
-    total = len(bounds)
-    if workers > 1 and total > 1:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(_survival_chunk, theta[a:b], dtheta[a:b], plan, periods, tol, model) for a, b in bounds]
-            for i, ((a, b), f) in enumerate(zip(bounds, futures)):
-                out[a:b] = f.result()
-                if progress is not None:
-                    progress(i + 1, total)
-    else:
-        for i, (a, b) in enumerate(bounds):
-            out[a:b] = _survival_chunk(theta[a:b], dtheta[a:b], plan, periods, tol, model)
-            if progress is not None:
-                progress(i + 1, total)
+    for a, b, res in chunk_results(_survival_chunk, bounds,
+                                   lambda a, b: (theta[a:b], dtheta[a:b], plan, periods, tol, model), workers, progress):
+        out[a:b] = res
     return out
 
 
@@ -236,11 +225,18 @@ class Basin:
         """Fraction of the grid that survived."""
         return float(np.mean(self.survived))
 
+    def columns(self):
+        """``(theta0, dtheta0, survived, periods_survived)`` as flat columns, one entry per grid
+        point in the order of :meth:`rows` (``theta0`` fastest), for
+        :func:`kapitza._io.write_csv`'s ``columns=``."""
+        n_om, n_th = self.periods_survived.shape
+        return (np.tile(self.theta0, n_om), np.repeat(self.dtheta0, n_th), self.survived.ravel().astype(np.int64),
+                self.periods_survived.ravel())
+
     def rows(self):
         """``(theta0, dtheta0, survived, periods_survived)`` rows for CSV."""
-        for i, om in enumerate(self.dtheta0):
-            for j, th in enumerate(self.theta0):
-                yield th, om, int(self.survived[i, j]), int(self.periods_survived[i, j])
+        th, om, ok, k = self.columns()
+        return zip(th.tolist(), om.tolist(), ok.tolist(), k.tolist())
 
     def summary(self) -> dict:
         """JSON-ready description (no grids)."""

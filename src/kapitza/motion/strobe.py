@@ -8,14 +8,13 @@ optionally spread over worker processes.
 """
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from .. import _validate as _v
 from ..parameters import G_EARTH
-from ._maps import STEPS, phases
+from ._maps import STEPS, chunk_results, phases
 from .nonlinear import (MODELS, _choice, _damping, _drive_of, _integrated_drive, _integrated_motion, _method, _physical,
                         _tolerances)
 
@@ -115,7 +114,8 @@ def stroboscopic_map(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=1, ever
     chunk : int, optional
         Members mapped together (the arrays then stay in cache).
     workers : int, optional
-        Worker processes for the exact map (1: none).
+        Worker processes for the exact map (1: none); no more are started than there are CPUs
+        available to this process or chunks to share.
     progress : callable, optional
         ``progress(done, total)`` is called as chunks finish.
     drive : Drive or str, optional
@@ -175,19 +175,9 @@ def stroboscopic_map(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=1, ever
         bounds = [(a, min(a + chunk, th0.size)) for a in range(0, th0.size, chunk)]
         th = np.empty((record.size, th0.size))
         om = np.empty((record.size, th0.size))
-        total = len(bounds)
-        if workers > 1 and total > 1:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                futures = [pool.submit(_map_chunk, th0[a:b], om0[a:b], plan, record, model) for a, b in bounds]
-                for i, ((a, b), f) in enumerate(zip(bounds, futures)):
-                    th[:, a:b], om[:, a:b] = f.result()
-                    if progress is not None:
-                        progress(i + 1, total)
-        else:
-            for i, (a, b) in enumerate(bounds):
-                th[:, a:b], om[:, a:b] = _map_chunk(th0[a:b], om0[a:b], plan, record, model)
-                if progress is not None:
-                    progress(i + 1, total)
+        for a, b, (th_c, om_c) in chunk_results(_map_chunk, bounds, lambda a, b: (th0[a:b], om0[a:b], plan, record,
+                                                                                  model), workers, progress):
+            th[:, a:b], om[:, a:b] = th_c, om_c
     bad = ~(np.isfinite(th) & np.isfinite(om))
     if bad.any():
         k, i = np.argwhere(bad)[0]
