@@ -15,9 +15,9 @@ import oracle as O
 
 EDGE_RTOL = 1e-13
 
-# mu -> 0, mu -> 1, the switch of the small-mu edge solver at mu = 0.15, and the rest.
-MUS = [1e-8, 3e-7, 1e-5, 1e-3, 0.01, 0.05, 0.1, np.nextafter(0.15, 0), 0.15, 0.2, 0.3, 0.45, 0.6,
-       0.75, 0.9, 0.99, 0.999, 1 - 1e-6]
+# mu -> 0, mu -> 1, the switch of the small-mu edge solver at mu = 0.6 (formerly 0.15), and the rest.
+MUS = [1e-8, 3e-7, 1e-5, 1e-3, 0.01, 0.05, 0.1, np.nextafter(0.15, 0), 0.15, 0.2, 0.3, 0.45, np.nextafter(0.6, 0),
+       0.6, 0.75, 0.9, 0.99, 0.999, 1 - 1e-6]
 ZONES = list(range(11))
 
 
@@ -314,3 +314,25 @@ def test_stability_margin_against_reference_edges():
         assert m.zone[i] == n and m.stable[i] == (d > 0)
         assert abs(m.margin[i] - d) <= 1e-13
         assert O.rel_err(m.eps_lo[i], lo) <= EDGE_RTOL and O.rel_err(m.eps_hi[i], hi) <= EDGE_RTOL
+
+
+def _ulps(got, ref):
+    return abs(float(mp.mpf(float(got)) - ref)) / float(np.spacing(abs(float(got))))
+
+
+def test_zone0_lower_edge_within_4_ulp_across_the_solver_switch():
+    # The small-mu form (fixed point in z) and Newton on u - alpha meet at mu = 0.6; Newton used
+    # to start at 0.15, where its cancellation cost up to 50 ulp.
+    mus = np.concatenate([np.linspace(0.1, 0.2, 201), np.linspace(0.55, 0.65, 21), [np.nextafter(0.6, 0), 0.6]])
+    lo, _ = K.zone_edges(mus, 0)
+    worst = max(_ulps(l, O.edge_eps(float(m), 0, False)) for m, l in zip(mus, lo))
+    assert worst <= 4.0, worst
+
+
+def test_edges_of_zones_0_to_2_within_4_ulp():
+    mus = np.linspace(0.01, 0.99, 50)
+    for n in range(3):
+        lo, hi = K.zone_edges(mus, n)
+        for upper, arr in ((False, lo), (True, hi)):
+            worst = max(_ulps(e, O.edge_eps(float(m), n, upper)) for m, e in zip(mus, arr))
+            assert worst <= 4.0, (n, upper, worst)
