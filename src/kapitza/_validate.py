@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "KapitzaValueError"]
+__all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "parameter_set", "physical_parameters",
+           "KapitzaValueError"]
 
 
 class KapitzaValueError(ValueError):
@@ -112,6 +113,36 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
 def arnold(eps, mu):
     """Arnold's ``(eps, mu)`` as float arrays, each finite and > 0 (``mu >= 1`` allowed)."""
     return positive("eps", eps), positive("mu", mu)
+
+
+def parameter_set(eps, mu, T, A) -> str:
+    """Which parameter set was given: ``"arnold"`` for ``(eps, mu)`` or ``"physical"`` for ``(T, A)``.
+
+    Exactly one of the two pairs, whole, must be given (the others ``None``); otherwise the
+    message says what to give.
+    """
+    arnold = eps is not None or mu is not None
+    physical = T is not None or A is not None
+    if arnold == physical:
+        raise KapitzaValueError("give either eps and mu, or T and A (with l and g), not both or neither")
+    if arnold and (eps is None or mu is None):
+        raise KapitzaValueError("eps and mu must be given together")
+    if physical and (T is None or A is None):
+        raise KapitzaValueError("T and A must be given together")
+    return "arnold" if arnold else "physical"
+
+
+def physical_parameters(T, A, l, g, eps=None, mu=None):
+    """``(T, A, l, g)`` as float arrays, each finite and > 0, from ``(T, A)`` or from Arnold's
+    ``(eps, mu)`` with ``l`` and ``g``: ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``
+    (``docs/theory.md`` section 2; :func:`kapitza.to_physical`)."""
+    l = positive("l", l)
+    g = positive("g", g)
+    if parameter_set(eps, mu, T, A) == "arnold":
+        eps, mu = arnold(eps, mu)
+        A = g / mu**2
+        return eps * np.sqrt(8.0 * l / A), A, l, g
+    return positive("T", T), positive("A", A), l, g
 
 
 def nonnegative(name: str, value) -> np.ndarray:

@@ -271,13 +271,9 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
             raise _v.KapitzaValueError(
                 f"analyze takes single values; got {name} of shape {np.shape(v)} (for arrays use "
                 "kapitza.floquet, is_stable, zone_index or stability_margin)")
-    arnold = eps is not None or mu is not None
-    physical = T is not None or A is not None
-    if arnold == physical:
-        raise _v.KapitzaValueError("give either eps and mu, or T and A (with l and g), not both or neither")
+    arnold = _v.parameter_set(eps, mu, T, A) == "arnold"
+    physical = not arnold
     if arnold:
-        if eps is None or mu is None:
-            raise _v.KapitzaValueError("eps and mu must be given together")
         if np.any(np.asarray(damping) != 0):
             raise _v.KapitzaValueError("with eps and mu give the damping as zeta = c / (2 sqrt(g/l)), not damping")
         eps = float(_v.positive("eps", eps))
@@ -285,8 +281,6 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     else:
         if zeta is not None:
             raise _v.KapitzaValueError("with T and A give the damping as damping = c [1/s], not zeta")
-        if T is None or A is None:
-            raise _v.KapitzaValueError("T and A must be given together")
         T = float(_v.positive("T", T))
         A = float(_v.positive("A", A))
         l = float(_v.positive("l", l))

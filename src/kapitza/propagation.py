@@ -309,7 +309,8 @@ def _chebyshev_pair(k, tau, growth, theta, stable):
     return U(k), U(k - 1.0)
 
 
-def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
+def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=0.0, *, eps=None,
+                  mu=None):
     """Exact solution of the linear equation (2.3) at the times ``t``.
 
     Parameters
@@ -325,6 +326,10 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, drive=None, dampin
     drive : Drive or str, optional
         The pivot's motion; the paper's square wave by default. Piecewise-constant drives
         are solved exactly; the sine drive is integrated (DOP853, rtol 1e-11).
+    eps, mu : array_like, optional
+        Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
+        ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
+
     damping : array_like, optional
         Viscous damping ``c`` >= 0 [1/s].
 
@@ -351,10 +356,7 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, drive=None, dampin
         raise _v.KapitzaValueError(f"t must be >= 0; got {float(t[t < 0].flat[0])!r}")
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
-    T = _v.positive("T", T)
-    A = _v.positive("A", A)
-    l = _v.positive("l", l)
-    g = _v.positive("g", g)
+    T, A, l, g = _v.physical_parameters(T, A, l, g, eps, mu)
     drive, c = _v.general_drive(drive, damping, "damping")
     if drive is not None:
         return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)

@@ -34,8 +34,8 @@ from .nonlinear import MODELS, _choice, _physical
 __all__ = ["survival", "Basin", "basin"]
 
 
-def _scalar_parameters(T, A, l, g):
-    T, A, l, g = _physical(T, A, l, g)
+def _scalar_parameters(T, A, l, g, eps=None, mu=None):
+    T, A, l, g = _physical(T, A, l, g, eps, mu)
     out = []
     for name, v in (("T", T), ("A", A), ("l", l), ("g", g)):
         if v.size != 1:
@@ -128,8 +128,8 @@ def _run_chunks(theta, dtheta, plan, periods, tol, model, chunk, workers, progre
     return out
 
 
-def survival(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, model="nonlinear",
-             chunk=4096, workers=1, progress=None, drive=None):
+def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5,
+             model="nonlinear", chunk=4096, workers=1, progress=None, drive=None):
     """How many whole drive periods each motion stays within ``tol`` of the upright.
 
     Parameters
@@ -138,6 +138,9 @@ def survival(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, mo
         Initial angles [rad] and angular velocities [rad/s] at ``t = 0``; broadcast.
     T, A, l, g : float
         Half-period [s], amplitude [m/s^2], rod length [m], gravity [m/s^2]; > 0.
+    eps, mu : float, optional
+        Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
+        ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
     periods : int, optional
         ``N``, the periods ``2T`` to follow (>= 1).
     tol : float, optional
@@ -167,7 +170,7 @@ def survival(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, mo
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     theta0, dtheta0 = np.broadcast_arrays(theta0, dtheta0)
-    T, A, l, g = _scalar_parameters(T, A, l, g)
+    T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
     periods = int(_v.nonnegative_int("periods", periods, minimum=1))
     tol = _tolerance(tol)
     _choice("model", model, MODELS)
@@ -246,14 +249,18 @@ class Basin:
                     shape=list(self.periods_survived.shape), fraction=self.fraction)
 
 
-def basin(T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, theta_max=None, dtheta_max=None, n_theta=121,
-          n_dtheta=121, model="nonlinear", chunk=4096, workers=1, progress=None, drive=None) -> Basin:
+def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5, theta_max=None,
+          dtheta_max=None, n_theta=121, n_dtheta=121, model="nonlinear", chunk=4096, workers=1, progress=None,
+          drive=None) -> Basin:
     """The basin of the upright on a grid of initial states.
 
     Parameters
     ----------
     T, A, l, g : float
         Half-period [s], amplitude [m/s^2], rod length [m], gravity [m/s^2]; > 0.
+    eps, mu : float, optional
+        Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
+        ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
     periods : int, optional
         Periods ``2T`` to follow (>= 1).
     tol : float, optional
@@ -274,7 +281,7 @@ def basin(T, A, l=1.0, g=G_EARTH, *, periods=50, tol=0.5, theta_max=None, dtheta
     -------
     Basin
     """
-    T, A, l, g = _scalar_parameters(T, A, l, g)
+    T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
     tol = _tolerance(tol)
     theta_max = tol if theta_max is None else float(_v.positive("theta_max", theta_max))
     dtheta_max = 2.0 * tol / T if dtheta_max is None else float(_v.positive("dtheta_max", dtheta_max))

@@ -70,8 +70,8 @@ def _method(method, c, model="nonlinear"):
     return method
 
 
-def _physical(T, A, l, g):
-    return (_v.positive("T", T), _v.positive("A", A), _v.positive("l", l), _v.positive("g", g))
+def _physical(T, A, l, g, eps=None, mu=None):
+    return _v.physical_parameters(T, A, l, g, eps, mu)
 
 
 def _times(t):
@@ -238,7 +238,8 @@ def _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=Fal
     return Y[inv.ravel(), ic].reshape(full), W[inv.ravel(), ic].reshape(full)
 
 
-def nonlinear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, c=0.0, method=None, rtol=1e-10, atol=1e-12):
+def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, c=0.0, method=None,
+                     rtol=1e-10, atol=1e-12):
     """Motion of the full equation ``theta'' = (g + a(t))/l sin(theta) - c theta'``.
 
     Parameters
@@ -252,6 +253,9 @@ def nonlinear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, c=0.0, metho
         Drive half-period [s], acceleration amplitude [m/s^2], rod length [m],
         gravity [m/s^2]; each > 0 (``A <= g`` is accepted: the second phase is then
         hyperbolic or free flight). All arguments broadcast together.
+    eps, mu : float, optional
+        Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
+        ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
     c : float, optional
         Linear damping coefficient [1/s], ``>= 0``.
     method : {None, 'exact', 'dop853'}
@@ -278,7 +282,7 @@ def nonlinear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, c=0.0, metho
     t = _times(t)
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
-    T, A, l, g = _physical(T, A, l, g)
+    T, A, l, g = _physical(T, A, l, g, eps, mu)
     c = _damping(c)
     method = _method(method, c)
     if method == "exact":
@@ -287,7 +291,7 @@ def nonlinear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, c=0.0, metho
     return _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol)
 
 
-def phase_energy(t, theta, dtheta, T, A, l=1.0, g=G_EARTH):
+def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None):
     """The energy of the current phase, ``theta'^2/2 + (g + a(t))/l cos(theta)`` [1/s^2].
 
     Parameters
@@ -296,7 +300,7 @@ def phase_energy(t, theta, dtheta, T, A, l=1.0, g=G_EARTH):
         Times [s].
     theta, dtheta : array_like
         States at those times.
-    T, A, l, g : array_like
+    T, A, l, g, eps, mu : array_like
         As in :func:`nonlinear_motion`. All arguments broadcast.
 
     Returns
@@ -313,7 +317,7 @@ def phase_energy(t, theta, dtheta, T, A, l=1.0, g=G_EARTH):
     t = _v.finite("t", t)
     theta = _v.finite("theta", theta)
     dtheta = _v.finite("dtheta", dtheta)
-    T, A, l, g = _physical(T, A, l, g)
+    T, A, l, g = _physical(T, A, l, g, eps, mu)
     s = (g + _acceleration(t, T, A)) / l
     return 0.5 * dtheta * dtheta + s * np.cos(theta)
 
@@ -522,8 +526,9 @@ def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive=
                               T, A, l, g, c, rtol, atol)
 
 
-def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_per_period=200, t=None,
-             model="nonlinear", c=0.0, method=None, rtol=1e-10, atol=1e-12, drive=None) -> Trajectory:
+def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=20.0,
+             points_per_period=200, t=None, model="nonlinear", c=0.0, method=None, rtol=1e-10, atol=1e-12,
+             drive=None) -> Trajectory:
     """Simulate one motion from ``(theta0, dtheta0)`` and sample it.
 
     Parameters
@@ -532,6 +537,9 @@ def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_pe
         Initial angle from the upright [rad] and angular velocity [rad/s].
     T, A, l, g : float
         As in :func:`nonlinear_motion`.
+    eps, mu : float, optional
+        Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
+        ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
     periods : float, optional
         Duration in drive periods ``2T`` (ignored when ``t`` is given); > 0.
     points_per_period : int, optional
@@ -563,7 +571,7 @@ def simulate(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=20.0, points_pe
     """
     theta0 = float(_v.finite("theta0", theta0))
     dtheta0 = float(_v.finite("dtheta0", dtheta0))
-    T, A, l, g = (float(v) for v in _physical(T, A, l, g))
+    T, A, l, g = (float(v) for v in _physical(T, A, l, g, eps, mu))
     c = float(_damping(c))
     _choice("model", model, MODELS)
     drive = _drive_of(drive)

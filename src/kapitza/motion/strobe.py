@@ -87,7 +87,8 @@ def _map_chunk(theta, dtheta, plan, record, model):
     return out_th, out_om
 
 
-def stroboscopic_map(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=1, every=None, model="nonlinear",
+def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=1, every=None,
+                     model="nonlinear",
                      c=0.0, method=None, rtol=1e-10, atol=1e-12, chunk=16384, workers=1, progress=None,
                      drive=None):
     """Map an ensemble of initial states over ``periods`` drive periods ``2T``.
@@ -99,6 +100,9 @@ def stroboscopic_map(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=1, ever
         ``t = 0``; broadcast together to the ensemble's shape.
     T, A, l, g : float
         Half-period [s], amplitude [m/s^2], rod length [m], gravity [m/s^2]; > 0.
+    eps, mu : float, optional
+        Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
+        ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
     periods : int, optional
         Number of periods, ``>= 0``.
     every : int, optional
@@ -141,7 +145,7 @@ def stroboscopic_map(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, periods=1, ever
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     theta0, dtheta0 = np.broadcast_arrays(theta0, dtheta0)
-    T, A, l, g = (float(np.asarray(v).flat[0]) if np.size(v) == 1 else v for v in _physical(T, A, l, g))
+    T, A, l, g = (float(np.asarray(v).flat[0]) if np.size(v) == 1 else v for v in _physical(T, A, l, g, eps, mu))
     for name, v in (("T", T), ("A", A), ("l", l), ("g", g)):
         if not isinstance(v, float):
             raise _v.KapitzaValueError(f"{name} must be a single value for the stroboscopic map; got shape {np.shape(v)}")
