@@ -11,6 +11,7 @@ from dataclasses import dataclass, asdict
 import numpy as np
 
 from . import _validate as _v
+from ._display import Summary
 from .parameters import G_EARTH
 from .propagation import _floquet, _multipliers
 from .zones import amplitude_edges, period_edges, stability_margin
@@ -18,9 +19,12 @@ from .zones import amplitude_edges, period_edges, stability_margin
 __all__ = ["StabilityReport", "analyze"]
 
 
-@dataclass(frozen=True)
-class StabilityReport:
+@dataclass(frozen=True, repr=False)
+class StabilityReport(Summary):
     """Everything about the upright position at one parameter set (scalars).
+
+    ``print(report)`` gives the table ``kapitza stability`` prints (an HTML table in Jupyter);
+    ``repr`` one line; :meth:`as_dict` the JSON.
 
     Attributes
     ----------
@@ -160,15 +164,9 @@ class StabilityReport:
                                        f"{self.nearest_zone})"))
         return rows
 
-    def __str__(self) -> str:
-        return "\n".join(f"{k:<16} {v}" if k else f"{'':<16} {v}" for k, v in self.lines())
-
-    def _repr_html_(self) -> str:
-        import html
-
-        body = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th><td style='text-align:left'>"
-                       f"{html.escape(v)}</td></tr>" for k, v in self.lines())
-        return f"<table>{body}</table>"
+    def headline(self) -> str:
+        where = f"T = {_fmt(self.T, 6)} s, A = {_fmt(self.A, 6)} m/s^2, " if self.T is not None else ""
+        return f"{where}eps = {_fmt(self.eps, 6)}, mu = {_fmt(self.mu, 6)}: {self.verdict}"
 
     def as_dict(self) -> dict:
         """JSON-ready dictionary (complex multipliers as ``[re, im]`` pairs)."""

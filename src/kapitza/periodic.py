@@ -15,6 +15,7 @@ import numpy as np
 
 from . import _exact as X
 from . import _validate as _v
+from ._display import Summary, num
 from .parameters import G_EARTH
 from .propagation import linear_motion
 from .zones import _edges_eps
@@ -131,8 +132,8 @@ def boundary_periods(A, count, l=1.0, g=G_EARTH):
     return np.where(even, lo, hi), np.where(even, hi, lo)
 
 
-@dataclass(frozen=True)
-class BoundaryPeriod:
+@dataclass(frozen=True, repr=False)
+class BoundaryPeriod(Summary):
     """One boundary half-period of Corollary 4.1, labelled by what produced it.
 
     Attributes
@@ -173,6 +174,16 @@ class BoundaryPeriod:
 
     def as_dict(self) -> dict:
         return dict(self.__dict__)
+
+    def headline(self) -> str:
+        return (f"{self.name} = {num(self.T, 10)} s, {self.period}-periodic (eq. {self.equation}, k = {self.k}), "
+                f"{self.edge} edge of zone {self.zone}")
+
+    def lines(self) -> list[tuple[str, str]]:
+        return [("boundary", f"{self.name} = {num(self.T, 12)} s"),
+                ("solution", f"{self.period}-periodic, equation ({self.equation}) with k = {self.k}"),
+                ("edge", f"{self.edge} edge of zone {self.zone}"),
+                ("Arnold", f"eps = {num(self.eps, 12)}, mu = {num(self.mu, 12)}")]
 
 
 def _label(n: int, upper: bool):
@@ -231,8 +242,8 @@ def boundary_table(A, count, l=1.0, g=G_EARTH):
     return rows
 
 
-@dataclass(frozen=True)
-class PeriodicSolution:
+@dataclass(frozen=True, repr=False)
+class PeriodicSolution(Summary):
     """A 2T- or 4T-periodic solution of (2.3) at a boundary half-period.
 
     Attributes
@@ -265,6 +276,18 @@ class PeriodicSolution:
     @property
     def T(self) -> float:
         return self.boundary.T
+
+    def headline(self) -> str:
+        return (f"{self.boundary.headline()}; A = {num(self.A)} m/s^2, from theta0 = {num(self.theta0, 8)} rad, "
+                f"dtheta0 = {num(self.dtheta0, 8)} rad/s")
+
+    def lines(self) -> list[tuple[str, str]]:
+        back = "theta(t + 2T) = theta(t)" if self.sign > 0 else "theta(t + 2T) = -theta(t)"
+        return self.boundary.lines() + [
+            ("parameters", f"A = {num(self.A)} m/s^2, l = {num(self.l)} m, g = {num(self.g)} m/s^2"),
+            ("start", f"phi0 = {num(self.phi0, 10)}: theta0 = {num(self.theta0, 10)} rad, "
+                      f"dtheta0 = {num(self.dtheta0, 10)} rad/s"),
+            ("period", f"{num(self.period, 10)} s ({back})")]
 
     def motion(self, t):
         """``(theta, theta')`` at the times ``t >= 0``; see :func:`kapitza.linear_motion`."""

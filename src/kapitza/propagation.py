@@ -16,6 +16,7 @@ import numpy as np
 from . import _certify
 from . import _exact as X
 from . import _validate as _v
+from ._display import Summary, num, shape_of, span
 from .drives import _api as _drv
 from .parameters import G_EARTH, SQRT8, _phase_angles
 
@@ -115,9 +116,11 @@ def _monodromy(T, A, l, g):
 
 
 # ---------------------------------------------------------------- results
-@dataclass(frozen=True)
-class Floquet:
+@dataclass(frozen=True, repr=False)
+class Floquet(Summary):
     """Floquet data of one drive period ``2T``; arrays of the broadcast shape of ``(eps, mu)``.
+
+    Prints as a summary (one point: its values; an array: shape, stable fraction, ranges).
 
     Attributes
     ----------
@@ -147,6 +150,28 @@ class Floquet:
     stable: np.ndarray
     zone: np.ndarray
     determinant: np.ndarray | float = 1.0
+
+    def headline(self) -> str:
+        if np.ndim(self.stable) == 0:
+            return (f"{'stable, zone ' + str(int(self.zone)) if self.stable else 'unstable'}, tr M = "
+                    f"{num(self.trace, 10)}, growth {num(self.growth)}, rotation number {num(self.rotation_number)}")
+        return f"{shape_of(self.stable)}, {100 * float(np.mean(self.stable)):.4g}% stable"
+
+    def lines(self) -> list[tuple[str, str]]:
+        if np.ndim(self.stable) == 0:
+            lam = ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}"
+                            for z in np.ravel(self.multipliers))
+            return [("verdict", f"stable (zone {int(self.zone)})" if self.stable else "unstable"),
+                    ("trace tr M", num(self.trace, 12)), ("multipliers", lam),
+                    ("growth", f"{num(self.growth, 12)} per period 2T"),
+                    ("rotation number", f"{num(self.rotation_number, 12)} turns per period"),
+                    ("det M", num(self.determinant, 12))]
+        zones = np.unique(self.zone[self.stable]) if np.any(self.stable) else np.array([], int)
+        zs = ", ".join(map(str, zones[:12].tolist())) + (", ..." if zones.size > 12 else "")
+        return [("points", shape_of(self.stable)),
+                ("stable", f"{100 * float(np.mean(self.stable)):.4g}% (zones {zs or 'none'})"),
+                ("trace tr M", span(self.trace)), ("growth", f"{span(self.growth)} per period 2T"),
+                ("rotation number", span(self.rotation_number)), ("det M", span(self.determinant))]
 
 
 def _multipliers(tau, growth, theta, stable):

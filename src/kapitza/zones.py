@@ -21,6 +21,7 @@ import numpy as np
 from . import _certify
 from . import _exact as X
 from . import _validate as _v
+from ._display import Summary, num, shape_of, span
 from .drives import _api as _drv
 from .parameters import G_EARTH, SQRT8, _phase_angles
 
@@ -391,8 +392,8 @@ def G_m_curve(mu, m):
     return (2 * m + 1) * PI / (2.0 * SQRT8 * np.sqrt((1.0 - mu) * (1.0 + mu)))
 
 
-@dataclass(frozen=True)
-class StabilityMargin:
+@dataclass(frozen=True, repr=False)
+class StabilityMargin(Summary):
     """Distance of ``(eps, mu)`` to the nearest zone edge along ``eps`` (fixed ``mu``,
     i.e. fixed ``A``: only the drive period changes). Arrays of the broadcast shape.
 
@@ -416,6 +417,21 @@ class StabilityMargin:
     eps_lo: np.ndarray
     eps_hi: np.ndarray
     margin: np.ndarray
+
+    def headline(self) -> str:
+        if np.ndim(self.stable) == 0:
+            return (f"{'stable in' if self.stable else 'unstable, nearest'} zone {int(self.zone)}, "
+                    f"{num(self.eps_lo, 10)} < eps < {num(self.eps_hi, 10)}, margin {100 * float(self.margin):.4g}%")
+        return f"{shape_of(self.stable)}, {100 * float(np.mean(self.stable)):.4g}% stable"
+
+    def lines(self) -> list[tuple[str, str]]:
+        if np.ndim(self.stable) == 0:
+            return [("verdict", "stable" if self.stable else "unstable"),
+                    ("zone", f"{int(self.zone)} ({'containing' if self.stable else 'nearest'})"),
+                    ("edges", f"{num(self.eps_lo, 12)} < eps < {num(self.eps_hi, 12)}"),
+                    ("margin", f"{100 * float(self.margin):.6g}% of eps")]
+        return [("points", shape_of(self.stable)), ("stable", f"{100 * float(np.mean(self.stable)):.4g}%"),
+                ("margin", f"{span(100 * np.asarray(self.margin))} % of eps")]
 
 
 def stability_margin(eps, mu, drive=None, zeta=0.0):

@@ -131,14 +131,6 @@ def _parameters_dict(T, A, l, g, rep):
     return dict(T=T, A=A, l=l, g=g, eps=rep.eps, mu=rep.mu, verdict=rep.verdict, stable=rep.stable, zone=rep.zone)
 
 
-def _motion_summary(traj):
-    return dict(model=traj.model, method=traj.method, c=traj.c, duration=float(traj.t[-1]), periods=traj.periods,
-                samples=int(traj.t.size), final=dict(t=float(traj.t[-1]), theta=float(traj.theta[-1]),
-                                                      dtheta=float(traj.dtheta[-1])),
-                max_abs_theta=float(np.max(np.abs(traj.theta))),
-                turns=int(np.trunc(traj.theta[-1] / (2 * np.pi))))
-
-
 def _check_count(name, value, lo, hi):
     if not (lo <= value <= hi):
         raise CLIError(f"--{name} must be between {lo} and {hi}; got {value}")
@@ -162,9 +154,9 @@ def cmd_simulate(args):
         except OverflowError as exc:
             linear_note = f"linear motion not shown: {exc}"
     summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
-                   motion=_motion_summary(traj))
+                   motion=traj.summary())
     if linear is not None:
-        summary["linear"] = _motion_summary(linear)
+        summary["linear"] = linear.summary()
     elif linear_note:
         summary["linear"] = linear_note
     files = []
@@ -200,11 +192,14 @@ def cmd_simulate(args):
     print(f"start        theta0 = {args.theta0:g} rad, dtheta0 = {args.dtheta0:g} rad/s")
     rows = []
     for tr in [traj] + ([linear] if linear is not None else []):
-        s = _motion_summary(tr)
+        s = tr.summary()
         rows.append([tr.model, tr.method, f"{s['duration']:.6g}", f"{s['final']['theta']:.10g}",
-                     f"{s['final']['dtheta']:.10g}", f"{s['max_abs_theta']:.6g}", s["turns"]])
+                     f"{s['final']['dtheta']:.10g}", f"{s['max_abs_theta']:.6g}",
+                     "-" if s["turns"] is None else s["turns"],
+                     "stays up" if s["stays_up"] else f"falls at t = {s['falls_at']:.4g} s"])
     print()
-    print(format_table(["model", "method", "t_end [s]", "theta(t_end)", "dtheta(t_end)", "max |theta|", "turns"], rows))
+    print(format_table(["model", "method", "t_end [s]", "theta(t_end)", "dtheta(t_end)", "max |theta|", "turns",
+                        "upright"], rows))
     if linear_note:
         print(linear_note)
     if files:
@@ -247,7 +242,7 @@ def cmd_animate(args):
     if res.message:
         print(f"kapitza animate: {res.message}", file=sys.stderr)
     summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
-                   motion=_motion_summary(traj), file=str(res.path), format=res.format, frames=res.frames,
+                   motion=traj.summary(), file=str(res.path), format=res.format, frames=res.frames,
                    fps=res.fps, slowdown=res.slowdown, message=res.message)
     if args.json:
         print_json(summary)

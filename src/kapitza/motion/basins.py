@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as _v
+from .._display import Summary, num
 from ..drives import as_drive
 from ..parameters import G_EARTH
 from ._maps import AMPLITUDES, STEPS, chunk_results, phases
@@ -187,9 +188,12 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     return out.reshape(theta0.shape)
 
 
-@dataclass(frozen=True)
-class Basin:
+@dataclass(frozen=True, repr=False)
+class Basin(Summary):
     """Initial states that keep the pendulum within ``tol`` of the upright for ``periods`` periods.
+
+    Prints as a summary (model, parameters, grid, fraction that stays); :meth:`summary` is the
+    JSON-ready form.
 
     Attributes
     ----------
@@ -240,6 +244,24 @@ class Basin:
         """``(theta0, dtheta0, survived, periods_survived)`` rows for CSV."""
         th, om, ok, k = self.columns()
         return zip(th.tolist(), om.tolist(), ok.tolist(), k.tolist())
+
+    def headline(self) -> str:
+        return (f"{self.model}, T = {num(self.T)} s, A = {num(self.A)} m/s^2, {self.survived.shape[1]} x "
+                f"{self.survived.shape[0]} grid, {100 * self.fraction:.3g}% stay within {num(self.tol)} rad "
+                f"for {self.periods} periods")
+
+    def lines(self) -> list[tuple[str, str]]:
+        from ..drives import as_drive
+
+        eps, mu = self.T * np.sqrt(self.A / (8.0 * self.l)), np.sqrt(self.g / self.A)
+        return [("model", self.model), ("drive", as_drive(self.drive).describe()),
+                ("parameters", f"T = {num(self.T)} s, A = {num(self.A)} m/s^2, l = {num(self.l)} m, "
+                               f"g = {num(self.g)} m/s^2 (eps = {num(eps)}, mu = {num(mu)})"),
+                ("grid", f"{self.theta0.size} theta0 in [{num(self.theta0[0])}, {num(self.theta0[-1])}] rad x "
+                         f"{self.dtheta0.size} dtheta0 in [{num(self.dtheta0[0])}, {num(self.dtheta0[-1])}] rad/s"),
+                ("window", f"|theta| <= {num(self.tol)} rad for {self.periods} periods 2T"),
+                ("stays", f"{100 * self.fraction:.4g}% of the grid ({int(np.count_nonzero(self.survived)):,} of "
+                          f"{self.survived.size:,} starts)")]
 
     def summary(self) -> dict:
         """JSON-ready description (no grids)."""

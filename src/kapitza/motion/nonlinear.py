@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import _validate as _v
+from .._display import Summary, num
 from ..parameters import G_EARTH
 from ..propagation import linear_motion
 from ._elliptic import _phase_step
@@ -433,9 +434,13 @@ def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, dri
 
 
 # ------------------------------------------------------------------ a trajectory
-@dataclass(frozen=True)
-class Trajectory:
+@dataclass(frozen=True, repr=False)
+class Trajectory(Summary):
     """One simulated motion, sampled at the times ``t``.
+
+    Prints as a summary (``print(traj)``; an HTML table in Jupyter): model, drive, parameters,
+    span, samples, largest ``|theta|`` and whether it stays up; :meth:`summary` gives the same
+    as a JSON-ready dictionary (what ``kapitza simulate --json`` prints).
 
     Attributes
     ----------
@@ -504,6 +509,61 @@ class Trajectory:
     def as_rows(self):
         """``(t, theta, dtheta, pivot)`` rows for CSV."""
         return zip(self.t, self.theta, self.dtheta, self.pivot)
+
+    # ------------------------------------------------------------ the summary
+    @property
+    def eps_mu(self) -> tuple[float, float]:
+        """Arnold's ``(eps, mu)`` of the parameters."""
+        return float(self.T * np.sqrt(self.A / (8.0 * self.l))), float(np.sqrt(self.g / self.A))
+
+    def _fall(self):
+        """Index of the first sample past the horizontal (``|theta| >= pi/2``), or None."""
+        past = np.flatnonzero(np.abs(self.theta) >= 0.5 * np.pi)
+        return int(past[0]) if past.size else None
+
+    def summary(self) -> dict:
+        """JSON-ready description (no arrays): model, method, damping, span, samples, final
+        state, largest ``|theta|``, whether the pendulum stays above the horizontal
+        (``|theta| < pi/2`` at every sample; ``falls_at``: the first sample time past it) and,
+        for the nonlinear model, the whole turns of the final angle (none for the linear one,
+        whose angle is not an angle once it has grown)."""
+        fall = self._fall()
+        t_end = float(self.t[-1]) if self.t.size else 0.0
+        return dict(model=self.model, method=self.method, c=self.c, duration=t_end, periods=self.periods,
+                    samples=int(self.t.size),
+                    final=dict(t=t_end, theta=float(self.theta[-1]), dtheta=float(self.dtheta[-1])),
+                    max_abs_theta=float(np.max(np.abs(self.theta))),
+                    stays_up=fall is None, falls_at=None if fall is None else float(self.t[fall]),
+                    turns=int(np.trunc(self.theta[-1] / (2 * np.pi))) if self.model == "nonlinear" else None)
+
+    def headline(self) -> str:
+        s = self.summary()
+        up = "stays up" if s["stays_up"] else f"falls at t = {num(s['falls_at'], 4)} s"
+        return (f"{self.model} ({self.method}), T = {num(self.T)} s, A = {num(self.A)} m/s^2, "
+                f"{num(s['periods'], 4)} periods, {s['samples']} samples, max |theta| = {num(s['max_abs_theta'], 4)} "
+                f"rad, {up}")
+
+    def lines(self) -> list[tuple[str, str]]:
+        from ..drives import as_drive
+
+        s = self.summary()
+        eps, mu = self.eps_mu
+        model = f"{self.model} ({self.method})" + (f", damping c = {num(self.c)} 1/s" if self.c else "")
+        up = ("stays up: |theta| < pi/2 at every sample" if s["stays_up"] else
+              f"falls: passes the horizontal at t = {num(s['falls_at'])} s")
+        rows = [("model", model),
+                ("drive", as_drive(self.drive).describe()),
+                ("parameters", f"T = {num(self.T)} s, A = {num(self.A)} m/s^2, l = {num(self.l)} m, "
+                               f"g = {num(self.g)} m/s^2 (eps = {num(eps)}, mu = {num(mu)})"),
+                ("start", f"theta0 = {num(self.theta0)} rad, dtheta0 = {num(self.dtheta0)} rad/s"),
+                ("span", f"0 <= t <= {num(s['duration'])} s ({num(s['periods'], 4)} periods 2T), "
+                         f"{s['samples']} samples"),
+                ("final", f"theta = {num(s['final']['theta'], 10)} rad, dtheta = {num(s['final']['dtheta'], 10)} rad/s"),
+                ("max |theta|", f"{num(s['max_abs_theta'])} rad"),
+                ("upright", up)]
+        if s["turns"]:
+            rows.append(("turns", f"{s['turns']} whole turns at the end"))
+        return rows
 
 
 def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive=None):

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as _v
+from .._display import Summary, num, span
 from ..parameters import G_EARTH
 from ._maps import STEPS, chunk_results, phases
 from .nonlinear import (MODELS, _choice, _damping, _drive_of, _integrated_drive, _integrated_motion, _method, _physical,
@@ -21,9 +22,9 @@ from .nonlinear import (MODELS, _choice, _damping, _drive_of, _integrated_drive,
 __all__ = ["StrobeOrbits", "stroboscopic_map"]
 
 
-@dataclass(frozen=True)
-class StrobeOrbits:
-    """Ensemble states at the recorded periods.
+@dataclass(frozen=True, repr=False)
+class StrobeOrbits(Summary):
+    """Ensemble states at the recorded periods (prints as a summary, never the arrays).
 
     Attributes
     ----------
@@ -56,6 +57,29 @@ class StrobeOrbits:
     def final(self):
         """``(theta, dtheta)`` after the last period."""
         return self.theta[-1], self.dtheta[-1]
+
+    def _up(self):
+        """Members above the horizontal (``|theta| < pi/2``) at every recorded period."""
+        return np.all(np.abs(self.theta) < 0.5 * np.pi, axis=0)
+
+    def headline(self) -> str:
+        members = int(np.prod(self.theta.shape[1:], dtype=np.int64))
+        return (f"{self.model}, T = {num(self.T)} s, A = {num(self.A)} m/s^2, {members:,} members, "
+                f"{self.n.size} records up to period {int(self.n[-1]) if self.n.size else 0}, "
+                f"{int(np.count_nonzero(self._up())):,} stay up")
+
+    def lines(self) -> list[tuple[str, str]]:
+        members = int(np.prod(self.theta.shape[1:], dtype=np.int64))
+        th, om = self.final
+        model = self.model + (f", damping c = {num(self.c)} 1/s" if self.c else "")
+        return [("model", model),
+                ("parameters", f"T = {num(self.T)} s, A = {num(self.A)} m/s^2, l = {num(self.l)} m, "
+                               f"g = {num(self.g)} m/s^2"),
+                ("members", f"{members:,} (shape {self.theta.shape[1:]})"),
+                ("records", f"{self.n.size} periods 2T from {int(self.n[0])} to {int(self.n[-1])}" if self.n.size else "none"),
+                ("final theta", f"{span(th)} rad"), ("final dtheta", f"{span(om)} rad/s"),
+                ("stay up", f"{int(np.count_nonzero(self._up())):,} of {members:,} members keep |theta| < pi/2 "
+                            "at every record")]
 
 
 def _record_list(periods, every):

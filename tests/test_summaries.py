@@ -1,0 +1,61 @@
+"""Results print as readable summaries: a short repr, a table for print, an HTML table in Jupyter."""
+import json
+
+import numpy as np
+import pytest
+
+import kapitza as K
+from cli_util import run
+
+
+def _results():
+    eps = np.linspace(0.05, 3.0, 400)
+    return [
+        K.analyze(T=0.15, A=100.0),
+        K.analyze(eps=0.5, mu=0.3, drive="sine"),
+        K.floquet(0.5, 0.3),
+        K.floquet(eps[:, None], np.linspace(0.01, 0.99, 300)[None, :]),
+        K.stability_margin(0.5, 0.3),
+        K.stability_margin(eps, 0.3),
+        K.boundary_table(100.0, 2)[0],
+        K.periodic_solution(A=100.0, index=1),
+        K.simulate(0.1, 0.0, T=0.15, A=100.0, periods=200),
+        K.simulate(0.1, 0.0, eps=1.06, mu=0.31, periods=20, model="linear"),
+        K.stroboscopic_map(np.linspace(0.1, 0.5, 300), 0.0, T=0.15, A=100.0, periods=30, every=1),
+        K.basin(0.15, 100.0, n_theta=30, n_dtheta=30, periods=10),
+    ]
+
+
+@pytest.mark.parametrize("obj", _results(), ids=lambda o: type(o).__name__)
+def test_short_repr_table_and_html(obj):
+    r = repr(obj)
+    assert len(r) <= 300 and "\n" not in r and "array(" not in r, r
+    text = str(obj)
+    assert 3 <= len(text.splitlines()) <= 25 and "array(" not in text and "..." not in text.replace(" .. ", "")
+    assert all(len(line) <= 160 for line in text.splitlines())
+    html = obj._repr_html_()
+    assert html.startswith("<table>") and html.count("<tr>") == len(obj.lines())
+
+
+def test_trajectory_summary_says_whether_it_stays_up():
+    up = K.simulate(0.1, 0.0, T=0.15, A=100.0, periods=50)
+    s = up.summary()
+    assert s["stays_up"] and s["falls_at"] is None and s["turns"] == 0
+    assert s["max_abs_theta"] == pytest.approx(float(np.max(np.abs(up.theta))))
+    assert "stays up" in repr(up) and "stays up" in str(up)
+    down = K.simulate(0.1, 0.0, T=0.3, A=100.0, periods=20)
+    d = down.summary()
+    assert not d["stays_up"] and 0 < d["falls_at"] < 1.0
+    assert abs(down.theta[np.searchsorted(down.t, d["falls_at"])]) >= np.pi / 2
+    # the linear model's angle has no whole turns once it has grown
+    lin = K.simulate(0.1, 0.0, T=0.3, A=100.0, periods=20, model="linear")
+    assert lin.summary()["turns"] is None and "turns" not in str(lin)
+
+
+def test_cli_simulate_prints_the_trajectory_summary(capsys):
+    code, stdout, _ = run(["simulate", "--T", "0.15", "--A", "100", "--theta0", "0.1", "--periods", "5", "--json"],
+                          capsys)
+    assert code == 0
+    out = json.loads(stdout)
+    traj = K.simulate(0.1, 0.0, T=0.15, A=100.0, periods=5)
+    assert out["motion"] == json.loads(json.dumps(traj.summary()))
