@@ -131,12 +131,21 @@ def _parameters_dict(T, A, l, g, rep):
     return dict(T=T, A=A, l=l, g=g, eps=rep.eps, mu=rep.mu, verdict=rep.verdict, stable=rep.stable, zone=rep.zone)
 
 
-def _motion_summary(traj):
-    return dict(model=traj.model, method=traj.method, c=traj.c, duration=float(traj.t[-1]), periods=traj.periods,
-                samples=int(traj.t.size), final=dict(t=float(traj.t[-1]), theta=float(traj.theta[-1]),
-                                                      dtheta=float(traj.dtheta[-1])),
-                max_abs_theta=float(np.max(np.abs(traj.theta))),
-                turns=int(np.trunc(traj.theta[-1] / (2 * np.pi))))
+def _motion_summary(traj, rep=None):
+    """Summary of one motion. A linear motion about an unstable upright grows without bound: it
+    has no turns to count, and its growth per period (``rep.growth``, e-folds per ``2T``) is given."""
+    out = dict(model=traj.model, method=traj.method, c=traj.c, duration=float(traj.t[-1]), periods=traj.periods,
+               samples=int(traj.t.size), final=dict(t=float(traj.t[-1]), theta=float(traj.theta[-1]),
+                                                     dtheta=float(traj.dtheta[-1])),
+               max_abs_theta=float(np.max(np.abs(traj.theta))))
+    if traj.model == "linear" and rep is not None and not rep.stable and np.isfinite(rep.growth) and rep.growth > 0:
+        out["turns"] = None
+        out["growth_per_period"] = float(rep.growth)
+        out["note"] = (f"grows without bound: {rep.growth:.3g} e-folds per period 2T "
+                       f"(x{np.exp(min(rep.growth, 700.0)):.3g} per period); turns are not counted")
+    else:
+        out["turns"] = int(np.trunc(traj.theta[-1] / (2 * np.pi)))
+    return out
 
 
 def _check_count(name, value, lo, hi):
@@ -162,9 +171,9 @@ def cmd_simulate(args):
         except OverflowError as exc:
             linear_note = f"linear motion not shown: {exc}"
     summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
-                   motion=_motion_summary(traj))
+                   motion=_motion_summary(traj, rep))
     if linear is not None:
-        summary["linear"] = _motion_summary(linear)
+        summary["linear"] = _motion_summary(linear, rep)
     elif linear_note:
         summary["linear"] = linear_note
     files = []
@@ -187,7 +196,10 @@ def cmd_simulate(args):
                                    comments=["states at t = 2kT of orbits started at theta0 = " +
                                              ", ".join(f"{v:.6g}" for v in th_ens) + " rad, dtheta0 = 0"]))
         if args.figures:
-            files += _simulate_figures(stem, traj, linear, orbits, args.tol)
+            own = stroboscopic_map(args.theta0, args.dtheta0, T, A, l, g, periods=args.strobe_periods, every=1,
+                                   model=model, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
+                                   drive=args.drive_obj)
+            files += _simulate_figures(stem, traj, linear, orbits, args.tol, (own.theta, own.dtheta))
         summary["files"] = [str(f) for f in files] + [str(stem.with_suffix(".json"))]
         files.append(_io.write_json(stem.with_suffix(".json"), summary))
     if args.json:
@@ -197,13 +209,18 @@ def cmd_simulate(args):
     print(f"drive        {rep.drive}" + (f", damping c = {args.damping:g} 1/s" if args.damping else ""))
     print(f"upright      {rep.verdict}")
     print(f"start        theta0 = {args.theta0:g} rad, dtheta0 = {args.dtheta0:g} rad/s")
-    rows = []
+    rows, notes = [], []
     for tr in [traj] + ([linear] if linear is not None else []):
-        s = _motion_summary(tr)
+        s = _motion_summary(tr, rep)
         rows.append([tr.model, tr.method, f"{s['duration']:.6g}", f"{s['final']['theta']:.10g}",
-                     f"{s['final']['dtheta']:.10g}", f"{s['max_abs_theta']:.6g}", s["turns"]])
+                     f"{s['final']['dtheta']:.10g}", f"{s['max_abs_theta']:.6g}",
+                     "-" if s["turns"] is None else s["turns"]])
+        if s.get("note"):
+            notes.append(f"{tr.model}: {s['note']}")
     print()
     print(format_table(["model", "method", "t_end [s]", "theta(t_end)", "dtheta(t_end)", "max |theta|", "turns"], rows))
+    for n in notes:
+        print(n)
     if linear_note:
         print(linear_note)
     if files:
@@ -211,7 +228,7 @@ def cmd_simulate(args):
     return 0
 
 
-def _simulate_figures(stem, traj, linear, orbits, tol):
+def _simulate_figures(stem, traj, linear, orbits, tol, own):
     import matplotlib.pyplot as plt
 
     from ..figures._style import save
@@ -220,7 +237,7 @@ def _simulate_figures(stem, traj, linear, orbits, tol):
     paths = []
     for suffix, fig in (("-series", time_series_figure(traj, linear=linear, tol=tol)),
                         ("-phase", phase_portrait_figure(traj)),
-                        ("-strobe", strobe_figure(orbits, highlight=traj.strobe()[1:]))):
+                        ("-strobe", strobe_figure(orbits, highlight=own))):
         paths += save(fig, stem.parent / (stem.name + suffix))
         plt.close(fig)
     return paths
@@ -246,7 +263,7 @@ def cmd_animate(args):
     if res.message:
         print(f"kapitza animate: {res.message}", file=sys.stderr)
     summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
-                   motion=_motion_summary(traj), file=str(res.path), format=res.format, frames=res.frames,
+                   motion=_motion_summary(traj, rep), file=str(res.path), format=res.format, frames=res.frames,
                    fps=res.fps, slowdown=res.slowdown, message=res.message)
     if args.json:
         print_json(summary)
