@@ -62,3 +62,83 @@ def test_chart_zoom_window_recomputes_edges_densely():
 def test_magnified_zones_picks_thin_visible_zones():
     assert chart.magnified_zones((0.0, 4.0), (0.0, 1.0)) == [1, 2, 3]
     assert chart.magnified_zones((1.65, 1.8), (0.0, 0.35)) == []
+
+
+# ------------------------------------------------------------------ Figures 3, 4 and 8
+@pytest.fixture(scope="module")
+def dyn():
+    return {n: D.ALL_FIGURES[n]() for n in (2, 3, 4, 5)}
+
+
+def _arc(d):
+    return next(s for s in d.series if s.role == "hyperbolic arc" and s.meta.get("period", 1) == 1)
+
+
+@pytest.mark.parametrize("n", [3, 4])
+def test_hyperbolic_arc_visibly_off_its_asymptotes(dyn, n):
+    d = dyn[n]
+    s = _arc(d)
+    # Distance of the arc from the nearer asymptote y = +-x, at its closest approach to the origin.
+    k = int(np.argmin(np.hypot(s.x, s.y)))
+    gap = min(abs(s.x[k] - s.y[k]), abs(s.x[k] + s.y[k])) / np.sqrt(2.0)
+    r = max(np.max(np.hypot(q.x, q.y)) for q in d.series)
+    assert gap > 0.02 * 1.22 * r  # a visible margin on the main panel
+    zoom = d.parameters["zoom"]
+    assert zoom is not None and gap > 0.15 * zoom  # and a large one on the magnified panel
+    assert d.parameters["w_h"] * d.parameters["T"] < 6.5  # lower than at A = 30 (7.1)
+
+
+def test_case_b_turns_on_the_y_axis_case_a_on_the_x_axis(dyn):
+    for n, case in ((2, "a"), (3, "b"), (4, "a"), (5, "b")):
+        s = _arc(dyn[n])
+        k = int(np.argmin(np.hypot(s.x, s.y)))
+        assert dyn[n].parameters["case"] == case
+        if case == "a":
+            assert s.x[k] > 0 and abs(s.y[k]) < 0.05 * s.x[k]
+        else:
+            assert s.y[k] < 0 and abs(s.x[k]) < 0.05 * abs(s.y[k])
+
+
+@pytest.mark.parametrize("n", [4, 5])
+def test_second_period_on_its_own_panel_and_legend_matches_strokes(dyn, n):
+    from matplotlib.colors import to_hex
+
+    from kapitza.paper import figures as F
+
+    fig, d = F.make_figure(n, dyn[n])
+    try:
+        first, second = fig.axes[0], fig.axes[1]
+        p2 = [s for s in d.series if s.meta.get("period") == 2]
+        assert p2
+        for s in p2:  # every second-period stroke is on the second panel only
+            on = lambda a: any(np.array_equal(ln.get_xdata(), s.x) for ln in a.get_lines())  # noqa: E731
+            assert on(second) and not on(first)
+        legends = fig.legends or [a.get_legend() for a in fig.axes if a.get_legend()]
+        assert len(legends) == 1
+        drawn = {ln.get_label(): to_hex(ln.get_color()) for a in fig.axes for ln in a.get_lines()}
+        for h, t in zip(legends[0].legend_handles, legends[0].get_texts()):
+            assert to_hex(h.get_color()) == drawn[t.get_text()]
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+
+
+def test_figure8_says_what_it_draws_instead_of_reference_6_and_hides_no_line():
+    from kapitza.paper import figures as F
+    from kapitza.paper.build import FIGURE8_NOTE
+
+    d = D.figure8_data(points=200)
+    assert "[6]" in d.caption and "not drawn" in d.caption
+    assert "[6]" in FIGURE8_NOTE
+    fig, _ = F.make_figure(8, d)
+    try:
+        right = fig.axes[1]
+        kap = next(ln for ln in right.get_lines() if ln.get_label().startswith("Kapitza"))
+        ref = next(ln for ln in right.get_lines() if "leading error" in ln.get_label())
+        # The reference lies on Kapitza's error curve: it must be drawn so that both stay visible.
+        assert ref.get_linestyle() == "None" and ref.get_marker() == "o" and ref.get_zorder() > kap.get_zorder()
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)

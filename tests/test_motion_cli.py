@@ -141,3 +141,15 @@ def test_simulate_as_a_process():
     bad = subprocess.run([sys.executable, "-m", "kapitza.cli", "simulate", "--T", "0", "--A", "100"],
                          capture_output=True, text=True, timeout=120)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1
+
+
+def test_simulate_linear_blow_up_gives_growth_per_period_not_turns(capsys):
+    code, out, err = run(["simulate", "--T", "0.3", "--A", "100", "--theta0", "0.05", "--periods", "30"], capsys)
+    assert code == 0, err
+    assert "grows without bound: 3.07 e-folds per period 2T" in out
+    assert not any(len(tok) > 12 and tok.isdigit() for tok in out.split())  # no 2.7e37 "turns"
+    code, out, err = run(["simulate", "--T", "0.3", "--A", "100", "--theta0", "0.05", "--periods", "30", "--json"],
+                         capsys)
+    d = json.loads(out)
+    assert d["linear"]["turns"] is None and d["linear"]["growth_per_period"] == pytest.approx(3.06997, rel=1e-4)
+    assert isinstance(d["motion"]["turns"], int)  # the nonlinear pendulum does turn over

@@ -136,3 +136,62 @@ def test_wrapped_phase_portrait_is_not_joined_across_the_seam():
     ok = ~np.isnan(x[1:]) & ~np.isnan(x[:-1])
     assert np.max(np.abs(np.diff(x)[ok])) < 1.0  # no segment crosses the plot
     plt.close(fig)
+
+
+# ------------------------------------------------------------------ the user's orbit, the clock, the GIF kept
+def test_strobe_window_frames_the_users_orbit_and_the_island():
+    from kapitza.figures.motion import island_members, strobe_window
+
+    orbits = stroboscopic_map(np.linspace(0.05, 0.6, 12), 0.0, **P, periods=120, every=1)
+    own = stroboscopic_map(0.1, 0.0, **P, periods=120, every=1)
+    keep = island_members(orbits)
+    assert 0 < keep.sum() < keep.size  # an island and a sea, at these parameters
+    (x0, x1), (y0, y1) = strobe_window(orbits, (own.theta, own.dtheta))
+    for th, om in ((own.theta, own.dtheta), (orbits.theta[:, keep], orbits.dtheta[:, keep])):
+        assert x0 < np.min(th) and np.max(th) < x1 and y0 < np.min(om) and np.max(om) < y1
+    # The window is the island's, not the whole sea's: the subject fills it.
+    assert x1 - x0 < 0.5 * 2 * np.pi
+    own_span = np.ptp(own.theta) * np.ptp(own.dtheta)
+    assert own_span > 0.05 * (x1 - x0) * (y1 - y0)
+    fig = strobe_figure(orbits, highlight=(own.theta, own.dtheta))
+    try:
+        ax = fig.axes[0]
+        assert ax.get_xlim() == pytest.approx((x0, x1)) and ax.get_ylim() == pytest.approx((y0, y1))
+        text = fig._supxlabel.get_text()
+        assert f"{int(keep.sum())} of {keep.size}" in text and "120 periods" in text
+    finally:
+        plt.close(fig)
+
+
+def test_strobe_figure_without_island_says_so_and_shows_the_wrapped_map():
+    from kapitza.figures.motion import strobe_window
+
+    q = dict(P, T=0.3)
+    orbits = stroboscopic_map(np.linspace(0.05, 0.6, 6), 0.0, **q, periods=60, every=1)
+    own = stroboscopic_map(0.05, 0.0, **q, periods=60, every=1)
+    assert strobe_window(orbits, (own.theta, own.dtheta)) is None
+    fig = strobe_figure(orbits, highlight=(own.theta, own.dtheta))
+    try:
+        assert fig.axes[0].get_xlim() == pytest.approx((-np.pi, np.pi))
+        text = fig._supxlabel.get_text()
+        assert "no island" in text and "closed curves" not in text
+    finally:
+        plt.close(fig)
+
+
+@pytest.mark.parametrize("l, stroke", [(1.0, 0.1), (1.0, 2.25), (0.2, 0.01)])
+def test_animation_clock_sits_above_the_bobs_reach(l, stroke):
+    xlim, ylim, y_clock = anim_mod._scene_limits(l, stroke)
+    reach = 0.5 * stroke + l  # highest the bob can be: pivot at the top of its travel, rod upright
+    assert y_clock - 0.03 * l - reach > 0.3 * l  # room for three lines of text and the bob's marker
+    assert ylim[1] >= y_clock
+
+
+def test_mp4_without_ffmpeg_leaves_an_existing_gif_untouched(tmp_path, traj, monkeypatch):
+    monkeypatch.setattr(anim_mod, "ffmpeg_available", lambda: False)
+    old = tmp_path / "clip.gif"
+    old.write_bytes(b"the user's own GIF")
+    res = animate(traj, tmp_path / "clip.mp4", fps=5, slowdown=1.0, dpi=30)
+    assert old.read_bytes() == b"the user's own GIF"
+    assert res.path == tmp_path / "clip-2.gif" and res.path.exists()
+    assert str(res.path) in res.message

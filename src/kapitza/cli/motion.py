@@ -200,6 +200,9 @@ def cmd_simulate(args):
     print()
     print(format_table(["model", "method", "t_end [s]", "theta(t_end)", "dtheta(t_end)", "max |theta|", "turns",
                         "upright"], rows))
+    for tr in [traj] + ([linear] if linear is not None else []):
+        if tr.summary().get("note"):
+            print(f"{tr.model}: {tr.summary()['note']}")
     if linear_note:
         print(linear_note)
     if files:

@@ -9,6 +9,7 @@ rod to the left, as in the paper's figure of the pendulum.
 from __future__ import annotations
 
 import shutil
+import textwrap
 import sys
 import time
 from dataclasses import dataclass
@@ -125,10 +126,27 @@ def frame_times(duration, fps, slowdown):
     return np.arange(n) / (fps * slowdown)
 
 
+#: Height of the band kept free above the pendulum for the clock, in rod lengths.
+CLOCK_BAND = 0.5
+
+
 def _scene_limits(l, stroke):
+    """Limits of the scene: the bob's reach (``l`` about a pivot within ``+-stroke/2``), with a band
+    above it, where the bob never goes, for the clock. Returns ``(xlim, ylim, y_clock)``."""
     half = 0.5 * stroke
     r = 1.12 * l
-    return (-r, r), (-r - half, r + half)
+    top = r + half + CLOCK_BAND * l
+    return (-r, r), (-r - half, top), top
+
+
+def _fresh_path(path):
+    """``path`` if it does not exist, else the first of ``stem-2.ext``, ``stem-3.ext``... that does not."""
+    if not path.exists():
+        return path
+    k = 2
+    while (cand := path.with_name(f"{path.stem}-{k}{path.suffix}")).exists():
+        k += 1
+    return cand
 
 
 def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, format=None, linear=None,
@@ -141,7 +159,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
         The motion; its whole duration is rendered.
     path : str or Path
         Output file; ``.gif`` or ``.mp4`` (MP4 needs ffmpeg: without it a GIF is
-        written beside, and :attr:`AnimationResult.message` says so).
+        written beside, under a fresh name ``stem-2.gif``... if that GIF exists, and
+        :attr:`AnimationResult.message` names it).
     fps : float, optional
         Playback frames per second (1 to 60).
     slowdown : float, optional
@@ -179,9 +198,13 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
             f"fps * slowdown (now {fps:g} * {slowdown:.3g})")
     message = ""
     if fmt == "mp4" and not ffmpeg_available():
-        message = "ffmpeg was not found, so MP4 cannot be written; wrote a GIF instead (install ffmpeg for MP4)"
-        fmt = "gif"
-    path = path.with_suffix("." + fmt)
+        # Never replace a GIF the user already has: fall back to a fresh name, and say which.
+        gif = _fresh_path(path.with_suffix(".gif"))
+        message = (f"ffmpeg was not found, so MP4 cannot be written; wrote the GIF {gif} instead "
+                   "(install ffmpeg for MP4)")
+        fmt, path = "gif", gif
+    else:
+        path = path.with_suffix("." + fmt)
 
     th, _ = traj.at(times)
     drive = getattr(traj, "drive", None)
@@ -197,7 +220,7 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     axt = fig.add_subplot(gs[1])
     drive = getattr(traj, "drive", None)
     stroke = 0.25 * traj.A * traj.T**2 if drive is None else float(drive.stroke(traj.T, traj.A))
-    xlim, ylim = _scene_limits(l, stroke)
+    xlim, ylim, y_clock = _scene_limits(l, stroke)
     ax.set_xlim(*xlim)
     ax.set_ylim(*ylim)
     ax.set_aspect("equal")
@@ -210,7 +233,9 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     rod, = ax.plot([], [], color="k", linewidth=2.2, solid_capstyle="round")
     bob, = ax.plot([], [], marker="o", markersize=13, color="#1f4e9c", markeredgecolor="k")
     pivot, = ax.plot([], [], marker="s", markersize=8, color="0.2")
-    clock = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", fontsize=8, family="monospace")
+    # The clock sits in the band above the bob's reach, so the bob never covers it.
+    clock = ax.text(0.0, y_clock - 0.03 * l, "", ha="center", va="top", fontsize=7, family="monospace",
+                    linespacing=1.1)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=6.5, frameon=False,
               handlelength=1.5, columnspacing=1.0)
 
@@ -241,8 +266,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     axt.set_ylabel("θ  (rad from upright)")
     axt.grid(True, linewidth=0.4, color="0.88")  # opaque: GIF palettes dither translucent lines
     axt.legend(loc="upper left", fontsize=7, framealpha=0.85)
-    fig.suptitle(title or parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c),
-                 fontsize=8.5)
+    head = title or parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c)
+    fig.suptitle("\n".join(textwrap.wrap(head, 120)), fontsize=8.5)  # two lines rather than cut at the edges
 
     trail_n = max(2, int(round(2.0 * traj.T * fps * slowdown)))  # about one drive period
     dense_t = traj.t
@@ -262,11 +287,11 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
             lline.set_data(lin_t[:jl], lin_th[:jl])
         now.set_data([times[k]], [th[k]])
         if drive is None:
-            phase = "a = +A (hyperbolic)" if acc[k] > 0 else "a = -A (elliptic)"
+            phase = "a = +A (hyperbolic)" if acc[k] > 0 else "a = −A (elliptic)"
         else:
             phase = f"a = {acc[k] / traj.A:+.2f} A" + (" (repels)" if traj.g + acc[k] > 0 else " (attracts)")
-        clock.set_text(f"t = {times[k]:7.3f} s  ({times[k] / (2 * traj.T):6.2f} periods)\n"
-                       f"θ = {th[k]:+8.3f} rad\n{phase}")
+        clock.set_text(f"t = {times[k]:.3f} s = {times[k] / (2 * traj.T):.2f} · 2T\n"
+                       f"θ = {th[k]:+.3f} rad\n{phase}")
         return dynamic
 
     dynamic = [rod, bob, pivot, upright, trail, line, now, clock] + ([lline] if lline is not None else [])

@@ -6,6 +6,8 @@ Angles are in radians, measured from the upright and counted counter-clockwise.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import matplotlib.pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
@@ -23,6 +25,8 @@ __all__ = [
     "time_series_figure",
     "phase_portrait_figure",
     "strobe_figure",
+    "strobe_window",
+    "island_members",
     "basin_figure",
     "parameter_label",
 ]
@@ -281,20 +285,94 @@ def phase_portrait_figure(traj, *, title=None):
     return fig
 
 
+def island_members(orbits, bound=0.5 * np.pi):
+    """Which members of an ensemble stay about the upright: ``|theta| < bound`` at every
+    recorded ``t = 2kT`` (bool array over the members, flattened)."""
+    th = orbits.theta.reshape(orbits.theta.shape[0], -1)
+    return np.all(np.isfinite(th) & (np.abs(th) < bound), axis=0)
+
+
+def strobe_window(orbits, own=None, pad=0.12):
+    """Axes limits ``((x0, x1), (y0, y1))`` framing the island about the upright and the
+    user's own orbit ``own = (theta_k, dtheta_k)``; None when neither stays near the upright
+    (then the whole wrapped map is shown)."""
+    keep = island_members(orbits)
+    xs, ys = [], []
+    if keep.any():
+        xs.append(orbits.theta.reshape(orbits.theta.shape[0], -1)[:, keep].ravel())
+        ys.append(orbits.dtheta.reshape(orbits.dtheta.shape[0], -1)[:, keep].ravel())
+    if own is not None:
+        th, om = (np.asarray(v, float) for v in own)
+        if np.all(np.abs(th) < 0.5 * np.pi):
+            xs.append(th)
+            ys.append(om)
+    if not xs:
+        return None
+    x, y = np.concatenate(xs), np.concatenate(ys)
+    x, y = x[np.isfinite(x) & np.isfinite(y)], y[np.isfinite(x) & np.isfinite(y)]
+    if x.size == 0:
+        return None
+    hx = max(np.max(np.abs(x)), 1e-3) * (1.0 + pad)
+    hy = max(np.max(np.abs(y)), 1e-3) * (1.0 + pad)
+    return (-hx, hx), (-hy, hy)
+
+
 def strobe_figure(orbits, *, title=None, highlight=None):
-    """Stroboscopic map of an ensemble (one colour per initial state), with a caption."""
+    """Stroboscopic map about the upright, with the user's own orbit, and a caption.
+
+    Parameters
+    ----------
+    orbits : StrobeOrbits
+        The ensemble (``every=1``). Members that stay within ``pi/2`` of the upright form
+        the island and are drawn in colour; the others (the chaotic sea, when there is
+        one) are drawn faint.
+    highlight : (theta_k, dtheta_k), optional
+        The user's own orbit at ``t = 2kT``, drawn on top.
+
+    The axes frame the island and the user's orbit (:func:`strobe_window`); only when
+    neither stays near the upright is the whole wrapped map shown. The caption says
+    what is drawn.
+    """
     fig = new_figure(6.5, 5.2, caption_lines=3)
     ax = fig.add_subplot()
-    plot_strobe(orbits, ax)
+    keep = island_members(orbits)
+    window = strobe_window(orbits, highlight)
+    m = keep.size
+    th = orbits.theta.reshape(orbits.theta.shape[0], -1)
+    om = orbits.dtheta.reshape(orbits.dtheta.shape[0], -1)
+    if (~keep).any():
+        ax.plot(wrap_angle(th[:, ~keep]).ravel(), om[:, ~keep].ravel(), linestyle="none", marker=".",
+                markersize=1.2, color="0.78", zorder=1, label="leave the upright (chaotic sea)")
+    if keep.any():
+        plot_strobe(dataclasses.replace(orbits, theta=th[:, keep], dtheta=om[:, keep]), ax, wrap=False)
+    own_note = ""
     if highlight is not None:
-        th, om = highlight
-        ax.plot(wrap_angle(th), om, **{**STROBE_MARK, "markersize": 2.5}, label="the simulated motion")
-        ax.legend(loc="upper right", fontsize=8, framealpha=0.9)
+        hth, hom = (np.asarray(v, float) for v in highlight)
+        ax.plot(wrap_angle(hth), hom, **{**STROBE_MARK, "markersize": 3.0}, zorder=5, label="your orbit")
+        stays = bool(np.all(np.abs(hth) < 0.5 * np.pi))
+        own_note = (f" Orange: your start, {hth.size - 1} periods"
+                    + (", staying about the upright." if stays else ", leaving the upright."))
+    if window is not None:
+        ax.set_xlim(*window[0])
+        ax.set_ylim(*window[1])
+        ax.set_xlabel("θ(2kT)  (rad from upright)")
+    else:
+        ax.set_xlim(-np.pi, np.pi)
+        ax.set_xlabel("θ(2kT)  (rad from upright), wrapped to (−π, π]")
+    ax.set_ylabel("θ'(2kT)  (rad/s)")
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    ax.legend(loc="upper right", fontsize=8, framealpha=0.9, markerscale=3)
     ax.set_title(title or "Stroboscopic map (one point per drive period 2T)", fontsize=10)
-    m = orbits.theta.reshape(orbits.theta.shape[0], -1).shape[1]
-    caption(fig, parameter_label(orbits.T, orbits.A, orbits.l, orbits.g) + f". {m} initial states (colour: θ(0)), "
-            f"{int(orbits.n[-1])} periods each; closed curves are quasi-periodic motions about the upright, "
-            "scattered points chaotic ones, θ wrapped to (−π, π].")
+    n = int(orbits.n[-1])
+    k = int(np.count_nonzero(keep))
+    if k:
+        what = (f" {k} of {m} starts at rest (colour: θ(0)) stay within π/2 of the upright for {n} periods: "
+                "the closed curves are quasi-periodic motions on the island about the upright")
+        what += (f"; the other {m - k} leave it (grey dots, outside the frame: the chaotic sea)." if k < m else ".")
+    else:
+        what = (f" None of the {m} starts at rest stays near the upright over {n} periods: there is no island "
+                "here (grey: their states, θ wrapped to (−π, π]).")
+    caption(fig, parameter_label(orbits.T, orbits.A, orbits.l, orbits.g) + "." + what + own_note)
     return fig
 
 

@@ -534,7 +534,25 @@ class Trajectory(Summary):
                     final=dict(t=t_end, theta=float(self.theta[-1]), dtheta=float(self.dtheta[-1])),
                     max_abs_theta=float(np.max(np.abs(self.theta))),
                     stays_up=fall is None, falls_at=None if fall is None else float(self.t[fall]),
-                    turns=int(np.trunc(self.theta[-1] / (2 * np.pi))) if self.model == "nonlinear" else None)
+                    turns=int(np.trunc(self.theta[-1] / (2 * np.pi))) if self.model == "nonlinear" else None,
+                    **self._linear_growth())
+
+    def _linear_growth(self) -> dict:
+        """For the linear model: its growth per period ``2T`` (e-folds, :func:`kapitza.growth_rate`)
+        and, where it grows, a note saying so — a linear motion about an unstable upright grows
+        without bound, and its angle counts no turns."""
+        if self.model != "linear":
+            return {}
+        from ..propagation import growth_rate
+
+        eps, mu = self.eps_mu
+        zeta = self.c / (2.0 * np.sqrt(self.g / self.l))
+        growth = float(growth_rate(eps, mu, drive=self.drive, zeta=zeta))
+        out = dict(growth_per_period=growth)
+        if growth > 0:
+            out["note"] = (f"grows without bound: {growth:.3g} e-folds per period 2T "
+                           f"(x{np.exp(min(growth, 700.0)):.3g} per period)")
+        return out
 
     def headline(self) -> str:
         s = self.summary()

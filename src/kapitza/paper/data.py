@@ -48,14 +48,22 @@ __all__ = [
     "figure8_data",
     "ALL_FIGURES",
     "DYNAMICS_A",
+    "DYNAMICS_A_OUTER",
     "FIGURE6_A",
 ]
 
 PI = np.pi
 QPI = 0.25 * PI
 
-#: Amplitude used for Figures 2-5 [m/s^2].
+#: Amplitude used for Figures 2 and 5 [m/s^2].
 DYNAMICS_A = 30.0
+#: Amplitude used for Figures 3 and 4 [m/s^2]. At ``T_2`` and ``T~_2`` one has
+#: ``w_e T > pi + 2 atan D > 3 pi / 2`` ((3.11), (3.12) with ``k = 0``), so
+#: ``w_h T > 3 pi D / 2 > 4.71`` for every ``A``; the smaller ``D``, the smaller
+#: ``w_h T`` and the farther the hyperbolic arc keeps from its asymptotes, but the
+#: smaller the stretch ``y -> D y``. At ``A = 50`` both show (``w_h T = 6.0``,
+#: ``D = 1.22``), and the figure magnifies the arc's turn near the origin.
+DYNAMICS_A_OUTER = 50.0
 #: Amplitude used for Figure 6 [m/s^2].
 FIGURE6_A = 100.0
 
@@ -340,20 +348,42 @@ def _dynamics_data(number, A, l, g, samples):
     k = b.k
     phi = npnt.phi
     if spec["case"] == "a":
-        rel = "phi_1 = -phi_0, " + ("phi_3 = -phi_2 - 2k pi" if not b.tilde else "phi_3 = -phi_2 - pi - 2k pi")
+        rel = r"$\varphi_1 = -\varphi_0$, " + (r"$\varphi_3 = -\varphi_2 - 2k\pi$" if not b.tilde
+                                                else r"$\varphi_3 = -\varphi_2 - \pi - 2k\pi$")
     else:
-        rel = "phi_1 = -phi_0 - pi, " + ("phi_3 = -phi_2 - pi - 2(k+1) pi" if not b.tilde else "phi_3 = -phi_2 - 2 pi - 2k pi")
+        rel = r"$\varphi_1 = -\varphi_0 - \pi$, " + (r"$\varphi_3 = -\varphi_2 - \pi - 2(k+1)\pi$" if not b.tilde
+                                                       else r"$\varphi_3 = -\varphi_2 - 2\pi - 2k\pi$")
     cond = {("3.1", "a"): "3.2", ("3.1", "b"): "3.3", ("3.2", "a"): "3.8", ("3.2", "b"): "3.9"}[(spec["lemma"], spec["case"])]
-    ret = "point 4 returns to point 0" if not b.tilde else "point 4 is point 0 turned by pi and point 8 returns to point 0"
+    ret = ("point 4 returns to point 0" if not b.tilde
+           else r"point 4 is point 0 turned by $\pi$ (right panel: the second period, $2T \leq t < 4T$) "
+                "and point 8 returns to point 0")
     kind = "2T" if not b.tilde else "4T"
-    interval = "-pi/4 < phi_0 < 0" if spec["case"] == "a" else "-pi/2 < phi_0 < -pi/4"
+    interval = r"$-\pi/4 < \varphi_0 < 0$" if spec["case"] == "a" else r"$-\pi/2 < \varphi_0 < -\pi/4$"
     title = (f"Steps of the dynamics over one period, Lemma 3.1({spec['case']})" if not b.tilde
              else f"4T-periodic solution, Lemma 3.2({spec['case']})")
-    caption = (f"{kind}-periodic solution at T = {b.name} = {T:.6g} s (eq. {b.equation}, k = {k}), A = {A:g} m/s^2, "
-               f"l = {l:g} m, g = {g:g} m/s^2 (D = {D:.4g}, w_h T = {w_h * T:.4g}, w_e T = {w_e * T:.4g}). "
-               f"Start phi_0 = {sol.phi0:.5f} from ({'3.19' if b.equation in ('3.10', '3.12') else '3.22'}), {interval}. "
-               f"Points 0-4 of (3.1): hyperbolic arc 0-1, stretch 1-2, clockwise elliptic arc 2-3 by w_e T, "
-               f"contraction 3-4; conditions ({cond}): {rel}; {ret}. Points 0, 1, 4 in (x_h, y_h), 2, 3 in (x_e, y_e).")
+    # The hyperbolic arc turns at its vertex, nearest the origin: on the x-axis in case (a)
+    # (x^2 - y^2 > 0), on the y-axis in case (b). Where it comes close to the origin, the
+    # figure magnifies the turn.
+    xh, yh = series[0].x, series[0].y
+    vertex = float(np.min(np.hypot(xh, yh)))
+    r_max = float(np.max(npnt.r))
+    zoom = 3.0 * vertex if vertex < 0.2 * r_max else None
+    axis = "x-axis" if spec["case"] == "a" else "y-axis"
+    names = {"T_1": r"$T_1$", "T_2": r"$T_2$", "T~_1": r"$\tilde T_1$", "T~_2": r"$\tilde T_2$"}
+    bname = names.get(b.name, b.name)
+    caption = (f"{kind}-periodic solution at $T$ = {bname} = {T:.6g} s (eq. {b.equation}, $k = {k}$), "
+               rf"$A = {A:g}$ m/s$^2$, $l = {l:g}$ m, $g = {g:g}$ m/s$^2$ ($D = {D:.4g}$, $\omega_h T = {w_h * T:.4g}$, "
+               rf"$\omega_e T = {w_e * T:.4g}$). Start $\varphi_0 = {sol.phi0:.5f}$ from "
+               f"({'3.19' if b.equation in ('3.10', '3.12') else '3.22'}), {interval}. "
+               rf"Points 0-4 of (3.1): hyperbolic arc 0-1, stretch 1-2, clockwise elliptic arc 2-3 by $\omega_e T$, "
+               f"contraction 3-4; conditions ({cond}): {rel}; {ret}. Points 0, 1, 4 in $(x_h, y_h)$, 2, 3 in "
+               f"$(x_e, y_e)$. Case ({spec['case']}): the hyperbolic arc turns on the {axis}")
+    if zoom is not None:
+        caption += (rf", at {vertex:.3g} from the origin, since $\omega_h T$ is large "
+                    + (r"($\omega_h T > 3\pi D/2$ at every $A$ here)" if b.index == 2 else "")
+                    + "; the small panel magnifies the turn.")
+    else:
+        caption += "."
     return FigureData(
         number=number,
         title=title,
@@ -361,7 +391,7 @@ def _dynamics_data(number, A, l, g, samples):
         parameters=dict(A=A, l=l, g=g, T=T, boundary=b.name, equation=b.equation, k=k, zone=b.zone,
                         lemma=spec["lemma"], case=spec["case"], condition=cond, phi0=sol.phi0, D=float(D),
                         w_h=float(w_h), w_e=float(w_e), periods=2 if b.tilde else 1, notable_phi=[float(v) for v in phi],
-                        notable_r=[float(v) for v in npnt.r]),
+                        notable_r=[float(v) for v in npnt.r], vertex=vertex, zoom=zoom),
         axes=dict(main=("x = theta", "y = theta'/w (w = w_h for points 0, 1, 4; w_e for 2, 3)")),
         series=tuple(series),
         points=tuple(points),
@@ -392,7 +422,7 @@ def figure2_data(A=DYNAMICS_A, l=1.0, g=G_EARTH, samples=400) -> FigureData:
     return _dynamics_data(2, A, l, g, samples)
 
 
-def figure3_data(A=DYNAMICS_A, l=1.0, g=G_EARTH, samples=400) -> FigureData:
+def figure3_data(A=DYNAMICS_A_OUTER, l=1.0, g=G_EARTH, samples=400) -> FigureData:
     """Steps of the dynamics, Lemma 3.1(b): the 2T-periodic solution at ``T_2`` (Figure 3).
 
     Parameters and returns as :func:`figure2_data`.
@@ -405,7 +435,7 @@ def figure3_data(A=DYNAMICS_A, l=1.0, g=G_EARTH, samples=400) -> FigureData:
     return _dynamics_data(3, A, l, g, samples)
 
 
-def figure4_data(A=DYNAMICS_A, l=1.0, g=G_EARTH, samples=400) -> FigureData:
+def figure4_data(A=DYNAMICS_A_OUTER, l=1.0, g=G_EARTH, samples=400) -> FigureData:
     """4T-periodic solution, Lemma 3.2(a), at ``T~_2`` (Figure 4); two periods, points 0-8.
 
     Parameters and returns as :func:`figure2_data`.
@@ -668,11 +698,16 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
     return FigureData(
         number=8,
         title="Curve G_0, the exact first zone and its approximations",
-        caption="Left: the exact first stability zone (thick edges, shaded), the curve G_0 (dashed) and approximations "
-                "(thin): Kapitza's averaging criterion <v^2> > g l, i.e. A^2 T^2 / 12 > g l, i.e. eps > sqrt(3/2) mu; "
-                "the edges of the O(eps^4) truncation of tr M (both edges, mu < 1/sqrt 2); and the series "
-                "eps^2 = (3/2) mu^2 (1 + (8/7) mu^4) of the lower edge. Right: relative error of each approximated "
-                "edge; Kapitza's error is (4/7) mu^4 to leading order, so it tends to the exact edge as mu -> 0.",
+        caption=(r"Left: the exact first stability zone (thick edges, shaded), the curve $G_0$ (dashed) and "
+                 r"approximations (thin). The paper's Figure 8 draws, as its thin curve, the first approximating zone "
+                 r"of its reference [6] (Csizmadia and Hatvani, Meccanica 49, 2014); this paper does not give that "
+                 r"zone's formula, so it is not drawn here. Drawn instead, each derived in kapitza and checked: "
+                 r"Kapitza's averaging criterion $\langle v^2\rangle > g\,l$, i.e. $A^2T^2/12 > g\,l$, i.e. "
+                 r"$\varepsilon > \sqrt{3/2}\,\mu$; both edges of the $O(\varepsilon^4)$ truncation of "
+                 r"$\mathrm{tr}\,M$ ($\mu < 1/\sqrt{2}$); and the series "
+                 r"$\varepsilon^2 = \frac{3}{2}\mu^2(1 + \frac{8}{7}\mu^4)$ of the lower edge. Right: relative "
+                 r"error of each approximated edge; Kapitza's is $\frac{4}{7}\mu^4$ to leading order (circles), "
+                 r"so it tends to the exact edge as $\mu \to 0$."),
         parameters=dict(eps_max=eps_max, points=points, error_mu=[m0, m1]),
         axes=dict(plane=("eps = T sqrt(A)/sqrt(8 l)", "mu = sqrt(g/A)"),
                   error=("mu = sqrt(g/A)", "|eps_approx/eps_exact - 1|")),

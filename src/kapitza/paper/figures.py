@@ -179,58 +179,122 @@ def figure1(ax=None, data=None):
 
 
 # ------------------------------------------------------------------ Figures 2-5
-def _dynamics(ax, data):
-    (ax,) = _axes(ax, 1, 8.8, 6.0, 4)
-    periods = data.parameters["periods"]
-    for s in data.series:
-        period = s.meta.get("period", 1)
-        style = dict(STEP_STYLE[s.role])
-        if period == 2:
-            style.update(alpha=0.45, linestyle="--")
-        label = s.label if period == 1 else None
-        ax.plot(s.x, s.y, label=label, **style)
-        # Direction of travel: an arrow head in the middle of each step.
-        k = len(s.x) // 2 if len(s.x) > 2 else 0
+def _draw_period(ax, series, r):
+    """The four steps of one period, each with an arrow head in its middle."""
+    for s in series:
+        style = STEP_STYLE[s.role]
+        ax.plot(s.x, s.y, label=s.label, **style)
         if len(s.x) > 2:
+            k = len(s.x) // 2
             dx, dy = s.x[k + 1] - s.x[k - 1], s.y[k + 1] - s.y[k - 1]
             xm, ym = s.x[k], s.y[k]
         else:
             dx, dy = s.x[1] - s.x[0], s.y[1] - s.y[0]
             xm, ym = 0.5 * (s.x[0] + s.x[1]), 0.5 * (s.y[0] + s.y[1])
-        _arrow(ax, xm, ym, dx, dy, 0.035, color=style["color"], linewidth=1.0)
-    if periods == 2:
-        ax.plot([], [], color="0.4", linestyle="--", alpha=0.6, label="second period ($2T \\leq t < 4T$)")
-    r = max(np.max(np.hypot(s.x, s.y)) for s in data.series)
-    lim = 1.22 * r
+        _arrow(ax, xm, ym, dx, dy, 0.03 * r, color=style["color"], linewidth=1.0)
+
+
+def _asymptotes(ax, lim, label=True):
     s = np.array([-lim, lim])
     ax.plot(s, s, **ASYMPTOTE)
-    ax.plot(s, -s, **ASYMPTOTE, label=r"asymptotes $y = \pm x$")
+    ax.plot(s, -s, **ASYMPTOTE, label=r"asymptotes $y = \pm x$" if label else None)
     ax.axhline(0, color="0.85", linewidth=0.6, zorder=0)
     ax.axvline(0, color="0.85", linewidth=0.6, zorder=0)
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_aspect("equal")
-    ax.set_xlabel(r"$x = \theta$")
-    ax.set_ylabel(r"$y = \dot\theta/\omega_h$ (points 0, 1, 4), $\dot\theta/\omega_e$ (points 2, 3)")
-    # Label every notable point; points that coincide share one label ("0 = 4").
+
+
+def _label_points(ax, points, series, r):
+    """Label every notable point; points that coincide share one label ("0 = 4")."""
     groups = []
-    for p in data.points:
+    for p in points:
         for grp in groups:
             if np.hypot(grp[0].x - p.x, grp[0].y - p.y) < 1e-6 * r:
                 grp.append(p)
                 break
         else:
             groups.append([p])
-    obstacles = np.vstack([_polyline_samples(s.x, s.y) for s in data.series]
+    obstacles = np.vstack([_polyline_samples(s.x, s.y) for s in series]
                           + [np.array([[g[0].x, g[0].y] for g in groups])])
     for grp in groups:
         ax.plot([grp[0].x], [grp[0].y], "o", color="k", markersize=4.5, zorder=5)
     _place_labels(ax, [(g[0].x, g[0].y, " = ".join(q.label for q in g)) for g in groups], obstacles)
+
+
+def _dynamics_axes(ax, periods, zoom):
+    """The Axes of Figures 2-5: one panel per period, and a small one for the magnified turn."""
+    count = periods + (zoom is not None)
+    if ax is not None:
+        axes = list(np.atleast_1d(ax))
+        if len(axes) != count:
+            raise ValueError(f"this figure needs {count} Axes; got {len(axes)}")
+        return axes[:periods], (axes[periods] if zoom is not None else None)
+    fig = new_figure(11.0 if periods == 2 else 8.6, 4.7 if periods == 2 else 6.0)
+    widths = (1.0,) * periods + ((0.55,) if zoom is not None else ())
+    gs = fig.add_gridspec(1, count, width_ratios=widths)
+    mains = [fig.add_subplot(gs[0, i]) for i in range(periods)]
+    if zoom is None:
+        return mains, None
+    # The small panel sits under the legend, in the right-hand column.
+    sub = gs[0, periods].subgridspec(2, 1, height_ratios=(1.0, 1.0))
+    return mains, fig.add_subplot(sub[1, 0])
+
+
+def _dynamics(ax, data):
     par = data.parameters
+    periods = par["periods"]
+    zoom = par.get("zoom")
+    mains, zax = _dynamics_axes(ax, periods, zoom)
+    r = max(np.max(np.hypot(s.x, s.y)) for s in data.series)
+    lim = 1.22 * r
+    xl, yl = r"$x = \theta$", r"$y = \dot\theta/\omega_h$ (points 0, 1, 4), $\dot\theta/\omega_e$ (points 2, 3)"
+    for i, a in enumerate(mains, start=1):
+        mine = [s for s in data.series if s.meta.get("period", 1) == i]
+        if i == 2:
+            # The first period stays in view, faint, so the turn by pi is plain.
+            for s in data.series:
+                if s.meta.get("period", 1) == 1:
+                    a.plot(s.x, s.y, color="0.75", linewidth=1.0, zorder=1,
+                           label="first period ($0 \\leq t < 2T$)" if s.role == "hyperbolic arc" else None)
+        _draw_period(a, mine, r)
+        _asymptotes(a, lim)
+        lo, hi = (0, 4) if i == 1 else (4, 8)
+        pts = [p for p in data.points if lo <= p.meta["i"] <= hi]
+        if i == 1 and periods == 2:
+            pts = [p for p in pts if p.label != "8"]
+        _label_points(a, pts, mine, r)
+        a.set_xlabel(xl)
+        a.set_ylabel(yl if i == 1 else "")
+        if periods == 2:
+            a.set_title("first period, $0 \\leq t < 2T$" if i == 1 else "second period, $2T \\leq t < 4T$",
+                        fontsize=9)
     name = _tex_name(par["boundary"]).strip("$")
-    ax.set_title(f"{data.title}\n$T = {name} = {par['T']:.5g}$ s, $A = {par['A']:g}$ m/s$^2$ (eq. {par['equation']}, "
-                 f"$k = {par['k']}$)", fontsize=10)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False, borderaxespad=0.0)
+    head = (f"{data.title}\n$T = {name} = {par['T']:.5g}$ s, $A = {par['A']:g}$ m/s$^2$ (eq. {par['equation']}, "
+            f"$k = {par['k']}$)")
+    fig = mains[0].figure
+    if periods == 2:
+        fig.suptitle(head, fontsize=10)
+    else:
+        mains[0].set_title(head, fontsize=10)
+    # One legend: the strokes exactly as drawn (the first period's, or the second panel's with its ghost).
+    handles, labels = mains[-1].get_legend_handles_labels()
+    if zax is not None:
+        h = zoom
+        hyper = [s for s in data.series if s.role == "hyperbolic arc"]
+        for s in hyper:
+            if s.meta.get("period", 1) == 1:
+                zax.plot(s.x, s.y, **STEP_STYLE["hyperbolic arc"])
+        _asymptotes(zax, h, label=False)
+        zax.set_title(f"the turn of arc 0-1,\nmagnified {lim / h:.0f}$\\times$", fontsize=8)
+        zax.tick_params(labelsize=7)
+        zax.set_xlabel(r"$x$", fontsize=8)
+        zax.set_ylabel(r"$y$", fontsize=8)
+        mains[0].add_patch(plt.Rectangle((-h, -h), 2 * h, 2 * h, fill=False, edgecolor="0.3", linewidth=0.8,
+                                         zorder=7))
+        fig.legend(handles, labels, loc="upper right", bbox_to_anchor=(1.0, 0.93), fontsize=8, frameon=False)
+    else:
+        mains[-1].legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False, borderaxespad=0.0)
     return data
 
 
@@ -423,7 +487,9 @@ def figure8(ax=None, data=None):
         y = np.where(s.y > floor, s.y, np.nan)
         axe.loglog(s.x, y, label=s.label, **{**st, "linewidth": 1.4})
     ref = data.series_named("mu^4 reference")
-    axe.loglog(ref.x, ref.y, color="0.5", linewidth=0.8, linestyle=":", label=ref.label)
+    # Kapitza's error lies on its leading term: open circles at every 25th sample keep both in view.
+    axe.loglog(ref.x[::25], ref.y[::25], color="k", linestyle="none", marker="o", markersize=4.5,
+               markerfacecolor="none", markeredgewidth=0.8, label=ref.label, zorder=4)
     axe.set_xlabel(r"$\mu = \sqrt{g/A}$")
     axe.set_ylabel(r"$|\varepsilon_\mathrm{approx}/\varepsilon_\mathrm{exact} - 1|$")
     axe.set_title("relative error of each approximated edge", fontsize=10)

@@ -12,7 +12,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["Heading", "Para", "Table", "Image", "Code", "to_markdown", "to_html"]
+__all__ = ["Heading", "Para", "Table", "Image", "Code", "to_markdown", "to_html", "plain_math"]
 
 
 @dataclass(frozen=True)
@@ -47,6 +47,39 @@ class Image:
 @dataclass(frozen=True)
 class Code:
     text: str
+
+
+# ------------------------------------------------------------------ mathtext -> text
+_SYMBOLS = {
+    r"\varepsilon": "ε", r"\varphi": "φ", r"\alpha": "α", r"\beta": "β", r"\theta": "θ", r"\mu": "μ",
+    r"\omega": "ω", r"\pi": "π", r"\psi": "ψ", r"\zeta": "ζ", r"\leq": "≤", r"\geq": "≥", r"\to": "→",
+    r"\times": "×", r"\pm": "±", r"\langle": "⟨", r"\rangle": "⟩", r"\mapsto": "↦", r"\infty": "∞",
+    r"\cdot": "·", r"\sqrt": "√", r"\,": " ", r"\;": " ", r"\!": "",
+}
+
+
+def plain_math(text: str) -> str:
+    """A caption's mathtext (``$\\omega_h T$``) as readable Unicode text (``ω_h T``) for the report.
+
+    The figures typeset the same caption with matplotlib's mathtext; Markdown and HTML show it
+    as plain text: Greek letters and relations as characters, ``\\tilde T`` as ``T~``,
+    ``\\frac{a}{b}`` as ``(a/b)``, ``\\dot\\theta`` as ``θ'``, braces and ``\\mathrm`` dropped.
+    """
+
+    def one(m):
+        s = m.group(1)
+        s = re.sub(r"\\frac\{([^{}]*)\}\{([^{}]*)\}", r"(\1/\2)", s)
+        s = re.sub(r"\\sqrt\{([A-Za-z0-9]+)\}", r"√\1", s)
+        s = re.sub(r"\\sqrt\{([^{}]*)\}", r"√(\1)", s)
+        s = re.sub(r"\\langle\s*", "⟨", s)
+        s = re.sub(r"\\(?:tilde|widetilde)\s*\{?([A-Za-z])\}?", r"\1~", s)
+        s = re.sub(r"\\dot\s*\{?(\\?[A-Za-z]+)\}?", r"\1'", s)
+        s = re.sub(r"\\(?:mathrm|mathit|mathbf|operatorname)\s*", "", s)
+        for k in sorted(_SYMBOLS, key=len, reverse=True):
+            s = s.replace(k, _SYMBOLS[k])
+        return s.replace("{", "").replace("}", "").replace("\\", "")
+
+    return re.sub(r"\$([^$]*)\$", one, text)
 
 
 # ------------------------------------------------------------------ Markdown
@@ -99,6 +132,7 @@ def _inline(text: str) -> str:
     s = html.escape(text)
     s = re.sub(r"`([^`]+)`", r"<code>\1</code>", s)
     s = re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", s)
+    s = re.sub(r"(?<![*\w])\*([^*\s][^*]*?)\*(?![*\w])", r"<em>\1</em>", s)
     return s
 
 
