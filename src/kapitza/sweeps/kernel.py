@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..drives import as_drive
+from ..drives import as_drive, parse_drive
 from ..motion.basins import _survival_chunk
 from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
@@ -60,7 +60,7 @@ VARIABLES = {
 def _plans(T, A, l, g, drive):
     """``(s, duration)`` of each phase, one entry per point (1-d arrays)."""
     return [(np.asarray(s, float) * np.ones_like(T), np.asarray(d, float) * np.ones_like(T))
-            for s, d in as_drive(drive).phases(T, A, l, g)]
+            for s, d in drive.phases(T, A, l, g)]
 
 
 #: Longest sub-step of a phase in scaled time ``w h``: the window test of
@@ -162,7 +162,7 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
         eps, mu = to_arnold(T, A, l, g)
     shape = (np.size(y), np.size(x))
     out = {}
-    d = as_drive(drive)
+    d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
     dd = None if d.name == "square" else d
     if "linear" in quantities:
         out["stable"] = is_stable(eps, mu, drive=dd).astype(np.int8)
