@@ -67,7 +67,7 @@ def test_dask_equals_serial_bit_for_bit(client, serial_small, tmp_path):
 
 
 def test_a_worker_killed_mid_sweep_changes_nothing(client, tmp_path):
-    spec = SweepSpec.window((0.15, 0.9), (0.05, 0.7), (8, 8), periods=60, quantities=("tilt", "linear"), chunk=2)
+    spec = SweepSpec.window((0.15, 0.9), (0.05, 0.7), (8, 8), periods=30, quantities=("tilt", "linear"), chunk=2)
     ref_path = tmp_path / "ref.zarr"
     sweep(spec, ref_path, serial=True, progress=False)
     before = set(client.scheduler_info()["workers"])
@@ -99,11 +99,14 @@ def _done_count(path):
         return -1
 
 
-SIGKILL_ARGS = ["sweep", "--eps", "0.15", "0.9", "--mu", "0.05", "0.7", "--resolution", "12", "12", "--chunk", "2",
-                "--periods", "150", "--quantities", "tilt,linear", "--quiet", "--no-figure"]
+SIGKILL_ARGS = ["sweep", "--eps", "0.15", "0.9", "--mu", "0.05", "0.7", "--resolution", "10", "8", "--chunk", "2",
+                "--periods", "40", "--floor", "0.01", "--quantities", "tilt,linear", "--quiet", "--no-figure"]
+SIGKILL_SPEC = dict(x_range=(0.15, 0.9), y_range=(0.05, 0.7), resolution=(10, 8), periods=40, floor=0.01,
+                    quantities=("tilt", "linear"), chunk=2)
+SIGKILL_CHUNKS = 20
 
 
-def _kill_midway(path, extra, min_done=3):
+def _kill_midway(path, extra, min_done=2):
     cmd = [sys.executable, "-m", "kapitza", *SIGKILL_ARGS, "--out", str(path), *extra]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
     try:
@@ -121,12 +124,12 @@ def _kill_midway(path, extra, min_done=3):
 
 def _resume_and_compare(path, tmp_path, capsys, extra):
     done = _done_count(path)
-    total = 36
+    total = SIGKILL_CHUNKS
     assert 0 < done < total
     code, out, err = run([*SIGKILL_ARGS, "--out", str(path), "--resume", *extra], capsys)
     assert code == 0, err
     assert f"computed {total - done} of {total} chunks ({done} already done)" in err
-    spec = SweepSpec.window((0.15, 0.9), (0.05, 0.7), (12, 12), periods=150, quantities=("tilt", "linear"), chunk=2)
+    spec = SweepSpec.window(**SIGKILL_SPEC)
     sweep(spec, tmp_path / "whole.zarr", serial=True, progress=False)
     assert_identical(arrays(path, spec), arrays(tmp_path / "whole.zarr", spec))
     assert _done_count(path) == total
