@@ -167,3 +167,25 @@ def general_drive(drive, zeta, name="zeta"):
     if d.name == "square" and not np.any(z > 0):
         return None, None
     return d, z
+
+
+def bounded_int(name: str, value, lo: int, hi: int) -> int:
+    """Return ``value`` as one int with ``lo <= value <= hi``."""
+    arr = nonnegative_int(name, value, minimum=lo)
+    if arr.size != 1:
+        raise KapitzaValueError(f"{name} must be a single integer; got shape {arr.shape}")
+    v = int(arr.flat[0])
+    if v > hi:
+        raise KapitzaValueError(f"{name} must be an integer in [{lo}, {hi}]; got {v}")
+    return v
+
+
+def choices(name: str, values, allowed) -> tuple:
+    """Return ``values`` (one name or several) as a tuple of members of ``allowed``, without repeats."""
+    vals = (values,) if isinstance(values, str) else tuple(values)
+    if not vals:
+        raise KapitzaValueError(f"{name} must name at least one of {', '.join(map(repr, allowed))}")
+    for v in vals:
+        if v not in allowed:
+            raise KapitzaValueError(f"{name} must be among {', '.join(map(repr, allowed))}; got {v!r}")
+    return tuple(dict.fromkeys(vals))

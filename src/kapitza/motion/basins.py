@@ -49,8 +49,25 @@ def _tolerance(tol):
     return float(_v.in_range("tol", tol, 0.0, np.pi))
 
 
-def _survival_chunk(theta, dtheta, plan, periods, tol, model):
-    """Periods completed with ``|theta| <= tol`` throughout, for one chunk (trusted input)."""
+def _sub_steps(s, dur, scaled=1.0):
+    """``(s, h, count)`` of one phase cut into ``count`` sub-steps of scaled length ``w h <= scaled``
+    (scalars, or arrays with one entry per state)."""
+    count = np.maximum(1, np.ceil(np.sqrt(np.abs(s)) * dur / scaled))
+    if np.ndim(count) == 0:
+        return s, dur / max(1, int(count)), max(1, int(count))
+    return s, dur / count, count.astype(np.int64)
+
+
+def _survival_chunk(theta, dtheta, plan, periods, tol, model, scaled=1.0):
+    """Periods completed with ``|theta| <= tol`` throughout, for one chunk (trusted input).
+
+    ``plan``: the ``(s, duration)`` phases of one period, each a scalar or an array with one
+    entry per state (members with different parameters then advance together; each keeps its
+    own sub-step length, so its result does not depend on the other members). States that
+    leave are dropped from the working arrays at once. ``scaled``: the longest sub-step in
+    scaled time ``w h``; the test is exact for any ``scaled < pi`` (module notes: turning points
+    are at least ``pi`` apart, and a return from beyond ``pi`` takes at least ``pi``).
+    """
     step = STEPS[model]
     amplitude = AMPLITUDES[model]
     n = theta.size
@@ -58,20 +75,31 @@ def _survival_chunk(theta, dtheta, plan, periods, tol, model):
     alive = np.flatnonzero(np.abs(theta) <= tol)
     survived[np.abs(theta) > tol] = 0
     th, om = theta[alive], dtheta[alive]
-    subs = [(s, dur / max(1, int(np.ceil(np.sqrt(abs(s)) * dur))), max(1, int(np.ceil(np.sqrt(abs(s)) * dur))))
-            for s, dur in plan]
+    subs = [_sub_steps(s, dur, scaled) for s, dur in plan]
     for k in range(periods):
         if alive.size == 0:
             break
         for s, h, count in subs:
-            w = np.sqrt(abs(s))
-            for _ in range(count):
-                th1, om1 = step(th, om, s, h)
+            per_state = np.ndim(count) > 0
+            for j in range(int(np.max(count)) if per_state else count):
+                if per_state:  # this period's parameters of the members still inside
+                    s_a, h_a, c_a = s[alive], h[alive], count[alive]
+                    neg = s_a < 0
+                else:
+                    s_a, h_a, neg = s, h, s < 0
+                th1, om1 = step(th, om, s_a, h_a)
+                if per_state and j > 0:
+                    idle = c_a <= j  # these members have finished this phase's sub-steps
+                    if idle.any():
+                        th1, om1 = np.where(idle, th, th1), np.where(idle, om, om1)
                 out = np.abs(th1) > tol
-                if s < 0:
+                if np.any(neg):
                     turned = (np.sign(om1) * np.sign(om)) < 0
+                    if per_state:
+                        turned &= neg
                     if turned.any():
-                        out |= turned & (amplitude(th, om, w) > tol)
+                        w = np.sqrt(np.abs(s_a[turned] if per_state else s_a))
+                        out[turned] |= amplitude(th[turned], om[turned], w) > tol
                 if out.any():
                     survived[alive[out]] = k
                     keep = ~out

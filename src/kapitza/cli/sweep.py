@@ -1,0 +1,159 @@
+"""``kapitza sweep``: nonlinear stability maps over a window of the parameter plane."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ._common import CLIError, add_drive, drive_from, finite_float, print_json
+from ..parameters import G_EARTH
+
+#: Figures drawn, in order: variable -> (file suffix, colour-bar label, what).
+_FIGURES = {
+    "max_safe_tilt": ("", "largest safe tilt at rest [rad]", "largest safe starting tilt at rest"),
+    "basin_area": ("-basin", "basin area (fraction of the start window)", "basin of the upright"),
+    "max_safe_radius": ("-radius", "largest safe radius over all directions [rad]", "largest safe radius"),
+    "median_escape": ("-escape", "median escape time [periods]", "median escape time"),
+}
+
+
+def register(sub):
+    p = sub.add_parser(
+        "sweep",
+        help="nonlinear stability map over a window of the chart (Dask, Zarr, resumable)",
+        description="For every point of a grid over (--eps, --mu) or (--T, --A): the largest safe starting tilt at\n"
+        "rest (tilt), the largest safe radius over all directions of the phase plane (radius), the basin area\n"
+        "and median escape time (basin) of the upright for --periods periods, beside the exact linear verdict,\n"
+        "zone, growth and margin (linear). Chunks of the grid run on a local Dask cluster (one worker per\n"
+        "core) or on --scheduler ADDRESS; each finished chunk is written to the Zarr store --out at once, so\n"
+        "an interrupted sweep continues with --resume and recomputes only unfinished chunks. Writes a figure\n"
+        "of the map with the exact zone edges (STEM.png/.svg, STEM = --out without .zarr); --netcdf exports.\n"
+        "Radii are bisected to --accuracy (relative). See docs/sweeps.md.",
+        epilog="examples:\n"
+        "  kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --resolution 40 30 --periods 100 --out small.zarr\n"
+        "  kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --resolution 40 30 --periods 100 --out small.zarr --resume\n"
+        "  kapitza sweep --T 0.05 0.4 --A 20 200 --l 0.5 --quantities tilt,basin,linear --netcdf map.nc\n"
+        "  kapitza sweep --eps 0.1 3 --mu 0.01 0.99 --resolution 512 --periods 1000 --scheduler tcp://head:8786",
+    )
+    w = p.add_argument_group("window (give --eps and --mu, or --T and --A)")
+    for name, help_ in (("eps", "Arnold's eps range"), ("mu", "Arnold's mu range"), ("T", "half-period range [s]"),
+                        ("A", "acceleration amplitude range [m/s^2]")):
+        w.add_argument(f"--{name}", nargs=2, type=finite_float, metavar=("LO", "HI"), help=help_)
+    w.add_argument("--l", type=finite_float, default=1.0, metavar="M", help="rod length (default 1)")
+    w.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"gravity (default {G_EARTH})")
+    w.add_argument("--resolution", nargs="+", type=int, default=[32, 24], metavar="N",
+                   help="grid points along x (eps or T) and y (mu or A); one number for both (default 32 24)")
+    add_drive(p.add_argument_group("the pivot's motion (piecewise constant)"))
+    q = p.add_argument_group("what is computed")
+    q.add_argument("--quantities", default="tilt,linear",
+                   help="comma-separated: tilt, radius, basin, linear (default tilt,linear)")
+    q.add_argument("--periods", type=int, default=200, help="periods 2T each start must stay (default 200)")
+    q.add_argument("--tol", type=finite_float, default=0.5, metavar="RAD", help="window |theta| <= RAD (default 0.5)")
+    q.add_argument("--accuracy", type=finite_float, default=0.01, help="relative bisection accuracy (default 0.01)")
+    q.add_argument("--floor", type=finite_float, default=1e-4, metavar="RAD",
+                   help="smallest radius tried; below it 0 is reported (default 1e-4)")
+    q.add_argument("--directions", type=int, default=8, help="directions of the phase plane for radius (default 8)")
+    q.add_argument("--basin-resolution", type=int, default=21, help="start grid n x n for basin (default 21)")
+    r = p.add_argument_group("running")
+    r.add_argument("--out", default="kapitza-sweep.zarr", metavar="STORE.zarr", help="Zarr store (default kapitza-sweep.zarr)")
+    r.add_argument("--resume", action="store_true", help="continue the interrupted sweep in --out")
+    r.add_argument("--chunk", type=int, default=16, help="grid points per side of a chunk (default 16)")
+    r.add_argument("--workers", type=int, default=None, help="local Dask workers (default: one per core)")
+    r.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
+    r.add_argument("--serial", action="store_true", help="no Dask: compute in this process")
+    r.add_argument("--netcdf", metavar="FILE.nc", help="also export the result as NetCDF")
+    r.add_argument("--figure", metavar="STEM", help="figure stem (default: --out without .zarr)")
+    r.add_argument("--no-figure", dest="draw", action="store_false", help="no figure")
+    r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--json", action="store_true", help="print a JSON summary")
+    p.set_defaults(func=cmd_sweep)
+
+
+def _window(args):
+    arn = args.eps is not None or args.mu is not None
+    phys = args.T is not None or args.A is not None
+    if arn and phys:
+        raise CLIError("give the window as --eps and --mu, or as --T and --A, not both")
+    if arn:
+        if args.eps is None or args.mu is None:
+            raise CLIError("--eps LO HI and --mu LO HI must be given together")
+        return "arnold", args.eps, args.mu
+    if phys:
+        if args.T is None or args.A is None:
+            raise CLIError("--T LO HI and --A LO HI must be given together")
+        return "physical", args.T, args.A
+    raise CLIError("give the window: --eps LO HI --mu LO HI (Arnold) or --T LO HI --A LO HI (physical)")
+
+
+def spec_from(args):
+    """The :class:`kapitza.sweeps.SweepSpec` of the parsed options."""
+    from ..sweeps import SweepSpec
+
+    plane, xr, yr = _window(args)
+    if len(args.resolution) not in (1, 2):
+        raise CLIError(f"--resolution takes one or two numbers; got {len(args.resolution)}")
+    res = args.resolution * 2 if len(args.resolution) == 1 else args.resolution
+    drive = drive_from(args)
+    return SweepSpec.window(xr, yr, res, plane=plane, l=args.l, g=args.g, drive=drive,
+                            periods=args.periods, tol=args.tol,
+                            quantities=tuple(s.strip() for s in args.quantities.split(",") if s.strip()),
+                            directions=args.directions, basin_resolution=args.basin_resolution,
+                            accuracy=args.accuracy, floor=args.floor, chunk=args.chunk)
+
+
+def cmd_sweep(args):
+    try:
+        from ..sweeps import open_sweep, sweep, to_netcdf
+    except ImportError as exc:  # the optional extra is missing
+        raise CLIError(f"kapitza sweep needs the 'sweep' extra: pip install 'kapitza[sweep]' ({exc})") from None
+    spec = spec_from(args)
+    if args.serial and (args.scheduler or args.workers is not None):
+        raise CLIError("--serial runs without Dask; leave out --workers and --scheduler")
+    out = Path(args.out)
+    if out.exists() and not args.resume:
+        raise CLIError(f"{out} exists; continue it with --resume or choose a new --out")
+    run = sweep(spec, out, resume=args.resume, serial=args.serial, workers=args.workers, scheduler=args.scheduler,
+                progress=not args.quiet)
+    print(f"computed {run.computed} of {run.total} chunks ({run.skipped} already done); store {run.store}",
+          file=sys.stderr)
+    ds = open_sweep(out).load()
+    written = [str(out)]
+    if args.netcdf:
+        written.append(str(to_netcdf(ds, args.netcdf)))
+    if args.draw:
+        stem = args.figure or str(out.with_suffix("") if out.suffix == ".zarr" else out)
+        written += [str(p) for p in _draw(ds, spec, stem)]
+    summary = {"store": str(out), "chunks": run.total, "computed": run.computed, "skipped": run.skipped,
+               "files": written}
+    for name in spec.variables:
+        v = ds[name].values
+        summary[name] = {"min": float(v.min()), "max": float(v.max()), "mean": float(v.mean())}
+    if args.json:
+        print_json(summary)
+    else:
+        for f in written:
+            print(f)
+    return 0
+
+
+def _draw(ds, spec, stem):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..drives import parse_drive
+    from ..figures._style import save
+    from ..figures.sweep import sweep_figure
+
+    xn, yn = spec.dims[1], spec.dims[0]
+    drive = parse_drive(spec.drive)
+    paths = []
+    for name, (suffix, label, what) in _FIGURES.items():
+        if name not in ds:
+            continue
+        fig = sweep_figure(ds[xn].values, ds[yn].values, ds[name].values, plane=spec.plane, label=label, what=what,
+                           periods=spec.periods, tol=spec.tol, l=spec.l, g=spec.g,
+                           drive=None if drive.name == "square" else drive)
+        paths += save(fig, f"{stem}{suffix}")
+        plt.close(fig)
+    return paths

@@ -1,0 +1,95 @@
+"""The map of a sweep over the chart, with the exact linear zone edges drawn on top."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..parameters import G_EARTH
+from ..zones import period_edges, zone_edges
+from ._style import EDGE_2T, EDGE_4T, Drawn, caption, new_figure, place_legend
+
+__all__ = ["plot_sweep_map", "sweep_figure"]
+
+_AXES = {"arnold": (r"$\varepsilon = T\sqrt{A/(8l)}$", r"$\mu = \sqrt{g/A}$"),
+         "physical": ("half-period $T$ [s]", "acceleration amplitude $A$ [m/s$^2$]")}
+
+
+def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60):
+    """``[(n, y, x_lo, x_hi)]`` of the zones that reach into ``x <= x_max``."""
+    out = []
+    if plane == "arnold":
+        y = np.linspace(max(y_range[0], 1e-3), min(y_range[1], 0.999), points)
+    else:
+        y = np.linspace(max(y_range[0], 1.0001 * g), y_range[1], points)
+    if y.size == 0 or y[0] >= y[-1]:
+        return out
+    for n in range(max_zones):
+        lo, hi = zone_edges(y, n, drive=drive) if plane == "arnold" else period_edges(y, n, l, g, drive=drive)
+        if not np.any(np.isfinite(lo)) or np.nanmin(lo) > x_max:
+            break
+        out.append((n, y, lo, hi))
+    return out
+
+
+def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, drive=None, label=None,
+                   cmap="viridis", colorbar=True, edges=True):
+    """Draw a sweep's map ``values[y, x]`` with the exact zone edges on top.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Grid columns (``eps`` or ``T`` [s]) and rows (``mu`` or ``A`` [m/s^2]).
+    values : array_like, shape ``(y.size, x.size)``
+    plane : {'arnold', 'physical'}
+    ax : matplotlib Axes, optional
+    l, g, drive :
+        The pendulum and drive of the sweep (for the edges, :func:`kapitza.zone_edges` /
+        :func:`kapitza.period_edges`).
+    label : str, optional
+        Colour-bar label.
+    edges : bool
+        Draw the zone edges (2T-periodic solid, 4T-periodic dashed, ``docs/theory.md`` section 5).
+
+    Returns
+    -------
+    Drawn
+        ``mesh``, ``colorbar``, ``edges`` (list of lines).
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        ax = plt.figure().add_subplot()
+    x, y, v = np.asarray(x, float), np.asarray(y, float), np.asarray(values, float)
+    mesh = ax.pcolormesh(x, y, v, shading="nearest", cmap=cmap, rasterized=True)
+    drawn = Drawn(ax, {"mesh": mesh, "edges": []})
+    if colorbar:
+        drawn["colorbar"] = ax.figure.colorbar(mesh, ax=ax, label=label)
+    if edges:
+        square = drive is None or getattr(drive, "name", drive) == "square"
+        for n, yy, lo, hi in _edges(plane, (y.min(), y.max()), x.max(), l, g, drive):
+            lo_style, hi_style = (EDGE_2T, EDGE_4T) if (n % 2 == 0 or not square) else (EDGE_4T, EDGE_2T)
+            a = ax.plot(lo, yy, **lo_style, label="2T-periodic edge" if n == 0 else None)
+            b = ax.plot(hi, yy, **hi_style, label="4T-periodic edge" if n == 0 else None)
+            drawn["edges"] += a + b
+    dx = 0.5 * (x[1] - x[0]) if x.size > 1 else 0.5 * x[0]
+    dy = 0.5 * (y[1] - y[0]) if y.size > 1 else 0.5 * y[0]
+    ax.set_xlim(x.min() - dx, x.max() + dx)
+    ax.set_ylim(y.min() - dy, y.max() + dy)
+    ax.set_xlabel(_AXES[plane][0])
+    ax.set_ylabel(_AXES[plane][1])
+    return drawn
+
+
+def sweep_figure(x, y, values, *, plane="arnold", label, what, periods, tol, l=1.0, g=G_EARTH, drive=None,
+                 title=None):
+    """A captioned figure of one sweep variable (see :func:`plot_sweep_map`)."""
+    fig = new_figure(7.0, 5.0, caption_lines=3)
+    ax = fig.add_subplot()
+    drawn = plot_sweep_map(x, y, values, plane=plane, ax=ax, l=l, g=g, drive=drive, label=label)
+    if drawn["edges"]:
+        place_legend(ax, inside=True, loc="upper right")
+    ax.set_title(title or f"{what}: {periods} periods, window $|\\theta| \\leq$ {tol:g} rad", fontsize=10)
+    caption(fig, f"Colour: {what} of the full (nonlinear) pendulum: starts that keep $|\\theta| \\leq$ {tol:g} rad "
+                 f"for {periods} drive periods $2T$, checked on the continuous motion. Lines: the exact edges of the "
+                 "linear stability zones (solid: a 2T-periodic solution, dashed: a 4T-periodic one). Inside a zone the "
+                 "upright is linearly stable; the colour shows how far it can be knocked and still stand.")
+    return fig

@@ -1,0 +1,182 @@
+"""Per-point quantities of a sweep, for a whole block of parameter points at once.
+
+Every quantity is a question about the survival test of :func:`kapitza.motion.survival`
+(``|theta(t)| <= tol`` on the whole of ``[0, 2NT]``, checked on the continuous motion,
+undamped flow exact in Jacobi elliptic functions, ``docs/theory.md`` section 6). The block's
+points and all their candidate starts are advanced together as one numpy array (the period
+map takes one ``(s, duration)`` per state), and a start is dropped from the working arrays as
+soon as it leaves the window, so a failed candidate costs only the periods it survived.
+
+* **max safe radius along a direction** ``phi`` of the phase plane: the start
+  ``(theta0, dtheta0) = r (cos phi, Omega sin phi)`` with ``Omega = 2/T`` (the scale of
+  :func:`kapitza.motion.basin`'s window: ``r = tol`` reaches its edge). Bracketed by scanning
+  ``r = tol, tol/2, tol/4, ...`` downward to the first survivor, then bisected until the
+  bracket ``[lo, hi)`` has ``hi - lo <= accuracy * lo``; ``lo`` (a start seen to survive) is
+  reported. Below ``floor`` no start is tried and 0 is reported. Assumes the safe starts along
+  the ray form one segment ``[0, r*)`` (a connected core), checked by the tests against the
+  brute-force basin.
+* **max safe tilt** ``theta*``: the radius along ``phi = 0`` (at rest).
+* **max safe radius**: the smallest radius over ``directions`` directions evenly spaced in
+  ``[0, pi)`` (the motion is odd, so ``phi + pi`` repeats ``phi``).
+* **basin area**: the fraction of the ``n x n`` start grid of :func:`kapitza.motion.basin`
+  (``|theta0| <= tol``, ``|dtheta0| <= 2 tol / T``) that survives ``N`` periods; by the odd
+  symmetry only half the grid is followed and mirrored.
+* **median escape**: the median over that grid of the periods completed before leaving
+  (``N`` when at least half stayed).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..drives import as_drive, parse_drive
+from ..motion.basins import _survival_chunk
+from ..parameters import to_arnold, to_physical
+from ..propagation import growth_rate
+from ..zones import is_stable, stability_margin, zone_index
+
+__all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii"]
+
+#: Quantities a sweep can compute, and the variables each one writes.
+QUANTITIES = {
+    "tilt": ("max_safe_tilt",),
+    "radius": ("max_safe_radius",),
+    "basin": ("basin_area", "median_escape"),
+    "linear": ("stable", "zone", "growth", "margin"),
+}
+
+#: ``name -> (long name, units)`` of every variable.
+VARIABLES = {
+    "max_safe_tilt": ("largest starting tilt at rest that stays within tol for N periods", "rad"),
+    "max_safe_radius": ("largest safe radius over all directions of the phase plane (theta, dtheta T/2)", "rad"),
+    "basin_area": ("fraction of the start window that stays within tol for N periods", "1"),
+    "median_escape": ("median over the start window of the periods completed inside tol", "periods"),
+    "stable": ("linear verdict: 1 stable, 0 unstable", "1"),
+    "zone": ("stability zone n (-1 where unstable)", "1"),
+    "growth": ("linear growth rate log max|multiplier| per period 2T", "1/period"),
+    "margin": ("signed relative distance to the nearest zone edge along eps", "1"),
+}
+
+
+def _plans(T, A, l, g, drive):
+    """``(s, duration)`` of each phase, one entry per point (1-d arrays)."""
+    return [(np.asarray(s, float) * np.ones_like(T), np.asarray(d, float) * np.ones_like(T))
+            for s, d in drive.phases(T, A, l, g)]
+
+
+#: Longest sub-step of a phase in scaled time ``w h``: the window test of
+#: :mod:`kapitza.motion.basins` is exact for any value below ``pi``; 3 keeps one step per
+#: phase wherever ``w T <= 3`` (zone 0 and most of zone 1).
+SCALED_STEP = 3.0
+
+
+def _survives(theta0, dtheta0, point, plans, periods, tol):
+    """Periods survived by each start; ``point`` indexes the point whose parameters it uses."""
+    plan = [(s[point], d[point]) for s, d in plans]
+    return _survival_chunk(theta0, dtheta0, plan, periods, tol, "nonlinear", SCALED_STEP)
+
+
+def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
+    """Largest safe radius along each direction of ``phis`` for every point.
+
+    Parameters
+    ----------
+    T : ndarray, shape ``(P,)``
+        Half-periods [s] of the points (they set ``Omega = 2/T``).
+    plans : list of ``(s, duration)`` arrays of shape ``(P,)``
+    phis : ndarray, shape ``(K,)``
+        Directions [rad] in the plane ``(theta, dtheta / Omega)``.
+    periods, tol, accuracy, floor :
+        ``N``, the window [rad], the relative width of the final bracket, the smallest radius tried.
+
+    Returns
+    -------
+    ndarray, shape ``(P, K)``
+        ``lo`` of each search (0 below ``floor``; ``tol`` when ``tol`` itself survives).
+    """
+    P, K = T.size, phis.size
+    point = np.repeat(np.arange(P), K)
+    cos, sin = np.tile(np.cos(phis), P), np.tile(np.sin(phis), P)
+    omega = 2.0 / T[point]
+    lo = np.zeros(P * K)
+    hi = np.full(P * K, np.inf)
+    levels = max(0, int(np.floor(np.log2(tol / floor))))
+    # 1. scan r = tol 2^-j downward: the first survivor brackets the radius in [r, 2r)
+    trial = np.full(P * K, tol)
+    open_ = np.arange(P * K)
+    for _ in range(levels + 1):
+        if open_.size == 0:
+            break
+        r = trial[open_]
+        ok = _survives(r * cos[open_], r * sin[open_] * omega[open_], point[open_], plans, periods, tol) >= periods
+        lo[open_[ok]] = r[ok]
+        hi[open_[~ok]] = r[~ok]
+        trial[open_] = 0.5 * r
+        open_ = open_[~ok]
+    hi[lo >= tol] = tol  # the window itself survives: capped
+    # 2. bisect until hi - lo <= accuracy * lo
+    while True:
+        open_ = np.flatnonzero((lo > 0) & (hi - lo > accuracy * lo))
+        if open_.size == 0:
+            break
+        r = 0.5 * (lo[open_] + hi[open_])
+        ok = _survives(r * cos[open_], r * sin[open_] * omega[open_], point[open_], plans, periods, tol) >= periods
+        lo[open_[ok]] = r[ok]
+        hi[open_[~ok]] = r[~ok]
+    return lo.reshape(P, K)
+
+
+def _basin_grid(T, plans, n, periods, tol):
+    """``(area, median escape)`` of each point over the ``n x n`` start grid of :func:`kapitza.basin`."""
+    P = T.size
+    th = np.linspace(-tol, tol, n)
+    half = (n * n + 1) // 2  # the grid is symmetric about its centre: follow the first half only
+    q = np.arange(half)
+    th_q = th[q % n]
+    om_unit = np.linspace(-2.0 * tol, 2.0 * tol, n)[q // n]
+    point = np.repeat(np.arange(P), half)
+    theta0 = np.tile(th_q, P)
+    dtheta0 = np.tile(om_unit, P) / T[point]
+    got = _survives(theta0, dtheta0, point, plans, periods, tol).reshape(P, half)
+    full = np.concatenate([got, got[:, : n * n - half][:, ::-1]], axis=1)
+    area = np.mean(full >= periods, axis=1)
+    median = np.median(full, axis=1).astype(float)
+    return area, median
+
+
+def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, directions, basin_resolution,
+                     accuracy, floor):
+    """Every requested variable on the grid ``y x x`` (rows ``y``: mu or A; columns ``x``: eps or T).
+
+    Returns
+    -------
+    dict
+        ``variable -> ndarray of shape (y.size, x.size)``.
+    """
+    X, Y = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
+    X, Y = X.ravel(), Y.ravel()
+    if plane == "arnold":
+        eps, mu = X, Y
+        T, A = to_physical(eps, mu, l, g)
+    else:
+        T, A = X, Y
+        eps, mu = to_arnold(T, A, l, g)
+    shape = (np.size(y), np.size(x))
+    out = {}
+    d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
+    dd = None if d.name == "square" else d
+    if "linear" in quantities:
+        out["stable"] = is_stable(eps, mu, drive=dd).astype(np.int8)
+        out["zone"] = zone_index(eps, mu, drive=dd).astype(np.int16)
+        out["growth"] = np.asarray(growth_rate(eps, mu, drive=dd), float)
+        out["margin"] = np.asarray(stability_margin(eps, mu, drive=dd).margin, float)
+    plans = _plans(T, A, l, g, d)
+    if "tilt" in quantities or "radius" in quantities:
+        K = directions if "radius" in quantities else 1
+        radii = ray_radii(T, plans, np.pi * np.arange(K) / K, periods, tol, accuracy, floor)
+        if "tilt" in quantities:
+            out["max_safe_tilt"] = radii[:, 0]
+        if "radius" in quantities:
+            out["max_safe_radius"] = radii.min(axis=1)
+    if "basin" in quantities:
+        out["basin_area"], out["median_escape"] = _basin_grid(T, plans, basin_resolution, periods, tol)
+    return {k: v.reshape(shape) for k, v in out.items()}

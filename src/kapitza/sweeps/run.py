@@ -1,0 +1,152 @@
+"""Run a sweep: chunks of the grid computed serially or on Dask, each written as it finishes."""
+from __future__ import annotations
+
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from .. import _validate as _v
+from .kernel import block_quantities
+from .spec import SweepSpec
+from .store import create_store, done_chunks, open_store, stored_spec, write_chunk
+
+__all__ = ["compute_chunk", "sweep", "SweepRun"]
+
+
+@dataclass(frozen=True)
+class SweepRun:
+    """What a call of :func:`sweep` did.
+
+    Attributes
+    ----------
+    store : Path
+    total : int
+        Chunks of the grid.
+    computed : int
+        Chunks computed by this call (on a resume: only the unfinished ones).
+    skipped : int
+        Chunks found finished in the store and not recomputed.
+    """
+
+    store: Path
+    total: int
+    computed: int
+    skipped: int
+
+    def open(self):
+        """The result as an :class:`xarray.Dataset`."""
+        from .store import open_sweep
+
+        return open_sweep(self.store)
+
+
+def compute_chunk(spec: SweepSpec, iy: int, ix: int) -> dict:
+    """Every variable of chunk ``(iy, ix)``: a pure function of its arguments (the unit of work)."""
+    ys, xs = spec.chunk_slices(iy, ix)
+    return block_quantities(spec.x[xs], spec.y[ys], plane=spec.plane, l=spec.l, g=spec.g, drive=spec.drive,
+                            periods=spec.periods, tol=spec.tol, quantities=spec.quantities,
+                            directions=spec.directions, basin_resolution=spec.basin_resolution,
+                            accuracy=spec.accuracy, floor=spec.floor)
+
+
+def _prepare(spec, store, resume):
+    store = Path(store)
+    if store.exists():
+        if not resume:
+            raise _v.KapitzaValueError(f"store must not exist yet (or resume it); got {str(store)!r}, which exists")
+        old = stored_spec(store)
+        if old != spec:
+            diff = [k for k, v in spec.as_dict().items() if old.as_dict()[k] != v]
+            raise _v.KapitzaValueError(f"resume must use the store's own settings; {str(store)!r} differs in "
+                                       f"{', '.join(diff)}")
+        return open_store(store)
+    return create_store(store, spec)
+
+
+def sweep(spec: SweepSpec, store, *, resume=False, serial=False, workers=None, scheduler=None, client=None,
+          progress=True, on_chunk=None) -> SweepRun:
+    """Compute ``spec`` into the Zarr store ``store``, chunk by chunk.
+
+    Parameters
+    ----------
+    spec : SweepSpec
+    store : path
+        Zarr store (a folder) to create, or to complete with ``resume=True``.
+    resume : bool
+        Continue a store made by an interrupted sweep with the same ``spec``: only chunks whose
+        done flag is unset are computed.
+    serial : bool
+        Compute in this process, without Dask (same numbers bit for bit).
+    workers : int, optional
+        Workers of the local Dask cluster (processes, one thread each); default: the CPU count.
+    scheduler : str, optional
+        Address of an existing Dask scheduler (``tcp://host:8786``) instead of a local cluster.
+    client : distributed.Client, optional
+        An existing client (overrides ``workers`` and ``scheduler``).
+    progress : bool
+        Show a progress bar (chunks done, rate, time left) on stderr.
+    on_chunk : callable, optional
+        ``on_chunk(done, total)`` after each chunk is written.
+
+    Returns
+    -------
+    SweepRun
+    """
+    if not isinstance(spec, SweepSpec):
+        raise _v.KapitzaValueError(f"spec must be a SweepSpec; got {type(spec).__name__}")
+    grp = _prepare(spec, store, resume)
+    done = done_chunks(grp)
+    todo = [c for c in spec.all_chunks() if not done[c]]
+    total = len(spec.all_chunks())
+    skipped = total - len(todo)
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, initial=skipped, unit="chunk", desc="kapitza sweep", disable=not progress,
+               file=sys.stderr, dynamic_ncols=True)
+    count = skipped
+
+    def finished(iy, ix, values):
+        nonlocal count
+        write_chunk(grp, spec, iy, ix, values)
+        count += 1
+        bar.update(1)
+        if on_chunk is not None:
+            on_chunk(count, total)
+
+    try:
+        if serial or not todo:
+            for iy, ix in todo:
+                finished(iy, ix, compute_chunk(spec, iy, ix))
+        else:
+            _run_dask(spec, todo, finished, workers, scheduler, client)
+    finally:
+        bar.close()
+    return SweepRun(store=Path(store), total=total, computed=len(todo), skipped=skipped)
+
+
+def _run_dask(spec, todo, finished, workers, scheduler, client):
+    from distributed import Client, LocalCluster, as_completed
+
+    own_cluster = own_client = None
+    try:
+        if client is None:
+            if scheduler is not None:
+                client = own_client = Client(scheduler)
+            else:
+                n = _v.bounded_int("workers", workers if workers is not None else (os.cpu_count() or 1), 1, 1024)
+                own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                           dashboard_address=None, silence_logs=40)
+                client = own_client = Client(own_cluster)
+        token = format(abs(hash(spec.to_json())), "x")
+        futures = {client.submit(compute_chunk, spec, iy, ix, key=f"kapitza-sweep-{token}-{iy}-{ix}", pure=False,
+                                 retries=3): (iy, ix) for iy, ix in todo}
+        for fut in as_completed(futures):
+            iy, ix = futures.pop(fut)
+            finished(iy, ix, fut.result())
+            fut.release()
+    finally:
+        if own_client is not None:
+            own_client.close()
+        if own_cluster is not None:
+            own_cluster.close()

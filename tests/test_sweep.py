@@ -1,0 +1,263 @@
+"""Sweeps: the serial path and Dask agree bit for bit, lost workers and SIGKILL lose nothing,
+resuming recomputes only unfinished chunks, and the bisected radii agree with brute force."""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("distributed")
+pytest.importorskip("zarr")
+pytest.importorskip("xarray")
+
+import kapitza
+from kapitza.sweeps import SweepSpec, done_chunks, open_store, open_sweep, sweep, to_netcdf
+from kapitza.sweeps.kernel import block_quantities
+
+from cli_util import assert_one_line_error, run
+
+# every quantity, a few chunks, seconds in all
+SMALL = dict(periods=20, quantities=("tilt", "radius", "basin", "linear"), directions=3, basin_resolution=5, chunk=3)
+
+
+def small_spec(**kw):
+    return SweepSpec.window((0.15, 0.9), (0.05, 0.7), (7, 5), **{**SMALL, **kw})
+
+
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=50)
+    c = Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def arrays(path, spec):
+    ds = open_sweep(path).load()
+    return {v: ds[v].values for v in spec.variables}
+
+
+def assert_identical(a, b):
+    assert a.keys() == b.keys()
+    for k in a:
+        assert a[k].dtype == b[k].dtype, k
+        assert np.array_equal(a[k], b[k], equal_nan=True), k  # bit for bit (no NaN is left either)
+        assert not np.isnan(a[k].astype(float)).any(), k
+
+
+@pytest.fixture(scope="module")
+def serial_small(tmp_path_factory):
+    spec = small_spec()
+    path = tmp_path_factory.mktemp("serial") / "s.zarr"
+    sweep(spec, path, serial=True, progress=False)
+    return spec, arrays(path, spec)
+
+
+def test_dask_equals_serial_bit_for_bit(client, serial_small, tmp_path):
+    spec, ref = serial_small
+    got = sweep(spec, tmp_path / "d.zarr", client=client, progress=False)
+    assert (got.total, got.computed, got.skipped) == (6, 6, 0)
+    assert_identical(arrays(tmp_path / "d.zarr", spec), ref)
+
+
+def test_a_worker_killed_mid_sweep_changes_nothing(client, tmp_path):
+    spec = SweepSpec.window((0.15, 0.9), (0.05, 0.7), (8, 8), periods=30, quantities=("tilt", "linear"), chunk=2)
+    ref_path = tmp_path / "ref.zarr"
+    sweep(spec, ref_path, serial=True, progress=False)
+    before = set(client.scheduler_info()["workers"])
+    killed = []
+
+    def kill_one(done, total):
+        if done == 2 and not killed:  # 2 of 16 chunks written, the rest queued or running
+            victim = sorted(client.scheduler_info()["workers"])[0]
+            pid = client.run(os.getpid, workers=[victim])[victim]
+            os.kill(pid, signal.SIGKILL)  # the worker process dies at once, its tasks with it
+            killed.append(victim)
+
+    got = sweep(spec, tmp_path / "k.zarr", client=client, progress=False, on_chunk=kill_one)
+    assert killed and got.computed == 16
+    assert_identical(arrays(tmp_path / "k.zarr", spec), arrays(ref_path, spec))
+    # the nanny restarted the lost worker under a new address
+    for _ in range(100):
+        now = set(client.scheduler_info()["workers"])
+        if len(now) == 2 and now != before:
+            break
+        time.sleep(0.1)
+    assert killed[0] not in now
+
+
+def _done_count(path):
+    try:
+        return int(done_chunks(open_store(path)).sum())
+    except Exception:  # the store is being created or a flag written at this instant
+        return -1
+
+
+SIGKILL_ARGS = ["sweep", "--eps", "0.15", "0.9", "--mu", "0.05", "0.7", "--resolution", "10", "8", "--chunk", "2",
+                "--periods", "40", "--floor", "0.01", "--quantities", "tilt,linear", "--quiet", "--no-figure"]
+SIGKILL_SPEC = dict(x_range=(0.15, 0.9), y_range=(0.05, 0.7), resolution=(10, 8), periods=40, floor=0.01,
+                    quantities=("tilt", "linear"), chunk=2)
+SIGKILL_CHUNKS = 20
+
+
+def _kill_midway(path, extra, min_done=2):
+    cmd = [sys.executable, "-m", "kapitza", *SIGKILL_ARGS, "--out", str(path), *extra]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        deadline = time.time() + 240
+        while time.time() < deadline and proc.poll() is None and _done_count(path) < min_done:
+            time.sleep(0.02)
+        assert proc.poll() is None, "the sweep finished before it could be killed"
+        os.killpg(proc.pid, signal.SIGKILL)  # the sweep and every process it started
+        proc.wait(timeout=30)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    return _done_count(path)
+
+
+def _resume_and_compare(path, tmp_path, capsys, extra):
+    done = _done_count(path)
+    total = SIGKILL_CHUNKS
+    assert 0 < done < total
+    code, out, err = run([*SIGKILL_ARGS, "--out", str(path), "--resume", *extra], capsys)
+    assert code == 0, err
+    assert f"computed {total - done} of {total} chunks ({done} already done)" in err
+    spec = SweepSpec.window(**SIGKILL_SPEC)
+    sweep(spec, tmp_path / "whole.zarr", serial=True, progress=False)
+    assert_identical(arrays(path, spec), arrays(tmp_path / "whole.zarr", spec))
+    assert _done_count(path) == total
+
+
+def test_cli_killed_with_sigkill_resumes_to_the_same_map(tmp_path, capsys):
+    path = tmp_path / "killed.zarr"
+    _kill_midway(path, ["--serial"])
+    _resume_and_compare(path, tmp_path, capsys, ["--serial"])
+
+
+@pytest.mark.slow
+def test_cli_on_dask_killed_with_sigkill_resumes_to_the_same_map(tmp_path, capsys):
+    path = tmp_path / "killed.zarr"
+    _kill_midway(path, ["--workers", "2"])
+    _resume_and_compare(path, tmp_path, capsys, ["--workers", "2"])
+
+
+def _brute_tilt(eps, mu, periods, tol, n):
+    """Largest tilt of a dense line of starts at rest below which every start survives."""
+    T, A = kapitza.to_physical(eps, mu)
+    th = np.linspace(0.0, tol, n)
+    ok = kapitza.survival(th, 0.0, float(T), float(A), periods=periods, tol=tol) >= periods
+    first_fail = np.argmin(ok) if not ok.all() else n
+    return th[first_fail - 1] if first_fail > 0 else 0.0, th[1] - th[0]
+
+
+@pytest.mark.parametrize("eps, mu", [(0.3, 0.1), (0.55, 0.3), (0.8, 0.6), (0.62, 0.05)])
+def test_bisected_tilt_agrees_with_brute_force(eps, mu):
+    periods, tol, acc = 60, 0.5, 0.01
+    got = block_quantities([eps], [mu], plane="arnold", l=1.0, g=kapitza.parameters.G_EARTH, drive=None,
+                           periods=periods, tol=tol, quantities=("tilt",), directions=1, basin_resolution=5,
+                           accuracy=acc, floor=1e-4)["max_safe_tilt"][0, 0]
+    brute, step = _brute_tilt(eps, mu, periods, tol, 2001)
+    assert got > 0
+    assert got <= brute + step  # a start seen to survive, at or below the edge of the safe segment
+    assert brute < got * (1 + acc) + step  # and within the stated accuracy of it
+
+
+def test_basin_area_is_the_basin_fraction():
+    eps, mu = 0.5, 0.2
+    T, A = (float(v) for v in kapitza.to_physical(eps, mu))
+    got = block_quantities([eps], [mu], plane="arnold", l=1.0, g=kapitza.parameters.G_EARTH, drive=None, periods=40,
+                           tol=0.5, quantities=("basin",), directions=1, basin_resolution=15, accuracy=0.01,
+                           floor=1e-4)
+    b = kapitza.basin(T, A, periods=40, tol=0.5, n_theta=15, n_dtheta=15)
+    assert abs(got["basin_area"][0, 0] - b.fraction) <= 1 / 225  # the same grid; at most a start on the edge
+    assert got["median_escape"][0, 0] == np.median(b.periods_survived)
+
+
+def test_physical_plane_equals_arnold_plane():
+    """The quantities depend on (eps, mu) only; a rectangular drive is accepted."""
+    eps, mu = np.array([0.3, 0.5]), np.array([0.2])
+    T, A = kapitza.to_physical(eps, mu[:, None], 0.5, 9.81)
+    kw = dict(g=9.81, drive="rectangular:0.4", periods=30, tol=0.5, quantities=("tilt",), directions=1,
+              basin_resolution=5, accuracy=0.01, floor=1e-4)
+    a = block_quantities(eps, mu, plane="arnold", l=1.0, **kw)["max_safe_tilt"]
+    b = block_quantities(T[0], A[:, 0], plane="physical", l=0.5, **kw)["max_safe_tilt"]
+    assert np.allclose(a, b, rtol=0.02)
+
+
+def test_store_is_a_dataset_with_units_attrs_and_netcdf(serial_small, tmp_path):
+    spec, ref = serial_small
+    path = tmp_path / "n.zarr"
+    sweep(spec, path, serial=True, progress=False)
+    ds = open_sweep(path)
+    assert ds.max_safe_tilt.dims == ("mu", "eps") and ds.max_safe_tilt.attrs["units"] == "rad"
+    assert ds.attrs["kapitza_version"] == kapitza.__version__ and "1 %" in ds.attrs["accuracy"]
+    assert SweepSpec.from_json(ds.attrs["sweep_spec"]) == spec
+    nc = to_netcdf(ds, tmp_path / "n.nc")
+    import xarray as xr
+
+    back = xr.open_dataset(nc, engine="scipy")
+    assert np.array_equal(back.max_safe_tilt.values, ref["max_safe_tilt"])
+    assert back.attrs["quantities"] == "tilt,radius,basin,linear"
+    back.close()
+
+
+def test_resume_refuses_other_settings_and_skips_finished(serial_small, tmp_path):
+    spec, _ = serial_small
+    path = tmp_path / "r.zarr"
+    sweep(spec, path, serial=True, progress=False)
+    with pytest.raises(ValueError, match="exists"):
+        sweep(spec, path, serial=True, progress=False)
+    with pytest.raises(ValueError, match="differs in periods"):
+        sweep(small_spec(periods=21), path, serial=True, progress=False, resume=True)
+    again = sweep(spec, path, serial=True, progress=False, resume=True)
+    assert (again.computed, again.skipped) == (0, 6)
+
+
+@pytest.mark.parametrize("kw, needle", [
+    (dict(periods=0), "periods"), (dict(tol=4.0), "tol"), (dict(quantities=("tilt", "speed")), "quantities"),
+    (dict(chunk=0), "chunk"), (dict(drive="sine"), "piecewise constant"), (dict(accuracy=0.0), "accuracy"),
+])
+def test_spec_validates(kw, needle):
+    with pytest.raises(ValueError, match=needle):
+        small_spec(**kw)
+
+
+def test_cli_sweep_writes_store_figures_and_netcdf(tmp_path, capsys):
+    out = tmp_path / "map.zarr"
+    code, stdout, err = run(["sweep", "--eps", "0.2", "0.9", "--mu", "0.05", "0.6", "--resolution", "5", "4",
+                             "--periods", "10", "--quantities", "tilt,basin,linear", "--basin-resolution", "5",
+                             "--serial", "--quiet", "--out", str(out), "--netcdf", str(tmp_path / "map.nc")], capsys)
+    assert code == 0, err
+    for f in ("map.zarr", "map.nc", "map.png", "map.svg", "map-basin.png", "map-escape.svg"):
+        assert (tmp_path / f).exists(), f
+    code, _, err = run(["sweep", "--eps", "0.2", "0.9", "--mu", "0.05", "0.6", "--resolution", "5", "4",
+                        "--periods", "10", "--serial", "--out", str(out)], capsys)
+    assert_one_line_error(code, err, "exists", "--resume")
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--eps", "0.2", "0.9"], "--mu"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--T", "0.1", "0.2"], "not both"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--resolution", "0"], "resolution"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--resolution", "9000"], "resolution"),
+    (["--eps", "0.9", "0.2", "--mu", "0.1", "0.5"], "low <= high"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--periods", "-3"], "periods"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--serial", "--workers", "2"], "--serial"),
+    ([], "give the window"),
+])
+def test_cli_sweep_bad_input_is_one_line(argv, needle, tmp_path, capsys):
+    code, _, err = run(["sweep", *argv, "--out", str(tmp_path / "x.zarr")], capsys)
+    assert_one_line_error(code, err, needle)
+
+
+def test_import_kapitza_stays_light():
+    code = ("import sys, kapitza; bad = [m for m in ('dask', 'distributed', 'zarr', 'xarray', 'tqdm') "
+            "if m in sys.modules]; print(bad); sys.exit(1 if bad else 0)")
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True).returncode == 0
