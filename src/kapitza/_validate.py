@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "KapitzaValueError"]
+__all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "linearly_stable", "KapitzaValueError"]
 
 
 class KapitzaValueError(ValueError):
@@ -134,3 +134,21 @@ def general_drive(drive, zeta, name="zeta"):
     if d.name == "square" and not np.any(z > 0):
         return None, None
     return d, z
+
+
+def linearly_stable(eps, mu, stable):
+    """Refuse points where the upright of the linearised equation (2.3) is not stable.
+
+    ``eps, mu``: validated arrays of one shape; ``stable``: the exact verdict there (square wave,
+    undamped). The message names the parameter, its value and where the allowed values lie.
+    """
+    bad = ~np.asarray(stable, dtype=bool)
+    if not bad.any():
+        return
+    where = "" if bad.ndim == 0 else f" (at index {tuple(int(i) for i in np.argwhere(bad)[0])})"
+    e, m = float(eps[bad].flat[0]), float(mu[bad].flat[0])
+    if m >= 1.0:
+        raise KapitzaValueError(f"mu must lie in (0, 1) (A > g) for a stable upright; got {m!r}{where}")
+    raise KapitzaValueError(
+        f"eps must lie inside a stability zone (alpha + n pi < w_e T < beta + n pi) at mu = {m!r}; "
+        f"got eps = {e!r}{where}, where the linearised upright is unstable")
