@@ -20,6 +20,9 @@ from .periodic import *  # noqa: F401,F403
 from .propagation import *  # noqa: F401,F403
 from .zones import *  # noqa: F401,F403
 from .motion import basin, nonlinear_motion, phase_flow, simulate, stroboscopic_map, survival
+from . import normal_form
+from .normal_form import (BirkhoffNormalForm, NonlinearVerdict, TaylorMap, averaged_twist, birkhoff_normal_form,
+                          nonlinear_stability, period_map_taylor, twist_coefficient)
 
 __version__ = "0.1.0"
 
@@ -51,4 +54,14 @@ __all__ = [
     "stroboscopic_map",
     "survival",
     "basin",
+    # nonlinear (Lyapunov) stability of the upright: docs/nonlinear.md
+    "normal_form",
+    "twist_coefficient",
+    "nonlinear_stability",
+    "NonlinearVerdict",
+    "birkhoff_normal_form",
+    "BirkhoffNormalForm",
+    "period_map_taylor",
+    "TaylorMap",
+    "averaged_twist",
 ]

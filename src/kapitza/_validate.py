@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "parameter_set", "physical_parameters",
-           "KapitzaValueError"]
+           "linearly_stable", "KapitzaValueError"]
 
 
 class KapitzaValueError(ValueError):
@@ -189,3 +189,21 @@ def choices(name: str, values, allowed) -> tuple:
         if v not in allowed:
             raise KapitzaValueError(f"{name} must be among {', '.join(map(repr, allowed))}; got {v!r}")
     return tuple(dict.fromkeys(vals))
+
+
+def linearly_stable(eps, mu, stable):
+    """Refuse points where the upright of the linearised equation (2.3) is not stable.
+
+    ``eps, mu``: validated arrays of one shape; ``stable``: the exact verdict there (square wave,
+    undamped). The message names the parameter, its value and where the allowed values lie.
+    """
+    bad = ~np.asarray(stable, dtype=bool)
+    if not bad.any():
+        return
+    where = "" if bad.ndim == 0 else f" (at index {tuple(int(i) for i in np.argwhere(bad)[0])})"
+    e, m = float(eps[bad].flat[0]), float(mu[bad].flat[0])
+    if m >= 1.0:
+        raise KapitzaValueError(f"mu must lie in (0, 1) (A > g) for a stable upright; got {m!r}{where}")
+    raise KapitzaValueError(
+        f"eps must lie inside a stability zone (alpha + n pi < w_e T < beta + n pi) at mu = {m!r}; "
+        f"got eps = {e!r}{where}, where the linearised upright is unstable")

@@ -6,6 +6,7 @@
 * :func:`phase_flow` -- the exact flow of one phase, ``theta'' = s sin(theta)``.
 * :func:`stroboscopic_map` -- ensembles mapped over whole periods ``2T``.
 * :func:`basin`, :func:`survival` -- which initial states stay near the upright.
+* :func:`measured_rotation_number` -- rotation numbers of small invariant curves, measured.
 * :func:`pivot_displacement` and friends -- where the pivot is.
 
 Drawing lives in :mod:`kapitza.figures.motion` and :mod:`kapitza.figures.animation`.
@@ -14,6 +15,7 @@ from .pivot import pivot_acceleration, pivot_displacement, pivot_stroke, pivot_v
 from .nonlinear import METHODS, MODELS, Trajectory, nonlinear_motion, phase_energy, phase_flow, simulate
 from .strobe import StrobeOrbits, stroboscopic_map
 from .basins import Basin, basin, survival
+from .rotation import RotationRun, measured_rotation_number
 
 __all__ = [
     "pivot_acceleration",
@@ -32,4 +34,6 @@ __all__ = [
     "survival",
     "Basin",
     "basin",
+    "RotationRun",
+    "measured_rotation_number",
 ]

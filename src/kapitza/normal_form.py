@@ -1,0 +1,564 @@
+"""Nonlinear stability of the upright: the period map to third order and its Birkhoff normal form.
+
+The linear zones (``docs/theory.md`` section 5) say when the upright is an *elliptic* fixed
+point of the stroboscopic map of the full equation ``theta'' = (g + a(t))/l sin(theta)``;
+whether it is *Lyapunov stable* is decided by the nonlinear terms. This module computes, in
+closed form and vectorised over ``(eps, mu)``, everything ``docs/nonlinear.md`` derives:
+
+1. **The cubic Taylor map of one period.** Time is measured in half-periods, ``s = t/T``; the
+   state is ``v = (q, p) = (theta, dtheta/ds) = (theta, T theta')``. Each phase of the square wave
+   (2.2) is then ``theta_ss = k sin(theta)`` for a unit time, with ``k = x^2`` (``x = w_h T``,
+   the ``+A`` phase, first) and ``k = -u^2`` (``u = w_e T``, the ``-A`` phase), so only
+   ``(eps, mu)`` remain (``docs/theory.md`` section 2). Expanding ``theta = th1 + th3 + ...``
+   in the size of the start, ``th1'' = k th1`` and ``th3'' = k th3 - k th1^3 / 6`` with
+   ``th3(0) = th3'(0) = 0``; variation of parameters gives ``th3(1)``, ``th3'(1)`` as cubic forms
+   in ``(q, p)`` whose coefficients are polynomials in ``c = cosh sqrt(k)`` (``cos u``),
+   ``sh = sinh(sqrt k)/sqrt k`` (``sin u / u``) and ``k`` (:func:`_phase_cubic`). The two phases
+   compose as ``P(v) = L2 L1 v + L2 C1(v) + C2(L1 v) + O(|v|^5)``; the map is odd, so there
+   are no even orders.
+2. **The Birkhoff normal form.** With ``M = L2 L1``, ``cos w = tr M / 2``, ``w`` in ``(0, pi)``,
+   ``lambda = e^{i w}``, its eigenvector ``e = (m12, lambda - m11)`` and ``v = z e + conj(z e)``,
+   the map reads ``z' = lambda z + c30 z^3 + c21 z^2 zbar + c12 z zbar^2 + c03 zbar^3 + O(5)``.
+   Only ``z^2 zbar`` (always) and ``zbar^3`` (at ``lambda^4 = 1``, ``tr M = 0``) are resonant at
+   degree 3; the twist is ``beta = Im(c21 / lambda)`` (area preservation makes ``Re`` vanish).
+3. **The twist coefficient** ``tau = beta / (8 pi m12^2)``: the invariant curve through
+   ``max|theta| = r`` turns ``rho(r) = w/(2 pi) + tau r^2 + O(r^4)`` per period, in the direction
+   the linear map turns (``r = 2 |z| |m12|`` on the invariant ellipse).
+4. **The verdict**: Moser's twist theorem off 1:4 (1:3 included: oddness removes the ``zbar^2``
+   term), Markeev's criterion on 1:4 (``|beta|`` against ``|c03|``), undecided where ``beta = 0``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from math import factorial
+
+import numpy as np
+
+from . import _validate as _v
+from .parameters import _phase_angles
+from .propagation import _floquet
+
+__all__ = [
+    "TaylorMap",
+    "period_map_taylor",
+    "BirkhoffNormalForm",
+    "birkhoff_normal_form",
+    "twist_coefficient",
+    "averaged_twist",
+    "NonlinearVerdict",
+    "nonlinear_stability",
+]
+
+PI = np.pi
+
+# ---------------------------------------------------------------- one phase, in closed form
+# Every cubic coefficient of a phase is k times an entire function of k. Near k = 0 the closed
+# forms subtract nearly equal numbers ((c - sh)/k loses 1e-16/|k|), so there the same functions
+# are summed from their power series, built once here from exact rationals.
+_NSER = 40
+_K_SERIES = 1.0
+
+
+def _ser_c():
+    return [Fraction(1, factorial(2 * n)) for n in range(_NSER)]
+
+
+def _ser_sh():
+    return [Fraction(1, factorial(2 * n + 1)) for n in range(_NSER)]
+
+
+def _ser_mul(a, b):
+    return [sum(a[i] * b[n - i] for i in range(n + 1)) for n in range(_NSER)]
+
+
+def _ser_tables():
+    c, sh = _ser_c(), _ser_sh()
+    shc = _ser_mul(sh, c)
+    sh3 = _ser_mul(_ser_mul(sh, sh), sh)
+    f1 = [c[n + 1] - sh[n + 1] for n in range(_NSER - 1)] + [Fraction(0)]          # (c - sh)/k
+    f2 = [-shc[n + 1] for n in range(_NSER - 1)] + [Fraction(0)]                    # (1 - sh c)/k
+    num3 = [3 * f1[n] - sh3[n] for n in range(_NSER)]                                 # 3 f1 - sh^3 = O(k)
+    f3 = [num3[n + 1] for n in range(_NSER - 1)] + [Fraction(0)]                      # (3 f1 - sh^3)/k
+    return {name: np.array([float(v) for v in s[::-1]]) for name, s in
+            (("c", c), ("sh", sh), ("f1", f1), ("f2", f2), ("f3", f3))}
+
+
+_SER = _ser_tables()
+
+
+def _entire(k):
+    """``c, sh, f1, f2, f3`` of ``k`` (any sign): ``c = cosh sqrt k``, ``sh = sinh(sqrt k)/sqrt k``,
+    ``f1 = (c - sh)/k``, ``f2 = (1 - sh c)/k``, ``f3 = (3 f1 - sh^3)/k``."""
+    k = np.asarray(k, float)
+    small = np.abs(k) <= _K_SERIES
+    ks = np.where(small, k, 0.0)
+    out = {name: np.polyval(coef, ks) for name, coef in _SER.items()}
+    if not small.all():
+        kb = np.where(small, 2.0 * _K_SERIES, k)
+        r = np.sqrt(np.abs(kb))
+        pos = kb > 0
+        c = np.where(pos, np.cosh(r), np.cos(r))
+        sh = np.where(pos, np.sinh(r), np.sin(r)) / r
+        f1 = (c - sh) / kb
+        f2 = (1.0 - sh * c) / kb
+        f3 = (3.0 * f1 - sh**3) / kb
+        for name, val in (("c", c), ("sh", sh), ("f1", f1), ("f2", f2), ("f3", f3)):
+            out[name] = np.where(small, out[name], val)
+    return out["c"], out["sh"], out["f1"], out["f2"], out["f3"]
+
+
+def _phase_cubic(k):
+    """Linear part ``L`` (..., 2, 2) and cubic part ``C`` (..., 2, 4) of the unit-time flow of
+    ``theta_ss = k sin(theta)``; ``C[..., i, j]`` multiplies ``q^(3-j) p^j`` in component ``i``.
+
+    Notes
+    -----
+    Variation of parameters on ``th3'' - k th3 = -k th1^3/6`` (``docs/nonlinear.md`` section 2)::
+
+        th3(1)  = -k sh (3 + sh c)/48 q^3 - k (f1 + sh^3)/16 q^2 p + k sh f2/16 q p^2 + k f3/48 p^3
+        th3'(1) = -k (3c + 5 sh + 3 k sh^3)/48 q^3 - k sh (1 + 3 sh c)/16 q^2 p
+                  + k (f1 - 3 sh^3)/16 q p^2 + k sh f2/16 p^3
+    """
+    k = np.asarray(k, float)
+    return _cubic_of(k, *_entire(k))
+
+
+def _cubic_of(k, c, sh, f1, f2, f3):
+    """The jet of :func:`_phase_cubic` from ``k`` and its entire functions (float or mpf arrays)."""
+    sh3 = sh**3
+    L = np.stack([np.stack([c, sh], -1), np.stack([k * sh, c], -1)], -2)
+    row_q = np.stack([-k * sh * (3 + sh * c) / 48, -k * (f1 + sh3) / 16, k * sh * f2 / 16, k * f3 / 48], -1)
+    row_p = np.stack([-k * (3 * c + 5 * sh + 3 * k * sh3) / 48, -k * sh * (1 + 3 * sh * c) / 16,
+                      k * (f1 - 3 * sh3) / 16, k * sh * f2 / 16], -1)
+    return L, np.stack([row_q, row_p], -2)
+
+
+def _entire_mp(k):
+    """:func:`_entire` of one ``mpf`` ``k`` by the closed forms (at the working precision)."""
+    import mpmath as mp
+
+    r = mp.sqrt(abs(k))
+    if k > 0:
+        c, sh = mp.cosh(r), mp.sinh(r) / r
+    else:
+        c, sh = mp.cos(r), mp.sin(r) / r
+    f1 = (c - sh) / k
+    f2 = (1 - sh * c) / k
+    return c, sh, f1, f2, (3 * f1 - sh**3) / k
+
+
+# ---------------------------------------------------------------- cubic forms in two variables
+def _mul(a, b):
+    """Product of homogeneous forms in two variables, coefficients by power of the second one."""
+    m, n = a.shape[-1], b.shape[-1]
+    shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1]) + (m + n - 1,)
+    out = np.zeros(shape, dtype=np.result_type(a, b))
+    for i in range(m):
+        out[..., i:i + n] += a[..., i:i + 1] * b
+    return out
+
+
+def _substitute(C, L):
+    """The cubic ``v -> C(L v)``: ``C`` (..., r, 4) over ``q^(3-j) p^j``, ``L`` (..., 2, 2)."""
+    lq, lp = L[..., 0, :], L[..., 1, :]
+    qq = _mul(lq, lq)
+    pp = _mul(lp, lp)
+    mono = np.stack([_mul(qq, lq), _mul(qq, lp), _mul(lq, pp), _mul(pp, lp)], -2)  # (..., 4, 4)
+    return np.einsum("...rj,...jm->...rm", C, mono)
+
+
+def _compose(L1, C1, L2, C2):
+    """Cubic jet of ``Phi2 o Phi1`` from the jets of the two maps."""
+    return L2 @ L1, np.einsum("...ij,...jm->...im", L2, C1) + _substitute(C2, L1)
+
+
+# ---------------------------------------------------------------- the period map
+@dataclass(frozen=True)
+class TaylorMap:
+    """Third-order Taylor expansion of the period map at the upright (arrays of the shape of ``(eps, mu)``).
+
+    In the scaled variables ``v = (q, p) = (theta, T theta')`` at ``t = 0 mod 2T``::
+
+        P(v) = M v + C(v) + O(|v|^5),   C_i(v) = sum_j cubic[..., i, j] q^(3-j) p^j.
+
+    Attributes
+    ----------
+    linear : ndarray, shape ``(..., 2, 2)``
+        The monodromy ``M = E H`` in the scaled variables.
+    cubic : ndarray, shape ``(..., 2, 4)``
+        Coefficients of ``q^3, q^2 p, q p^2, p^3`` in each component.
+    """
+
+    linear: np.ndarray
+    cubic: np.ndarray
+
+    def __call__(self, q, p):
+        """``M v + C(v)`` at ``v = (q, p)`` (arrays broadcast against the map's shape)."""
+        q, p = np.asarray(q, float), np.asarray(p, float)
+        mono = np.stack([q**3, q * q * p, q * p * p, p**3], -1)
+        M, C = self.linear, self.cubic
+        return (M[..., 0, 0] * q + M[..., 0, 1] * p + np.sum(C[..., 0, :] * mono, -1),
+                M[..., 1, 0] * q + M[..., 1, 1] * p + np.sum(C[..., 1, :] * mono, -1))
+
+
+def _taylor(eps, mu):
+    x, u, _ = _phase_angles(eps, mu)
+    L1, C1 = _phase_cubic(x * x)
+    L2, C2 = _phase_cubic(-u * u)
+    return _compose(L1, C1, L2, C2)
+
+
+def period_map_taylor(eps, mu):
+    """The period map of the full equation to third order at the upright, in closed form.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        Arnold's parameters, ``eps > 0`` and ``0 < mu < 1`` (``A > g``).
+
+    Returns
+    -------
+    TaylorMap
+
+    Notes
+    -----
+    ``docs/nonlinear.md`` sections 1-2: the ``+A`` phase (``k = x^2``) then the ``-A`` phase
+    (``k = -u^2``), each of unit length in ``s = t/T``; the linear part is ``docs/theory.md``
+    section 3's ``M`` with ``theta'`` scaled by ``T``.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.in_range("mu", mu, 0.0, 1.0)
+    eps, mu = np.broadcast_arrays(eps, mu)
+    M, C = _taylor(eps, mu)
+    return TaylorMap(linear=M, cubic=C)
+
+
+# ---------------------------------------------------------------- the normal form
+@dataclass(frozen=True)
+class BirkhoffNormalForm:
+    """The cubic map in the complex coordinate of the linear map's rotation (arrays).
+
+    ``v = z e + conj(z e)``, ``e = (m12, lambda - m11)``; then
+    ``z' = lambda z + c30 z^3 + c21 z^2 zbar + c12 z zbar^2 + c03 zbar^3 + O(|z|^5)``.
+
+    Attributes
+    ----------
+    w : ndarray
+        ``arccos(tr M / 2)`` in ``(0, pi)``: the linear rotation per period.
+    rotation_number : ndarray
+        ``w / (2 pi)``.
+    coefficients : ndarray of complex, shape ``(..., 4)``
+        ``c30, c21, c12, c03``.
+    beta : ndarray
+        ``Im(c21 / lambda)``: the twist in this coordinate.
+    twist : ndarray
+        ``tau = beta / (8 pi m12^2)``: the twist per ``r^2``, ``r = max |theta|``.
+    resonant_4 : ndarray
+        ``|c03| / (8 pi m12^2)``: the 1:4 resonant coefficient in the units of ``twist``.
+    area_defect : ndarray
+        ``|Re(c21 / lambda)| / |c21|``: zero for an area-preserving map; its size measures
+        the rounding of the closed forms.
+    m12 : ndarray
+        ``M[0, 1]`` in the scaled variables (``r = 2 |z| |m12|``).
+    """
+
+    w: np.ndarray
+    rotation_number: np.ndarray
+    coefficients: np.ndarray
+    beta: np.ndarray
+    twist: np.ndarray
+    resonant_4: np.ndarray
+    area_defect: np.ndarray
+    m12: np.ndarray
+
+
+def _w_of(theta, n):
+    """``w`` in ``(0, pi)`` of the certified rotation angle ``theta`` in ``(n pi, (n+1) pi)``."""
+    even = np.mod(n, 2) == 0
+    return np.where(even, theta - n * PI, (n + 1) * PI - theta)
+
+
+def _coefficients(M, C, lam):
+    """``(c30, c21, c12, c03)`` of the cubic ``C`` in the coordinate ``z`` of ``v = z e + conj(z e)``,
+    ``e = (m12, lambda - m11)`` (float or mpf arrays)."""
+    m11, m12 = M[..., 0, 0], M[..., 0, 1]
+    e1 = m12 + 0j
+    e2 = lam - m11
+    # z = f . v with f . e = 1, f . ebar = 0
+    det = np.asarray(e1 * np.conj(e2) - np.conj(e1) * e2)          # = -2 i m12 sin w
+    f = np.stack([np.conj(e2), -np.conj(e1)], -1) / det[..., None]
+    Lz = np.stack([np.stack([e1, np.conj(e1)], -1), np.stack([e2, np.conj(e2)], -1)], -2)
+    D = _substitute(C + 0j, Lz)                          # (..., 2, 4) over z^3, z^2 zbar, z zbar^2, zbar^3
+    return np.einsum("...i,...ij->...j", f, D)
+
+
+#: Above this rounding estimate (the area defect), or this ``x = w_h T``, the normal form is
+#: recomputed in extended precision: the cubic terms of the ``+A`` phase grow like ``e^{3x}``
+#: while the map's own coefficients inside the thin zones stay far smaller.
+_DEFECT_MP = 1e-10
+_X_MP = 6.0
+
+
+def _normal_form_mp(eps, mu):
+    """``(w, coefficients, m12)`` of one point in extended precision (same closed forms)."""
+    import mpmath as mp
+
+    e, m = mp.mpf(float(eps)), mp.mpf(float(mu))
+    x = 2 * mp.sqrt(2) * e * mp.sqrt(1 + m * m)
+    with mp.workdps(40 + int(2.5 * float(x))):
+        e, m = mp.mpf(float(eps)), mp.mpf(float(mu))
+        x = 2 * mp.sqrt(2) * e * mp.sqrt(1 + m * m)
+        u = 2 * mp.sqrt(2) * e * mp.sqrt((1 - m) * (1 + m))
+        k1, k2 = x * x, -u * u
+        L1, C1 = _cubic_of(k1, *_entire_mp(k1))
+        L2, C2 = _cubic_of(k2, *_entire_mp(k2))
+        M, C = _compose(L1, C1, L2, C2)
+        w = mp.acos((M[0, 0] + M[1, 1]) / 2)
+        coef = _coefficients(M, C, mp.expj(w))
+        return float(w), np.array([complex(c) for c in coef]), float(M[0, 1])
+
+
+def _normal_form(eps, mu):
+    M, C = _taylor(eps, mu)
+    _, _, theta, stable, n = _floquet(eps, mu)
+    w = _w_of(theta, n)
+    lam = np.exp(1j * w)
+    m12 = M[..., 0, 1]
+    coef = _coefficients(M, C, lam)
+    r21 = coef[..., 1] / lam
+    with np.errstate(invalid="ignore", divide="ignore"):
+        defect = np.abs(r21.real) / np.where(np.abs(r21) > 0, np.abs(r21), 1.0)
+    x = _phase_angles(eps, mu)[0]
+    redo = stable & ((defect > _DEFECT_MP) | (x > _X_MP))
+    if np.any(redo):
+        w, coef, m12 = np.array(w, float), np.array(coef), np.array(m12, float)
+        for i in np.ndindex(redo.shape):
+            if redo[i]:
+                w[i], coef[i], m12[i] = _normal_form_mp(eps[i], mu[i])
+        lam = np.exp(1j * w)
+        r21 = coef[..., 1] / lam
+        defect = np.where(redo, 0.0, defect)
+    beta = r21.imag
+    scale = 8.0 * PI * m12 * m12
+    return BirkhoffNormalForm(w=w, rotation_number=w / (2.0 * PI), coefficients=coef, beta=beta,
+                              twist=beta / scale, resonant_4=np.abs(coef[..., 3]) / scale,
+                              area_defect=defect, m12=m12), stable
+
+
+def _stable_arnold(eps, mu):
+    """Validated ``(eps, mu)``, broadcast, every point linearly stable (square wave, undamped)."""
+    eps, mu = _v.arnold(eps, mu)
+    eps, mu = np.broadcast_arrays(eps, mu)
+    _, _, _, stable, _ = _floquet(eps, mu)
+    _v.linearly_stable(eps, mu, stable)
+    return eps, mu
+
+
+def birkhoff_normal_form(eps, mu):
+    """The Birkhoff normal form of the period map at the upright, to third order.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        Arnold's parameters of linearly stable points (inside a zone, ``0 < mu < 1``).
+
+    Returns
+    -------
+    BirkhoffNormalForm
+
+    Raises
+    ------
+    ValueError
+        Where a point is not linearly stable.
+
+    Notes
+    -----
+    ``docs/nonlinear.md`` section 3. The resonant coefficients are invariant under the
+    near-identity changes that remove the others, so they are read off directly.
+    """
+    eps, mu = _stable_arnold(eps, mu)
+    return _normal_form(eps, mu)[0]
+
+
+def twist_coefficient(eps, mu):
+    """The twist ``tau``: ``rho(r) = w/(2 pi) + tau r^2 + O(r^4)``.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        Arnold's parameters of linearly stable points (inside a zone, ``0 < mu < 1``).
+
+    Returns
+    -------
+    tau : ndarray
+        On the section ``t = 0 mod 2T`` (the start of the ``+A`` phase), in the variables
+        ``(theta, theta')``, the invariant curve of the nonlinear period map whose largest
+        ``|theta|`` is ``r`` turns ``rho(r) = w/(2 pi) + tau r^2 + O(r^4)`` times per period,
+        ``cos w = tr M / 2``, ``w`` in ``(0, pi)``, both counted in the direction in which the
+        linear map turns. ``tau < 0``: the rotation slows with amplitude.
+
+    Raises
+    ------
+    ValueError
+        Naming ``eps`` (and ``mu``) where a point is not linearly stable.
+
+    Notes
+    -----
+    ``docs/nonlinear.md`` section 3: ``tau = Im(c21 / lambda) / (8 pi m12^2)``, closed forms
+    throughout (no ODE solve).
+    """
+    eps, mu = _stable_arnold(eps, mu)
+    return _normal_form(eps, mu)[0].twist
+
+
+# ---------------------------------------------------------------- the Kapitza limit
+def averaged_twist(eps, mu):
+    """The twist predicted by Kapitza's averaged (effective) potential, valid as ``eps -> 0``.
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        ``eps > sqrt(3/2) mu`` (the averaged upright is stable), both > 0.
+
+    Returns
+    -------
+    ndarray
+        ``3 T c4 / (2 pi Omega)`` with, in units of ``T``, ``(Omega T)^2 = 16 eps^4/3 - 8 eps^2 mu^2``
+        and ``c4 T^2 = eps^2 mu^2 / 3 - 8 eps^4 / 9`` (always < 0: a soft well).
+
+    Notes
+    -----
+    ``docs/nonlinear.md`` section 5. The effective potential is
+    ``U = (g/l) cos(theta) + <v^2>/(2 l^2) sin^2(theta)``, ``<v^2> = A^2 T^2/12`` for the
+    square wave; ``U = Omega^2 theta^2 / 2 + c4 theta^4 + ...`` and a Duffing oscillation of
+    amplitude ``r`` has frequency ``Omega + 3 c4 r^2 / (2 Omega)``; a period ``2T`` turns it
+    by ``2 T Omega(r)``.
+    """
+    eps = _v.positive("eps", eps)
+    mu = _v.positive("mu", mu)
+    e2 = eps * eps
+    om2 = 16.0 * e2 * e2 / 3.0 - 8.0 * e2 * mu * mu
+    bad = ~(om2 > 0)
+    if bad.any():
+        raise _v.KapitzaValueError(
+            f"eps must exceed the averaging threshold sqrt(3/2) mu; got eps = {np.broadcast_to(eps, bad.shape)[bad].flat[0]!r}")
+    c4 = e2 * mu * mu / 3.0 - 8.0 * e2 * e2 / 9.0
+    return 3.0 * c4 / (2.0 * PI * np.sqrt(om2))
+
+
+# ---------------------------------------------------------------- the verdict
+#: Verdict kinds, in the order of the codes of :attr:`NonlinearVerdict.code`.
+KINDS = ("moser", "moser 1:3", "markeev stable", "markeev unstable", "undecided")
+
+
+@dataclass(frozen=True)
+class NonlinearVerdict:
+    """Nonlinear (Lyapunov) stability of the upright, with the numbers behind it (arrays).
+
+    Attributes
+    ----------
+    eps, mu : ndarray
+    stable : ndarray of bool
+        Lyapunov stable by the theorem named in ``kind``.
+    unstable : ndarray of bool
+        Unstable by Markeev's criterion at 1:4 (neither flag: undecided at this order).
+    kind : ndarray of str
+        ``"moser"`` (twist != 0, ``w`` off 1:4), ``"moser 1:3"`` (on ``tr M = -1``: oddness
+        removes the resonant ``zbar^2``, the twist decides), ``"markeev stable"`` /
+        ``"markeev unstable"`` (on ``tr M = 0``: ``|tau|`` against ``|c4|``), ``"undecided"``
+        (twist zero, or ``|tau| = |c4|`` at 1:4).
+    rotation_number : ndarray
+        ``w / (2 pi)`` in ``(0, 1/2)``.
+    trace : ndarray
+        ``tr M = 2 cos w``.
+    twist : ndarray
+        ``tau`` of :func:`twist_coefficient`.
+    resonant_4 : ndarray
+        ``|c4|``: the ``zbar^3`` coefficient in the units of ``tau`` (it decides only at 1:4).
+    """
+
+    eps: np.ndarray
+    mu: np.ndarray
+    stable: np.ndarray
+    unstable: np.ndarray
+    kind: np.ndarray
+    rotation_number: np.ndarray
+    trace: np.ndarray
+    twist: np.ndarray
+    resonant_4: np.ndarray
+
+    def sentences(self) -> list[str]:
+        """One sentence per point (flattened order): the verdict, the theorem and its numbers."""
+        out = []
+        for e, m, k, rho, tr, tau, c4 in zip(*(np.ravel(a) for a in (
+                self.eps, self.mu, self.kind, self.rotation_number, self.trace, self.twist, self.resonant_4))):
+            nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g}"
+            if k == "moser":
+                s = f"Lyapunov stable (Moser's twist theorem: twist != 0, not at 1:4); {nums}"
+            elif k == "moser 1:3":
+                s = (f"Lyapunov stable (Moser's twist theorem at 1:3: the odd map has no zbar^2 term, "
+                     f"twist != 0); {nums}")
+            elif k == "markeev stable":
+                s = f"Lyapunov stable at 1:4 (Markeev: |tau| > |c4| = {c4:.10g}); {nums}"
+            elif k == "markeev unstable":
+                s = f"unstable at 1:4 (Markeev: |tau| < |c4| = {c4:.10g}); {nums}"
+            else:
+                s = f"undecided at this order (twist tau = 0, or |tau| = |c4| at 1:4); {nums}, |c4| = {c4:.10g}"
+            out.append(f"eps = {e:.10g}, mu = {m:.10g}: {s}" if np.size(self.eps) > 1 else s)
+        return out
+
+    def __str__(self) -> str:
+        return "\n".join(self.sentences())
+
+
+def _verdict_kinds(w, beta, coef, tol):
+    scale = np.sum(np.abs(coef), -1)
+    c03 = np.abs(coef[..., 3])
+    zero_twist = np.abs(beta) <= tol * scale
+    on4 = np.abs(w - 0.5 * PI) <= tol
+    on3 = np.abs(w - 2.0 * PI / 3.0) <= tol
+    tie = on4 & (np.abs(np.abs(beta) - c03) <= tol * scale)
+    code = np.where(on3, 1, 0)
+    code = np.where(on4, np.where(np.abs(beta) > c03, 2, 3), code)
+    code = np.where(zero_twist | tie, 4, code)
+    return code
+
+
+def nonlinear_stability(eps, mu, *, tol=1e-12):
+    """Lyapunov stability of the upright of the full equation (square wave, undamped).
+
+    Parameters
+    ----------
+    eps, mu : array_like, broadcast together
+        Arnold's parameters of linearly stable points.
+    tol : float, optional
+        A point is taken to lie on the 1:4 (1:3) curve where ``|w - pi/2|`` (``|w - 2 pi/3|``)
+        is at most ``tol``, and the twist to vanish where ``|beta|`` is at most ``tol`` times the
+        sum of the cubic coefficients' sizes (both are rounding bounds of the closed forms).
+
+    Returns
+    -------
+    NonlinearVerdict
+
+    Raises
+    ------
+    ValueError
+        Where a point is not linearly stable (``docs/theory.md`` section 5).
+
+    Notes
+    -----
+    ``docs/nonlinear.md`` section 4. Off 1:4 the normal form is ``z -> lambda z e^{i beta |z|^2}
+    + O(|z|^5)`` (the map is odd, so at 1:3 no ``zbar^2`` term stops the reduction), and
+    Moser's twist theorem (Moser 1962) gives stability when ``beta != 0``. On 1:4 the term
+    ``c03 zbar^3`` is resonant: stable if ``|beta| > |c03|``, unstable if ``|beta| < |c03|``
+    (Markeev 1978; Bardin & Markeev 1995). Points exactly on a curve have measure zero; near
+    1:4 the stable region around the upright shrinks with the distance to it.
+    """
+    tol = float(_v.in_range("tol", tol, 0.0, 1.0, lo_open=False))
+    eps, mu = _stable_arnold(eps, mu)
+    nf, _ = _normal_form(eps, mu)
+    code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol)
+    return NonlinearVerdict(eps=eps, mu=mu, stable=np.isin(code, (0, 1, 2)), unstable=code == 3,
+                            kind=np.asarray(KINDS)[code], rotation_number=nf.rotation_number,
+                            trace=2.0 * np.cos(nf.w), twist=nf.twist, resonant_4=nf.resonant_4)
