@@ -116,26 +116,32 @@ _TAN3 = np.array([0.3333333333333333, 0.13333333333333333, 0.05396825396825397, 
 _TAN3_SWITCH = 0.8
 
 
-def tan3(z, sign):
-    """(tan z - z)/z^3 (sign=+1) or (z - tanh z)/z^3 (sign=-1), accurate for small z.
+_TAN3_REVERSED = _TAN3[::-1].tolist()
 
-    The series is summed as a row of its 30 terms per point (powers by a running product, then
-    one sum), in blocks of 4096 points: a handful of array operations, not one per term, and the
-    same arithmetic for a point whatever array it comes in.
-    """
+
+def _series(w):
+    """``sum_k c_k w^k`` over :data:`_TAN3` by Horner's rule. A few points are summed in Python
+    floats (the same IEEE operations, a multiply then an add, so the same bits as the array
+    path) to spare sixty array calls on arrays of one or two points."""
+    if w.size <= 8:
+        out = []
+        for x in w.tolist():
+            acc = 0.0
+            for c in _TAN3_REVERSED:
+                acc = acc * x + c
+            out.append(acc)
+        return np.array(out, dtype=float)
+    acc = np.zeros_like(w)
+    for c in _TAN3_REVERSED:
+        acc = acc * w + c
+    return acc
+
+
+def tan3(z, sign):
+    """(tan z - z)/z^3 (sign=+1) or (z - tanh z)/z^3 (sign=-1), accurate for small z."""
     z = np.asarray(z, dtype=float)
-    zc = np.minimum(z, _TAN3_SWITCH).ravel()  # the series only where it is used (no overflow beyond)
-    z2 = sign * zc * zc
-    series = np.empty(zc.shape)
-    for a in range(0, zc.size, 4096):
-        b = min(a + 4096, zc.size)
-        P = np.empty((b - a, _TAN3.size))
-        P[:, 0] = 1.0
-        P[:, 1:] = z2[a:b, None]
-        np.cumprod(P, axis=1, out=P)
-        P *= _TAN3
-        series[a:b] = P.sum(axis=1)
-    series = series.reshape(z.shape)
+    zc = np.minimum(z, _TAN3_SWITCH)  # the series only where it is used (no overflow beyond)
+    series = _series((sign * zc * zc).ravel()).reshape(z.shape)
     near = z > _TAN3_SWITCH
     if not np.any(near):
         return series

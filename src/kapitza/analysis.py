@@ -11,7 +11,7 @@ from dataclasses import dataclass, asdict
 import numpy as np
 
 from . import _validate as _v
-from ._display import Summary
+from ._display import Summary, multipliers
 from .parameters import G_EARTH
 from .propagation import _floquet, _multipliers
 from .zones import amplitude_edges, period_edges, stability_margin
@@ -131,7 +131,7 @@ class StabilityReport(Summary):
             rows.append(("damping", f"{c}ratio zeta = {_fmt(self.zeta, 6)}; det M = {_fmt(self.determinant)}"))
         rows.append(("Arnold", f"eps = {_fmt(self.eps)}, mu = {_fmt(self.mu)}"))
         rows.append(("verdict", self.verdict))
-        lam = ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}" for z in self.multipliers)
+        lam = multipliers(self.multipliers)
         crit = "|tr M| < 2" if self.zeta == 0 else "|tr M| < 1 + det M"
         rows.append(("trace tr M", f"{_fmt(self.trace)}   (stable iff {crit})"))
         rows.append(("multipliers", lam))

@@ -21,7 +21,7 @@ import numpy as np
 from . import _certify
 from . import _exact as X
 from . import _validate as _v
-from ._display import Summary, num, shape_of, span
+from ._display import Summary, num, shape_of, span, stable_share
 from .drives import _api as _drv
 from .parameters import G_EARTH, SQRT8, _phase_angles
 
@@ -431,7 +431,7 @@ class StabilityMargin(Summary):
         if np.ndim(self.stable) == 0:
             return (f"{'stable in' if self.stable else 'unstable, nearest'} zone {int(self.zone)}, "
                     f"{num(self.eps_lo, 10)} < eps < {num(self.eps_hi, 10)}, margin {100 * float(self.margin):.4g}%")
-        return f"{shape_of(self.stable)}, {100 * float(np.mean(self.stable)):.4g}% stable"
+        return stable_share(self.stable)
 
     def lines(self) -> list[tuple[str, str]]:
         if np.ndim(self.stable) == 0:
