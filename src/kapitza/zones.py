@@ -69,13 +69,16 @@ def _lower0_small_mu(mu):
     z0 = np.sqrt(3.0 * d2m1 / (1.0 + D2 * D2))
     z1 = fixed(z0)
     h0 = z0 - z1
+    live = np.ones(z1.shape, dtype=bool)
     for _ in range(60):
         h1 = z1 - fixed(z1)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = h1 * (z1 - z0) / (h1 - h0)
-        step = np.where(np.isfinite(step), step, h1)
+        # a point that has converged stays put: its answer does not depend on its neighbours
+        step = np.where(live, np.where(np.isfinite(step), step, h1), 0.0)
         z0, h0, z1 = z1, h1, z1 - step
-        if np.all(np.abs(step) <= 8.0 * np.finfo(float).eps * z1):
+        live &= np.abs(step) > 8.0 * np.finfo(float).eps * z1
+        if not live.any():
             break
     return 2.0 * fixed(z1)
 
@@ -473,10 +476,10 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     x, u, D = _phase_angles(eps, mus)
     w = u - n * PI
     below = X.lower_gap(x, u, w, n, D, mus) <= 0
-    # Candidate zones: n itself, and the neighbour across the gap the point sits in.
-    lo_n, hi_n = _edges_eps(mus, n)
+    # Candidate zones: n itself, and the neighbour across the gap the point sits in (one solve).
     nb = np.where(below, np.maximum(n - 1, 0), n + 1)
-    lo_b, hi_b = _edges_eps(mus, nb)
+    lo2, hi2 = _edges_eps(np.stack([mus, mus]), np.stack([n, nb]))
+    (lo_n, lo_b), (hi_n, hi_b) = lo2, hi2
     d_n = np.minimum(eps - lo_n, hi_n - eps)
     d_b = np.where(below & (n == 0), -np.inf, np.minimum(eps - lo_b, hi_b - eps))
     use_b = ~stable & (d_b > d_n)
@@ -667,13 +670,16 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     T, n, l, g = np.broadcast_arrays(T, n, l, g)
     kappa = 2.0 * g * T * T / l
 
-    def solve(fn):
-        def F(u):
-            x = np.sqrt(u * u + kappa)
-            with np.errstate(divide="ignore"):
-                return u - n * PI - fn(x, x / u)
+    # both edges in one solve: index 0 of the stacked arrays is the lower edge, 1 the upper
+    upper = np.stack([np.zeros(n.shape, bool), np.ones(n.shape, bool)])
+    nn, kk = np.stack([n, n]), np.stack([kappa, kappa])
 
-        u = X.illinois(F, n * PI + 0.0, (n + 1.0) * PI)
-        return g + l * (u / T) ** 2
+    def F(u):
+        x = np.sqrt(u * u + kk)
+        with np.errstate(divide="ignore"):
+            D = x / u
+            return u - nn * PI - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
 
-    return solve(X.alpha_x), solve(X.beta_x)
+    u = X.illinois(F, nn * PI + 0.0, (nn + 1.0) * PI)
+    A = np.stack([g, g]) + np.stack([l, l]) * (u / np.stack([T, T])) ** 2
+    return A[0], A[1]
