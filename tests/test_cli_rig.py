@@ -127,3 +127,33 @@ def test_periods_by_mu_and_zones_json_with_out(tmp_path, capsys):
 def test_analyze_says_it_takes_single_values():
     with pytest.raises(ValueError, match="single values; got T of shape"):
         K.analyze(T=[0.1, 0.2], A=100.0)
+
+
+def test_square_wave_frequency_interval_matches_the_general_bisection():
+    # The closed-form path (regula falsi in mu at fixed eps) against the drive-generic bisection on
+    # the rotation angle, where both give an interval; where the zone cannot be reached by changing
+    # the frequency at this stroke the closed forms give none (the bisection gave a degenerate one).
+    import numpy as np
+
+    import kapitza as K
+    from kapitza import analysis as An
+    from kapitza.drives import SquareWave
+
+    rng = np.random.default_rng(5)
+    compared = 0
+    for _ in range(60):
+        T, A = 10 ** rng.uniform(-2.5, 0.0), 10 ** rng.uniform(1.0, 3.0)
+        eps, mu = (float(v) for v in K.to_arnold(T, A))
+        nz = int(K.stability_margin(eps, mu).zone)
+        if nz < 0:
+            continue
+        a = An._rig_margins(eps, mu, nz, None, 0.0, T, A, 0.25 * A * T * T)
+        b = An._rig_margins(eps, mu, nz, SquareWave(), 0.0, T, A, 0.25 * A * T * T)
+        if "frequency_lo" in a:
+            compared += 1
+            assert a["frequency_lo"] == pytest.approx(b["frequency_lo"], rel=1e-11)
+            assert a["frequency_hi"] == pytest.approx(b["frequency_hi"], rel=1e-11)
+        else:  # unreachable: the zone's lower edge is above this eps at every mu
+            eps_lo, _ = K.zone_edges(np.geomspace(1e-6, 0.999, 400), nz)
+            assert np.all(eps_lo >= eps)
+    assert compared >= 30

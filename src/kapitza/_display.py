@@ -54,3 +54,14 @@ def shape_of(a) -> str:
     """``"one point"`` or ``"shape (m, n): k points"``."""
     a = np.asarray(a)
     return "one point" if a.ndim == 0 else f"shape {a.shape}: {a.size:,} points"
+
+
+def stable_share(stable) -> str:
+    """``"shape (m, n): k points, p% stable"`` for an array of verdicts."""
+    return f"{shape_of(stable)}, {100 * float(np.mean(stable)):.4g}% stable"
+
+
+def multipliers(values) -> str:
+    """Floquet multipliers as ``a+bi, a-bi`` (real ones without an imaginary part), 10 digits."""
+    return ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}"
+                     for z in np.ravel(np.asarray(values, dtype=complex)))

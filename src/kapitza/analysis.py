@@ -11,7 +11,7 @@ from dataclasses import dataclass, asdict
 import numpy as np
 
 from . import _validate as _v
-from ._display import Summary
+from ._display import Summary, multipliers
 from .parameters import G_EARTH
 from .propagation import _floquet, _multipliers
 from .zones import amplitude_edges, period_edges, stability_margin
@@ -131,7 +131,7 @@ class StabilityReport(Summary):
             rows.append(("damping", f"{c}ratio zeta = {_fmt(self.zeta, 6)}; det M = {_fmt(self.determinant)}"))
         rows.append(("Arnold", f"eps = {_fmt(self.eps)}, mu = {_fmt(self.mu)}"))
         rows.append(("verdict", self.verdict))
-        lam = ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}" for z in self.multipliers)
+        lam = multipliers(self.multipliers)
         crit = "|tr M| < 2" if self.zeta == 0 else "|tr M| < 1 + det M"
         rows.append(("trace tr M", f"{_fmt(self.trace)}   (stable iff {crit})"))
         rows.append(("multipliers", lam))
@@ -199,6 +199,8 @@ def _rig_margins(eps, mu, zone, drive, zeta, T, A, stroke):
     ``eps_hi(mu)`` both grow with ``mu``), found by bisection on the zone index read from the
     rotation angle. At a fixed frequency the stroke is proportional to ``A``.
     """
+    if drive is None:
+        return _square_rig_margins(eps, mu, zone, T, stroke)
     from .drives import as_drive
     from .drives._piecewise import _bisect_bits
 
@@ -224,6 +226,46 @@ def _rig_margins(eps, mu, zone, drive, zeta, T, A, stroke):
     if mu_lo[0] < mu_hi[0]:
         out.update(frequency_lo=float(f * mu / mu_hi[0]),
                    frequency_hi=float("inf") if above else float(f * mu / mu_lo[0]))
+    return out
+
+
+_MU_MIN = 1e-6  # A = 1e12 g: a zone still open there has no upper frequency
+
+
+def _square_rig_margins(eps, mu, zone, T, stroke):
+    """:func:`_rig_margins` for the undamped square wave, from the closed forms.
+
+    At fixed ``eps`` both ``w - alpha`` and ``w - beta`` (``w = u - n pi``, ``docs/theory.md``
+    section 5) decrease as ``mu`` grows (``u`` falls, ``alpha`` and ``beta`` rise), so zone ``n``
+    is ``mu_b < mu < mu_a`` with ``w - alpha = 0`` at ``mu_a`` and ``w - beta = 0`` at ``mu_b``;
+    both are found by regula falsi (:func:`kapitza._exact.illinois`) to about 1e-14.
+    """
+    from . import _exact as X
+    from .parameters import SQRT8
+
+    n = float(zone)
+
+    def gap(m, upper):
+        p = np.sqrt(1.0 + m * m)
+        q = np.sqrt((1.0 - m) * (1.0 + m))
+        x, u = SQRT8 * eps * p, SQRT8 * eps * q
+        with np.errstate(divide="ignore"):
+            D = p / q
+        return u - n * np.pi - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
+
+    upper = np.array([False, True])
+    lo = np.full(2, _MU_MIN)
+    hi = np.full(2, 1.0 - 1e-12)
+    f_lo = gap(lo, upper)
+    out = dict(stroke=float(stroke))
+    if f_lo[0] <= 0.0:  # below the zone's lower edge at every mu: no frequency reaches it
+        return out
+    open_top = f_lo[1] < 0.0  # still in the zone at the smallest mu
+    roots = X.illinois(lambda m: gap(m, upper), lo, hi)
+    mu_a, mu_b = float(roots[0]), (_MU_MIN if open_top else float(roots[1]))
+    if mu_b < mu_a:
+        f = 0.5 / T
+        out.update(frequency_lo=float(f * mu / mu_a), frequency_hi=float("inf") if open_top else float(f * mu / mu_b))
     return out
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from . import _certify
 from . import _exact as X
 from . import _validate as _v
-from ._display import Summary, num, shape_of, span
+from ._display import Summary, multipliers, num, shape_of, span, stable_share
 from .drives import _api as _drv
 from .parameters import G_EARTH, SQRT8, _phase_angles
 
@@ -155,14 +155,12 @@ class Floquet(Summary):
         if np.ndim(self.stable) == 0:
             return (f"{'stable, zone ' + str(int(self.zone)) if self.stable else 'unstable'}, tr M = "
                     f"{num(self.trace, 10)}, growth {num(self.growth)}, rotation number {num(self.rotation_number)}")
-        return f"{shape_of(self.stable)}, {100 * float(np.mean(self.stable)):.4g}% stable"
+        return stable_share(self.stable)
 
     def lines(self) -> list[tuple[str, str]]:
         if np.ndim(self.stable) == 0:
-            lam = ", ".join(f"{z.real:.10g}{z.imag:+.10g}i" if z.imag else f"{z.real:.10g}"
-                            for z in np.ravel(self.multipliers))
             return [("verdict", f"stable (zone {int(self.zone)})" if self.stable else "unstable"),
-                    ("trace tr M", num(self.trace, 12)), ("multipliers", lam),
+                    ("trace tr M", num(self.trace, 12)), ("multipliers", multipliers(self.multipliers)),
                     ("growth", f"{num(self.growth, 12)} per period 2T"),
                     ("rotation number", f"{num(self.rotation_number, 12)} turns per period"),
                     ("det M", num(self.determinant, 12))]
