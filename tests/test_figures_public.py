@@ -142,3 +142,70 @@ def test_figure8_says_what_it_draws_instead_of_reference_6_and_hides_no_line():
         import matplotlib.pyplot as plt
 
         plt.close(fig)
+
+
+# ------------------------------------------------------------------ the public plotting API
+def _plot_calls():
+    """Each public plot_* function with arguments small enough for a test."""
+    from kapitza.figures.drives import drive_curves
+    from kapitza.motion import basin, simulate, stroboscopic_map
+
+    P = dict(T=0.15, A=100.0, l=1.0, g=9.81)
+    traj = simulate(0.1, 0.0, **P, periods=2, points_per_period=40)
+    lin = simulate(0.1, 0.0, **P, periods=2, points_per_period=40, model="linear")
+    orb = stroboscopic_map(np.linspace(0.05, 0.3, 3), 0.0, **P, periods=20, every=1)
+    bas = basin(**P, periods=3, tol=0.5, n_theta=8, n_dtheta=8, model="linear")
+    curves = drive_curves("square", np.linspace(0.01, 0.9, 40), 2.0)
+    return {
+        "plot_zones": (lambda f, ax, **kw: f(ax, (0.0, 3.0), points=80, **kw), True),
+        "plot_zones_physical": (lambda f, ax, **kw: f(ax, points=80, **kw), True),
+        "plot_tongue": (lambda f, ax, **kw: f(1, ax, points=60), False),
+        "plot_drive_comparison": (lambda f, ax, **kw: f([curves], ax, eps_range=(0.0, 2.0), **kw), True),
+        "plot_time_series": (lambda f, ax, **kw: f(traj, ax, linear=lin, tol=0.3, **kw), True),
+        "plot_pivot": (lambda f, ax, **kw: f(traj, ax), False),
+        "plot_phase_portrait": (lambda f, ax, **kw: f(traj, ax, **kw), True),
+        "plot_strobe": (lambda f, ax, **kw: f(orb, ax), False),
+        "plot_basin": (lambda f, ax, **kw: f(bas, ax), False),
+    }
+
+
+def test_figures_exports_its_functions():
+    import kapitza.figures as KF
+
+    for name in KF.__all__:
+        assert callable(getattr(KF, name)), name
+    plots = {n for n in KF.__all__ if n.startswith("plot_")}
+    assert plots == set(_plot_calls())
+
+
+def test_every_plot_function_takes_ax_and_returns_drawn_with_legend_inside():
+    import matplotlib.pyplot as plt
+
+    import kapitza.figures as KF
+
+    for name, (call, has_legend) in _plot_calls().items():
+        fig, ax = plt.subplots(figsize=(5, 4))
+        try:
+            kw = {"legend": "inside"} if has_legend else {}
+            drawn = call(getattr(KF, name), ax, **kw)
+            assert isinstance(drawn, KF.Drawn), name
+            assert drawn.ax is ax and drawn.data is not None, name
+            assert drawn and all(v is not None for v in drawn.values()), name
+            if has_legend:
+                leg = drawn["legend"]
+                assert leg is ax.get_legend(), name
+                fig.canvas.draw()
+                lb, ab = leg.get_window_extent(), ax.get_window_extent()
+                assert ab.x0 <= lb.x0 and lb.x1 <= ab.x1 and ab.y0 <= lb.y0 and lb.y1 <= ab.y1, name
+        finally:
+            plt.close(fig)
+
+
+def test_import_kapitza_figures_does_not_load_every_submodule():
+    import subprocess
+    import sys
+
+    code = ("import sys, kapitza.figures as F; assert 'kapitza.figures.animation' not in sys.modules; "
+            "F.plot_zones; assert 'kapitza.figures.chart' in sys.modules; "
+            "assert 'kapitza.figures.animation' not in sys.modules")
+    subprocess.run([sys.executable, "-c", code], check=True)

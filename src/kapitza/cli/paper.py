@@ -23,14 +23,16 @@ def register(sub):
     p.add_argument("--out", default="kapitza-paper", metavar="DIR", help="output folder (default kapitza-paper)")
     p.add_argument("--quick", action="store_true", help="fewer parameter sets in each check")
     p.add_argument("--quiet", action="store_true", help="print only the summary")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="processes rendering figures and running checks side by side (default: CPUs, at most 2)")
     p.set_defaults(func=cmd_paper)
 
 
 def cmd_paper(args):
     from ..paper.build import build_paper
 
-    progress = None if args.quiet else (lambda msg: print(f"  {msg} ...", file=sys.stderr, flush=True))
-    res = build_paper(args.out, quick=args.quick, progress=progress)
+    progress = None if args.quiet else (lambda msg: print(f"  {msg}", file=sys.stderr, flush=True))
+    res = build_paper(args.out, quick=args.quick, progress=progress, workers=args.workers)
     width = max((len(r.key) for r in res.checks), default=0)
     for r in res.checks:
         bound = f"{'<=' if r.sense == '<=' else '>'} {r.tolerance:.1e}"

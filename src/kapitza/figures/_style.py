@@ -86,14 +86,20 @@ def caption(fig, text: str):
 
 
 def save(fig, stem, formats=("png", "svg"), dpi=150):
-    """Write ``stem.<fmt>`` for each format atomically; return the paths."""
+    """Write ``stem.<fmt>`` for each format atomically; return the paths.
+
+    The layout is computed once, for the first format, and then kept for the others
+    (the constrained layout measures every text, which costs as much as drawing it).
+    """
     stem = Path(stem)
     paths = []
-    for fmt in formats:
+    for k, fmt in enumerate(formats):
         p = stem.with_suffix("." + fmt)
         with atomic_path(p) as tmp:
             fig.savefig(tmp, format=fmt, dpi=dpi)
         paths.append(p)
+        if k == 0 and len(formats) > 1 and fig.get_layout_engine() is not None:
+            fig.set_layout_engine("none")
     return paths
 
 

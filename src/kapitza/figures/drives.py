@@ -9,6 +9,7 @@ from ..drives import as_drive
 from ..drives import _api
 from ..limits import averaging_threshold
 from . import _style
+from ._style import Drawn
 
 __all__ = ["DriveCurves", "drive_curves", "plot_drive_comparison", "drive_comparison_figure"]
 
@@ -52,16 +53,37 @@ def drive_curves(drive, mu, eps_max, zeta=0.0):
                        averaging=averaging_threshold(mu, d))
 
 
-def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), averaging=True, legend=True):
+def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), averaging=True,
+                          legend="inside"):
     """Overlay the stability zones of several drives (``DriveCurves``) on one eps-mu chart.
 
     Each drive has one colour: its zones filled lightly, their edges drawn as curves (so thin
-    tongues stay visible), its averaging criterion ``<v^2> = g l`` dashed. Returns ``ax``.
+    tongues stay visible), its averaging criterion ``<v^2> = g l`` dashed.
+
+    Parameters
+    ----------
+    curves : sequence of DriveCurves
+        From :func:`drive_curves`.
+    ax : matplotlib Axes, optional
+        Drawn on a new figure when None.
+    eps_range, mu_range : (float, float)
+        The window.
+    averaging : bool
+        Draw each drive's averaging criterion.
+    legend : {"inside", "outside", None}
+        Legend inside the axes (best corner), beside them, or none (``True`` means inside).
+
+    Returns
+    -------
+    Drawn
+        ``"fills"``, ``"edges"``, ``"averaging"`` (lists of artists) and ``"legend"``, with
+        ``.ax`` and ``.data`` (the curves).
     """
     import matplotlib.pyplot as plt
 
     if ax is None:
         _, ax = plt.subplots()
+    out = Drawn(ax, {"fills": [], "edges": [], "averaging": []}, data=list(curves))
     drawn = set()
     names = list(dict.fromkeys(c.drive for c in curves))
     undamped = {c.drive for c in curves if c.zeta == 0}
@@ -74,28 +96,33 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
             ok = np.isfinite(c.lo[k]) & ~np.isnan(c.hi[k])
             hi = np.minimum(c.hi[k][ok], eps_range[1])  # an edge beyond the view: paint to its end
             if not damped or c.drive not in undamped:  # damped zones as outlines over the undamped fills
-                ax.fill_betweenx(c.mu[ok], c.lo[k][ok], hi, color=colour, alpha=0.18, linewidth=0)
-            ax.plot(c.lo[k][ok], c.mu[ok], label=label if k == 0 else None, **style)
+                out["fills"].append(ax.fill_betweenx(c.mu[ok], c.lo[k][ok], hi, color=colour, alpha=0.18,
+                                                     linewidth=0))
+            out["edges"] += ax.plot(c.lo[k][ok], c.mu[ok], label=label if k == 0 else None, **style)
             fin = np.isfinite(c.hi[k][ok])
-            ax.plot(np.where(fin, hi, np.nan), c.mu[ok], **style)
+            out["edges"] += ax.plot(np.where(fin, hi, np.nan), c.mu[ok], **style)
         if averaging and c.drive not in drawn:  # the criterion does not depend on the damping
             drawn.add(c.drive)
-            ax.plot(c.averaging, c.mu, color=colour, linewidth=1.0, linestyle=(0, (4, 3)))
+            out["averaging"] += ax.plot(c.averaging, c.mu, color=colour, linewidth=1.0, linestyle=(0, (4, 3)))
     ax.set_xlim(*eps_range)
     ax.set_ylim(*mu_range)
     ax.set_xlabel(r"$\varepsilon = T\sqrt{A/(8l)}$")
     ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
+    if legend is True:
+        legend = "inside"
+    if legend not in (None, False, "inside", "outside"):
+        raise ValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
     if legend:
-        ax.legend(loc="lower right", fontsize=7, framealpha=0.9)
-    return ax
+        out["legend"] = _style.place_legend(ax, inside=(legend == "inside"), fontsize=7)
+    return out
 
 
 def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
     """Two panels: the whole chart and a zoom on zone 0 near Kapitza's limit; returns the figure."""
     fig = _style.new_figure(width=11.0, height=5.0, caption_lines=3)
     ax1, ax2 = fig.subplots(1, 2)
-    plot_drive_comparison(curves, ax1, eps_range=(0.0, eps_max), legend=False)
-    plot_drive_comparison(curves, ax2, eps_range=(0.0, zoom[0]), mu_range=(0.0, zoom[1]), legend=False)
+    plot_drive_comparison(curves, ax1, eps_range=(0.0, eps_max), legend=None)
+    plot_drive_comparison(curves, ax2, eps_range=(0.0, zoom[0]), mu_range=(0.0, zoom[1]), legend=None)
     handles, labels = ax1.get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside upper center", ncols=min(len(labels), 4), fontsize=8, frameon=False)
     ax1.set_title("stability zones (filled) and their exact edges", fontsize=9)

@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
 from ..analysis import analyze
-from ._style import caption, new_figure
+from ._style import Drawn, caption, new_figure, place_legend
 
 __all__ = [
     "wrap_angle",
@@ -75,7 +75,7 @@ def _model_label(traj):
 
 
 # ------------------------------------------------------------------ plot functions
-def plot_time_series(traj, ax=None, *, linear=None, tol=None):
+def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     """``theta(t)`` of a :class:`kapitza.motion.Trajectory` (and a linear one beside it).
 
     Parameters
@@ -86,13 +86,16 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None):
         Drawn dashed for comparison.
     tol : float, optional
         Draw the window ``|theta| <= tol`` [rad].
+    legend : {None, "inside", "outside"}
+        Add a legend inside the axes (best corner) or beside them; None: none.
 
     Returns
     -------
-    dict of artists
+    Drawn
+        The artists by name, with ``.ax`` and ``.data``.
     """
     ax = _ax(ax)
-    out = {"theta": ax.plot(traj.t, traj.theta, label=_model_label(traj), **NONLINEAR_STYLE)[0]}
+    out = Drawn(ax, {"theta": ax.plot(traj.t, traj.theta, label=_model_label(traj), **NONLINEAR_STYLE)[0]}, data=traj)
     lo, hi = float(np.min(traj.theta)), float(np.max(traj.theta))
     if tol is not None:
         lo, hi = min(lo, -tol), max(hi, tol)
@@ -116,21 +119,36 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None):
     ax.set_xlim(traj.t[0], traj.t[-1])
     ax.set_ylabel("θ  (rad from upright)")
     ax.grid(True, linewidth=0.3, alpha=0.5)
+    return _legend(out, legend)
+
+
+def _legend(out, legend):
+    """Add the legend asked for (``"inside"``, ``"outside"`` or None) to a :class:`Drawn`."""
+    if legend not in (None, "inside", "outside"):
+        raise ValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
+    if legend:
+        out["legend"] = place_legend(out.ax, inside=(legend == "inside"))
     return out
 
 
 def plot_pivot(traj, ax=None):
-    """Pivot height ``y(t)`` [mm] above its mean position."""
+    """Pivot height ``y(t)`` [mm] above its mean position.
+
+    Returns
+    -------
+    Drawn
+        ``{"pivot": line}``, with ``.ax`` and ``.data`` (the trajectory).
+    """
     ax = _ax(ax)
     line = ax.plot(traj.t, 1e3 * traj.pivot, **PIVOT_STYLE)[0]
     ax.set_ylabel("pivot y  (mm)")
     ax.set_xlabel("t  (s)")
     ax.set_xlim(traj.t[0], traj.t[-1])
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    return {"pivot": line}
+    return Drawn(ax, {"pivot": line}, data=traj)
 
 
-def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None):
+def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None, legend=None):
     """The curve ``(theta, theta')`` with the stroboscopic points ``t = 2kT`` marked.
 
     Parameters
@@ -141,17 +159,21 @@ def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None):
         Mark the states at ``t = 2kT``.
     wrap : bool, optional
         Wrap ``theta`` into ``(-pi, pi]``; by default only when the motion turns over.
+    legend : {None, "inside", "outside"}
+        Add a legend inside the axes (best corner) or beside them; None: none.
 
     Returns
     -------
-    dict of artists
+    Drawn
+        The artists by name, with ``.ax`` and ``.data``.
     """
     ax = _ax(ax)
     if wrap is None:
         wrap = bool(np.max(np.abs(traj.theta)) > np.pi)
     th = wrap_angle(traj.theta) if wrap else traj.theta
     x, y = _broken(th, traj.dtheta) if wrap else (th, traj.dtheta)
-    out = {"curve": ax.plot(x, y, label=f"motion ({_model_label(traj)})", **{**NONLINEAR_STYLE, "linewidth": 0.7})[0]}
+    out = Drawn(ax, {"curve": ax.plot(x, y, label=f"motion ({_model_label(traj)})",
+                                      **{**NONLINEAR_STYLE, "linewidth": 0.7})[0]}, data=traj)
     if strobe:
         _, sth, som = traj.strobe()
         sth = wrap_angle(sth) if wrap else sth
@@ -161,7 +183,7 @@ def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None):
     ax.set_xlabel("θ  (rad from upright)" + (", wrapped to (−π, π]" if wrap else ""))
     ax.set_ylabel("θ'  (rad/s)")
     ax.grid(True, linewidth=0.3, alpha=0.5)
-    return out
+    return _legend(out, legend)
 
 
 def plot_strobe(orbits, ax=None, *, wrap=True, max_members=200, colorbar=True):
@@ -182,7 +204,8 @@ def plot_strobe(orbits, ax=None, *, wrap=True, max_members=200, colorbar=True):
 
     Returns
     -------
-    dict of artists
+    Drawn
+        The artists by name, with ``.ax`` and ``.data``.
     """
     ax = _ax(ax)
     th = orbits.theta.reshape(orbits.theta.shape[0], -1)[:, :max_members]
@@ -198,7 +221,7 @@ def plot_strobe(orbits, ax=None, *, wrap=True, max_members=200, colorbar=True):
     order = np.argsort(-np.abs(start))
     pts = [ax.plot(th[:, i], om[:, i], linestyle="none", marker=".", markersize=1.6,
                    color=cmap(norm(start[i])))[0] for i in order]
-    out = {"points": pts}
+    out = Drawn(ax, {"points": pts}, data=orbits)
     if colorbar and m > 1:
         sm = plt.cm.ScalarMappable(norm=norm, cmap=cmap)
         out["colorbar"] = ax.figure.colorbar(sm, ax=ax, fraction=0.05, pad=0.02)
@@ -220,7 +243,8 @@ def plot_basin(basin, ax=None, *, colorbar=True):
 
     Returns
     -------
-    dict of artists
+    Drawn
+        The artists by name, with ``.ax`` and ``.data``.
     """
     ax = _ax(ax)
     N = basin.periods
@@ -232,7 +256,7 @@ def plot_basin(basin, ax=None, *, colorbar=True):
     extent = (basin.theta0[0] - dx / 2, basin.theta0[-1] + dx / 2, basin.dtheta0[0] - dy / 2, basin.dtheta0[-1] + dy / 2)
     im = ax.imshow(basin.periods_survived, origin="lower", extent=extent, aspect="auto", cmap=cmap, norm=norm,
                    interpolation="nearest")
-    out = {"image": im}
+    out = Drawn(ax, {"image": im}, data=basin)
     if basin.survived.any() and not basin.survived.all():
         out["edge"] = ax.contour(basin.theta0, basin.dtheta0, basin.survived.astype(float), levels=[0.5],
                                  colors="k", linewidths=0.8)

@@ -2,11 +2,16 @@
 from __future__ import annotations
 
 import datetime
+import functools
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
 
 from .. import __version__, _io
+from .. import _validate as _v
 from . import checks as C
 from .report import Code, Heading, Image, Para, Table, plain_math, to_html, to_markdown
 
@@ -76,7 +81,56 @@ def _bound(r):
     return f"{'≤' if r.sense == '<=' else '>'} {_fmt(r.tolerance)}"
 
 
-def build_paper(out, quick=False, progress=None) -> PaperBuild:
+#: The checks that take longest (DOP853 integrations, dense scans): started first.
+SLOW_CHECKS = frozenset({"check_polar_map", "check_thm33_ivp", "check_thm33_only_if", "check_thm34_ivp",
+                         "check_thm34_only_if", "check_interlacing", "check_trace_at_edges", "check_figure7_edges"})
+
+
+@functools.lru_cache(maxsize=4)
+def _cases(quick, seed):
+    return C.parameter_sets(quick, seed)
+
+
+def _figure_task(n, out):
+    from . import figures as F  # matplotlib is needed only here
+
+    return F.write_figure(n, out)
+
+
+def _check_task(i, quick, seed=20170915):
+    return C.run_check(i, _cases(quick, seed))
+
+
+def _pool(workers):
+    # fork: the workers start at once with kapitza and matplotlib already imported (spawn would
+    # import them again in each).
+    from . import figures as _  # noqa: F401
+
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if "fork" in methods else None)
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+
+
+def _run_tasks(tasks, workers, say):
+    """Results of ``tasks`` (``(label, func, args)``), in order; in ``workers`` processes when > 1.
+    ``say`` is told of each task as it finishes."""
+    results = [None] * len(tasks)
+    total = len(tasks)
+    if workers <= 1:
+        for k, (label, func, args) in enumerate(tasks):
+            say(f"[{k + 1}/{total}] {label}")
+            results[k] = func(*args)
+        return results
+    with _pool(workers) as pool:
+        futures = {pool.submit(func, *args): k for k, (_, func, args) in enumerate(tasks)}
+        for done, fut in enumerate(as_completed(futures), start=1):
+            k = futures[fut]
+            results[k] = fut.result()
+            say(f"[{done}/{total}] done: {tasks[k][0]}")
+    return results
+
+
+def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(range(1, 9)), checks=None) -> PaperBuild:
     """Write Figures 1-8 (PNG, SVG, JSON, CSV), the checks and the report into ``out``.
 
     Parameters
@@ -86,26 +140,44 @@ def build_paper(out, quick=False, progress=None) -> PaperBuild:
     quick : bool
         Fewer parameter sets in each check (for a fast look; the full run is the default).
     progress : callable, optional
-        Called with a short message before each step.
+        Called with a short message as each step starts (one process) or ends (several).
+    workers : int, optional
+        Processes rendering the figures and running the checks side by side (default: the
+        number of CPUs, at most 2); 1 does everything in this process, in order.
+    figures : sequence of int, optional
+        Which figures to write (default all eight; fewer only for a smoke test).
+    checks : sequence of int, optional
+        Indices into :data:`kapitza.paper.checks.CHECKS` (default all; fewer only for a smoke test).
 
     Returns
     -------
     PaperBuild
     """
-    from . import figures as F  # matplotlib is needed only here
-
     say = progress or (lambda msg: None)
+    workers = min(2, os.cpu_count() or 1) if workers is None else int(_v.nonnegative_int("workers", workers, minimum=1))
+    figures = [int(n) for n in figures]
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    checks = list(range(len(C.CHECKS))) if checks is None else [int(i) for i in checks]
+
+    def name(i):
+        return "check " + C.CHECKS[i][0].__name__.removeprefix("check_")
+
+    slow = [i for i in checks if C.CHECKS[i][0].__name__ in SLOW_CHECKS]
+    # The costly tasks first, so that the processes finish together.
+    tasks = ([(name(i), _check_task, (i, quick)) for i in slow]
+             + [(f"Figure {n} (PNG, SVG, JSON, CSV)", _figure_task, (n, out)) for n in figures]
+             + [(name(i), _check_task, (i, quick)) for i in checks if i not in slow])
+    say(f"rendering {len(figures)} figures and running {len(checks)} checks"
+        + (f" in {workers} processes" if workers > 1 else ""))
+    done = dict(zip((t[0] for t in tasks), _run_tasks(tasks, workers, say)))
     files = []
     figs = []
-    for n in range(1, 9):
-        say(f"Figure {n}")
-        data, paths = F.write_figure(n, out)
+    for n in figures:
+        data, paths = done[f"Figure {n} (PNG, SVG, JSON, CSV)"]
         files += paths
         figs.append((n, data, paths))
-    say("checks of the numbered results")
-    results = tuple(C.run_checks(quick=quick))
+    results = tuple(done[name(i)] for i in checks)
     passed = bool(results) and all(r.passed for r in results)  # no checks run is not a pass
     files.append(_io.write_json(out / "checks.json", dict(
         paper=PAPER, kapitza=__version__, quick=quick, passed=passed,

@@ -1,0 +1,93 @@
+"""Time of ``kapitza paper``: the whole reproduction (eight figures, every check, the report).
+
+Run by hand (``python benchmarks/bench_paper.py``); ``--tiny`` is a smoke run (one figure,
+three checks, quick parameter sets). Measured in the same run, one after the other:
+
+* the baseline, as the build was before it was parallel: one process, figures then checks,
+  each figure laid out again for its SVG after its PNG;
+* the build as ``kapitza paper`` runs it (:func:`kapitza.paper.build.build_paper`): figures and
+  checks side by side in ``--workers`` processes, each figure laid out once.
+
+Both write the same files; the script checks that the same files come out and that every check
+passes in both, then prints both times and their ratio.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _timing import machine  # noqa: E402
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+
+from kapitza.figures import _style  # noqa: E402
+from kapitza.paper import build as B  # noqa: E402
+from kapitza.paper import figures as F  # noqa: E402
+from kapitza.paper import checks as C  # noqa: E402
+
+
+def _save_each_format_laid_out(fig, stem, formats=("png", "svg"), dpi=150):
+    """The saving of the baseline: the figure laid out anew for every format."""
+    from kapitza._io import atomic_path
+
+    paths = []
+    for fmt in formats:
+        p = Path(stem).with_suffix("." + fmt)
+        with atomic_path(p) as tmp:
+            fig.savefig(tmp, format=fmt, dpi=dpi)
+        paths.append(p)
+    return paths
+
+
+def timed_build(out, workers, figures, checks, quick, baseline=False):
+    saved = F.save
+    if baseline:
+        F.save = _save_each_format_laid_out
+    try:
+        t0 = time.perf_counter()
+        res = B.build_paper(out, quick=quick, workers=workers, figures=figures, checks=checks)
+        return time.perf_counter() - t0, res
+    finally:
+        F.save = saved
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--tiny", action="store_true", help="smoke run: Figure 1, three checks, quick sets")
+    ap.add_argument("--quick", action="store_true", help="quick parameter sets in the checks (as kapitza paper --quick)")
+    ap.add_argument("--workers", type=int, default=2, help="processes of the parallel build (default 2)")
+    args = ap.parse_args(argv)
+    figures = (1,) if args.tiny else tuple(range(1, 9))
+    checks = (0, 1, 2) if args.tiny else None
+    quick = args.quick or args.tiny
+    print("kapitza paper: " + ("tiny run" if args.tiny else "the whole reproduction")
+          + f" ({len(figures)} figures, {len(checks) if checks else len(C.CHECKS)} checks, "
+          + ("quick" if quick else "full") + " parameter sets)")
+    for line in machine():
+        print("  " + line)
+    if hasattr(os, "getloadavg"):
+        print("  load average before: " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
+    with tempfile.TemporaryDirectory() as tmp:
+        t_base, r_base = timed_build(Path(tmp) / "base", 1, figures, checks, quick, baseline=True)
+        t_new, r_new = timed_build(Path(tmp) / "new", args.workers, figures, checks, quick)
+        names_base = sorted(p.name for p in r_base.files)
+        names_new = sorted(p.name for p in r_new.files)
+    print(f"baseline: one process, layout per format  {t_base:8.2f} s")
+    print(f"build: {args.workers} processes, layout once      {t_new:8.2f} s")
+    print(f"ratio (baseline / build): {t_base / t_new:.2f}x")
+    print(f"same files written: {names_base == names_new} ({len(names_new)} files)")
+    print(f"every check passed: baseline {r_base.passed}, build {r_new.passed} ({len(r_new.checks)} checks)")
+    if hasattr(os, "getloadavg"):
+        print("  load average after: " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
+    return 0 if (names_base == names_new and r_base.passed and r_new.passed) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
