@@ -36,3 +36,12 @@ def test_bench_drives_tiny_runs():
         assert needle in out, needle
     assert "pointwise verdicts disagree with the chart: 0 of" in out
     assert "solve_ivp verdicts differing from the exact ones on the sample: 0 of" in out
+
+
+def test_bench_sweep_tiny_runs():
+    out = run_tiny("bench_sweep.py")
+    for needle in ("sweep kernel: max safe tilt to 1 %", "brute-force basin 121 x 121", "ratio (solve_ivp / sweep)",
+                   "LocalCluster 2 workers", "overhead per chunk", "512 x 512 points x 1,000 periods", "1024 cores"):
+        assert needle in out, needle
+    line = next(ln for ln in out.splitlines() if "worst |relative difference|" in ln)
+    assert float(line.split("=")[1].split("%")[0]) <= 1.0  # the bisected tilt is within its stated accuracy
