@@ -43,3 +43,12 @@ def test_bench_basin_io_tiny_runs():
     for needle in ("baseline: row at a time", "columns=", "ratio baseline / columns", "--workers 1:", "--workers 2:"):
         assert needle in out, needle
     assert "files identical: True" in out
+
+
+def test_bench_sweep_tiny_runs():
+    out = run_tiny("bench_sweep.py")
+    for needle in ("sweep kernel: max safe tilt to 1 %", "brute-force basin 121 x 121", "ratio (solve_ivp / sweep)",
+                   "LocalCluster 2 workers", "overhead per chunk", "512 x 512 points x 1,000 periods", "1024 cores"):
+        assert needle in out, needle
+    line = next(ln for ln in out.splitlines() if "worst |relative difference|" in ln)
+    assert float(line.split("=")[1].split("%")[0]) <= 1.0  # the bisected tilt is within its stated accuracy

@@ -58,53 +58,64 @@ def _sub_steps(s, dur, scaled=1.0):
     return s, dur / count, count.astype(np.int64)
 
 
+def _one_period(th, om, subs, tol, model):
+    """Advance states by one period; also say which left the window during it.
+
+    ``subs``: the ``(s, h, count)`` sub-steps of each phase (:func:`_sub_steps`), scalars or
+    arrays aligned with the states. Each state keeps its own sub-step length and count, so its
+    result does not depend on the other states.
+    """
+    step = STEPS[model]
+    amplitude = AMPLITUDES[model]
+    left = np.zeros(th.shape, dtype=bool)
+    for s, h, count in subs:
+        per_state = np.ndim(count) > 0
+        neg = s < 0
+        for j in range(int(np.max(count, initial=1)) if per_state else count):
+            th1, om1 = step(th, om, s, h)
+            if per_state and j > 0:
+                idle = count <= j  # these states have finished this phase's sub-steps
+                if idle.any():
+                    th1, om1 = np.where(idle, th, th1), np.where(idle, om, om1)
+            out = np.abs(th1) > tol
+            if np.any(neg):
+                turned = (np.sign(om1) * np.sign(om)) < 0
+                if per_state:
+                    turned &= neg
+                if turned.any():
+                    w = np.sqrt(np.abs(s[turned] if per_state else s))
+                    out[turned] |= amplitude(th[turned], om[turned], w) > tol
+            left |= out
+            th, om = th1, om1
+    return th, om, left
+
+
 def _survival_chunk(theta, dtheta, plan, periods, tol, model, scaled=1.0):
     """Periods completed with ``|theta| <= tol`` throughout, for one chunk (trusted input).
 
     ``plan``: the ``(s, duration)`` phases of one period, each a scalar or an array with one
-    entry per state (members with different parameters then advance together; each keeps its
-    own sub-step length, so its result does not depend on the other members). States that
-    leave are dropped from the working arrays at once. ``scaled``: the longest sub-step in
-    scaled time ``w h``; the test is exact for any ``scaled < pi`` (module notes: turning points
-    are at least ``pi`` apart, and a return from beyond ``pi`` takes at least ``pi``).
+    entry per state (members with different parameters then advance together). States that
+    leave are dropped from the working arrays after the period they left in. ``scaled``: the
+    longest sub-step in scaled time ``w h``; the test is exact for any ``scaled < pi`` (module
+    notes: turning points are at least ``pi`` apart, and a return from beyond ``pi`` takes at
+    least ``pi``).
     """
-    step = STEPS[model]
-    amplitude = AMPLITUDES[model]
     n = theta.size
     survived = np.full(n, periods, dtype=np.int64)
     alive = np.flatnonzero(np.abs(theta) <= tol)
     survived[np.abs(theta) > tol] = 0
     th, om = theta[alive], dtheta[alive]
     subs = [_sub_steps(s, dur, scaled) for s, dur in plan]
+    per_state = any(np.ndim(c) > 0 for _, _, c in subs)
     for k in range(periods):
         if alive.size == 0:
             break
-        for s, h, count in subs:
-            per_state = np.ndim(count) > 0
-            for j in range(int(np.max(count)) if per_state else count):
-                if per_state:  # this period's parameters of the members still inside
-                    s_a, h_a, c_a = s[alive], h[alive], count[alive]
-                    neg = s_a < 0
-                else:
-                    s_a, h_a, neg = s, h, s < 0
-                th1, om1 = step(th, om, s_a, h_a)
-                if per_state and j > 0:
-                    idle = c_a <= j  # these members have finished this phase's sub-steps
-                    if idle.any():
-                        th1, om1 = np.where(idle, th, th1), np.where(idle, om, om1)
-                out = np.abs(th1) > tol
-                if np.any(neg):
-                    turned = (np.sign(om1) * np.sign(om)) < 0
-                    if per_state:
-                        turned &= neg
-                    if turned.any():
-                        w = np.sqrt(np.abs(s_a[turned] if per_state else s_a))
-                        out[turned] |= amplitude(th[turned], om[turned], w) > tol
-                if out.any():
-                    survived[alive[out]] = k
-                    keep = ~out
-                    alive, th1, om1 = alive[keep], th1[keep], om1[keep]
-                th, om = th1, om1
+        subs_a = [tuple(v[alive] if np.ndim(v) else v for v in sub) for sub in subs] if per_state else subs
+        th, om, out = _one_period(th, om, subs_a, tol, model)
+        if out.any():
+            survived[alive[out]] = k
+            keep = ~out
+            alive, th, om = alive[keep], th[keep], om[keep]
     return survived
 
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..drives import as_drive, parse_drive
-from ..motion.basins import _survival_chunk
+from ..motion.basins import _one_period, _sub_steps, _survival_chunk
 from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
 from ..zones import is_stable, stability_margin, zone_index
@@ -78,6 +78,12 @@ def _survives(theta0, dtheta0, point, plans, periods, tol):
 def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
     """Largest safe radius along each direction of ``phis`` for every point.
 
+    Every search (point x direction) always has exactly one candidate start in flight; all of
+    them advance together, one period per step, and as soon as a candidate leaves the window or
+    completes ``periods`` its search takes its next candidate, which starts from period 0 in the
+    same arrays. The arrays stay full, and a point's searches cost the sum of its candidates'
+    lives rather than a whole round of ``periods`` per candidate.
+
     Parameters
     ----------
     T : ndarray, shape ``(P,)``
@@ -94,34 +100,47 @@ def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
         ``lo`` of each search (0 below ``floor``; ``tol`` when ``tol`` itself survives).
     """
     P, K = T.size, phis.size
+    M = P * K
     point = np.repeat(np.arange(P), K)
     cos, sin = np.tile(np.cos(phis), P), np.tile(np.sin(phis), P)
     omega = 2.0 / T[point]
-    lo = np.zeros(P * K)
-    hi = np.full(P * K, np.inf)
-    levels = max(0, int(np.floor(np.log2(tol / floor))))
-    # 1. scan r = tol 2^-j downward: the first survivor brackets the radius in [r, 2r)
-    trial = np.full(P * K, tol)
-    open_ = np.arange(P * K)
-    for _ in range(levels + 1):
-        if open_.size == 0:
-            break
-        r = trial[open_]
-        ok = _survives(r * cos[open_], r * sin[open_] * omega[open_], point[open_], plans, periods, tol) >= periods
-        lo[open_[ok]] = r[ok]
-        hi[open_[~ok]] = r[~ok]
-        trial[open_] = 0.5 * r
-        open_ = open_[~ok]
-    hi[lo >= tol] = tol  # the window itself survives: capped
-    # 2. bisect until hi - lo <= accuracy * lo
-    while True:
-        open_ = np.flatnonzero((lo > 0) & (hi - lo > accuracy * lo))
-        if open_.size == 0:
-            break
-        r = 0.5 * (lo[open_] + hi[open_])
-        ok = _survives(r * cos[open_], r * sin[open_] * omega[open_], point[open_], plans, periods, tol) >= periods
-        lo[open_[ok]] = r[ok]
-        hi[open_[~ok]] = r[~ok]
+    subs = [_sub_steps(s[point], d[point], SCALED_STEP) for s, d in plans]
+    lo = np.zeros(M)
+    hi = np.full(M, np.inf)
+    scanning = np.ones(M, dtype=bool)  # 1. r = tol, tol/2, ... down to the first survivor, 2. bisection
+    # the searches in flight: index, candidate radius, state, periods completed
+    act = np.arange(M)
+    r = np.full(M, tol)
+    th, om = r * cos, r * sin * omega
+    k = np.zeros(M, dtype=np.int64)
+    while act.size:
+        th, om, left = _one_period(th, om, [tuple(v[act] for v in sub) for sub in subs], tol, "nonlinear")
+        k += 1
+        fail = left
+        ok = ~left & (k >= periods)
+        if not (fail.any() or ok.any()):
+            continue
+        i = act[ok]
+        lo[i] = r[ok]
+        scanning[i] = False
+        hi[act[fail]] = r[fail]
+        # the next candidate of every finished search, or its end
+        nxt = r.copy()
+        fin = ok | fail
+        scan_fail = fail & scanning[act]
+        nxt[scan_fail] = 0.5 * r[scan_fail]
+        bis = fin & ~scan_fail
+        j = act[bis]
+        nxt[bis] = 0.5 * (lo[j] + hi[j])
+        done = (scan_fail & (nxt < floor)) | (bis & ((lo[act] >= tol) | (hi[act] - lo[act] <= accuracy * lo[act])))
+        restart = fin & ~done
+        r = np.where(restart, nxt, r)
+        th = np.where(restart, r * cos[act] * 1.0, th)
+        om = np.where(restart, r * sin[act] * omega[act], om)
+        k[restart] = 0
+        keep = ~done
+        act, r, th, om, k = act[keep], r[keep], th[keep], om[keep], k[keep]
+    hi[lo >= tol] = tol
     return lo.reshape(P, K)
 
 
