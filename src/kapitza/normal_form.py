@@ -512,20 +512,32 @@ class NonlinearVerdict:
         return "\n".join(self.sentences())
 
 
-def _verdict_kinds(w, beta, coef, tol):
+def _on_curve(eps, mu, w, target, tol):
+    """Whether ``w = target`` is crossed within ``tol * eps`` of ``eps`` (or met to 1e-14)."""
+    h = np.maximum(tol, 4.0 * np.finfo(float).eps) * eps
+    _, _, th_m, st_m, n_m = _floquet(eps - h, mu)
+    _, _, th_p, st_p, n_p = _floquet(eps + h, mu)
+    d_m = np.where(st_m, _w_of(th_m, n_m) - target, np.nan)
+    d_p = np.where(st_p, _w_of(th_p, n_p) - target, np.nan)
+    with np.errstate(invalid="ignore"):
+        crossed = (d_m * d_p) <= 0.0
+    return crossed | (np.abs(w - target) <= 1e-14)
+
+
+def _verdict_kinds(w, beta, coef, tol, on4=None, on3=None):
     scale = np.sum(np.abs(coef), -1)
     c03 = np.abs(coef[..., 3])
-    zero_twist = np.abs(beta) <= tol * scale
-    on4 = np.abs(w - 0.5 * PI) <= tol
-    on3 = np.abs(w - 2.0 * PI / 3.0) <= tol
-    tie = on4 & (np.abs(np.abs(beta) - c03) <= tol * scale)
+    zero_twist = np.abs(beta) <= 1e-12 * scale
+    on4 = np.abs(w - 0.5 * PI) <= tol if on4 is None else on4
+    on3 = np.abs(w - 2.0 * PI / 3.0) <= tol if on3 is None else on3
+    tie = on4 & (np.abs(np.abs(beta) - c03) <= 1e-12 * scale)
     code = np.where(on3, 1, 0)
     code = np.where(on4, np.where(np.abs(beta) > c03, 2, 3), code)
     code = np.where(zero_twist | tie, 4, code)
     return code
 
 
-def nonlinear_stability(eps, mu, *, tol=1e-12):
+def nonlinear_stability(eps, mu, *, tol=1e-15):
     """Lyapunov stability of the upright of the full equation (square wave, undamped).
 
     Parameters
@@ -533,9 +545,11 @@ def nonlinear_stability(eps, mu, *, tol=1e-12):
     eps, mu : array_like, broadcast together
         Arnold's parameters of linearly stable points.
     tol : float, optional
-        A point is taken to lie on the 1:4 (1:3) curve where ``|w - pi/2|`` (``|w - 2 pi/3|``)
-        is at most ``tol``, and the twist to vanish where ``|beta|`` is at most ``tol`` times the
-        sum of the cubic coefficients' sizes (both are rounding bounds of the closed forms).
+        A point is taken to lie on the 1:4 (1:3) curve where ``w = pi/2`` (``2 pi/3``) is crossed
+        within a relative distance ``tol`` in ``eps`` (at least 4 ulps: the resolution of a
+        double ``eps``, which in the thin zones moves ``w`` by far more than an ulp); the twist
+        is taken to vanish where ``|beta|`` is below ``1e-12`` times the sum of the cubic
+        coefficients' sizes (a rounding bound of the closed forms).
 
     Returns
     -------
@@ -558,7 +572,9 @@ def nonlinear_stability(eps, mu, *, tol=1e-12):
     tol = float(_v.in_range("tol", tol, 0.0, 1.0, lo_open=False))
     eps, mu = _stable_arnold(eps, mu)
     nf, _ = _normal_form(eps, mu)
-    code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol)
+    on4 = _on_curve(eps, mu, nf.w, 0.5 * PI, tol)
+    on3 = _on_curve(eps, mu, nf.w, 2.0 * PI / 3.0, tol)
+    code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol, on4, on3)
     return NonlinearVerdict(eps=eps, mu=mu, stable=np.isin(code, (0, 1, 2)), unstable=code == 3,
                             kind=np.asarray(KINDS)[code], rotation_number=nf.rotation_number,
                             trace=2.0 * np.cos(nf.w), twist=nf.twist, resonant_4=nf.resonant_4)
