@@ -293,11 +293,13 @@ def _coefficients(M, C, lam):
     return np.einsum("...i,...ij->...j", f, D)
 
 
-#: Above this rounding estimate (the area defect), or this ``x = w_h T``, the normal form is
-#: recomputed in extended precision: the cubic terms of the ``+A`` phase grow like ``e^{3x}``
-#: while the map's own coefficients inside the thin zones stay far smaller.
+#: Above this rounding estimate (the area defect; the twist's relative error is found to be at
+#: most about twice it), the normal form is recomputed in extended precision: the cubic terms of
+#: the ``+A`` phase grow like ``e^{3x}`` while the map's own coefficients inside the thin zones
+#: stay far smaller.
 _DEFECT_MP = 1e-10
-_X_MP = 6.0
+#: The looser bound of pictures and of scans that only bracket sign changes.
+_DEFECT_DRAW = 1e-4
 
 
 def _normal_form_mp(eps, mu):
@@ -319,7 +321,7 @@ def _normal_form_mp(eps, mu):
         return float(w), np.array([complex(c) for c in coef]), float(M[0, 1])
 
 
-def _normal_form(eps, mu):
+def _normal_form(eps, mu, defect_max=_DEFECT_MP):
     M, C = _taylor(eps, mu)
     _, _, theta, stable, n = _floquet(eps, mu)
     w = _w_of(theta, n)
@@ -329,8 +331,7 @@ def _normal_form(eps, mu):
     r21 = coef[..., 1] / lam
     with np.errstate(invalid="ignore", divide="ignore"):
         defect = np.abs(r21.real) / np.where(np.abs(r21) > 0, np.abs(r21), 1.0)
-    x = _phase_angles(eps, mu)[0]
-    redo = stable & ((defect > _DEFECT_MP) | (x > _X_MP))
+    redo = stable & (defect > defect_max)
     if np.any(redo):
         w, coef, m12 = np.array(w, float), np.array(coef), np.array(m12, float)
         for i in np.ndindex(redo.shape):
@@ -493,7 +494,7 @@ class NonlinearVerdict:
         out = []
         for e, m, k, rho, tr, tau, c4 in zip(*(np.ravel(a) for a in (
                 self.eps, self.mu, self.kind, self.rotation_number, self.trace, self.twist, self.resonant_4))):
-            nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g}"
+            nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g} per rad^2"
             if k == "moser":
                 s = f"Lyapunov stable (Moser's twist theorem: twist != 0, not at 1:4); {nums}"
             elif k == "moser 1:3":

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _validate as _v
-from .normal_form import _normal_form, _w_of
+from .normal_form import _DEFECT_DRAW, _normal_form, _w_of
 from .propagation import _floquet
 from .zones import _edges_eps
 
@@ -71,8 +71,9 @@ def resonance_curve(mu, n, order):
     return _resonance_eps(mu, n, order)
 
 
-def _twist_at(eps, mu):
-    return _normal_form(np.atleast_1d(np.asarray(eps, float)), np.atleast_1d(np.asarray(mu, float)))[0].twist
+def _twist_at(eps, mu, defect_max=None):
+    kw = {} if defect_max is None else {"defect_max": defect_max}
+    return _normal_form(np.atleast_1d(np.asarray(eps, float)), np.atleast_1d(np.asarray(mu, float)), **kw)[0].twist
 
 
 def twist_zeros(mu, n, samples=400):
@@ -104,7 +105,8 @@ def twist_zeros(mu, n, samples=400):
     eps = eps[stable]
     if eps.size < 2:
         return np.empty(0)
-    tau = _twist_at(eps, np.full_like(eps, mu))
+    # the scan only brackets sign changes: the looser rounding bound will do; brentq refines exactly
+    tau = _twist_at(eps, np.full_like(eps, mu), _DEFECT_DRAW)
     roots = []
     for i in np.flatnonzero(np.sign(tau[:-1]) * np.sign(tau[1:]) < 0):
         roots.append(brentq(lambda e: float(_twist_at(e, mu)[0]), eps[i], eps[i + 1], xtol=1e-15, rtol=4e-16))
