@@ -50,7 +50,7 @@ def variational_jet_mp(eps, mu):
                                          pytest.param(2, 0.1, 0.3, marks=pytest.mark.slow)])
 def test_taylor_map_matches_mpmath_variational_equations(n, mu, frac):
     eps, mu = zone_point(n, mu, frac)
-    with mp.workdps(30):
+    with mp.workdps(22):
         L, C = variational_jet_mp(eps, mu)
     jet = K.period_map_taylor(eps, mu)
     np.testing.assert_allclose(jet.linear, L, rtol=1e-10, atol=0)

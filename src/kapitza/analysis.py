@@ -13,6 +13,7 @@ import numpy as np
 from . import _validate as _v
 from ._display import Summary, multipliers
 from .parameters import G_EARTH
+from .normal_form import nonlinear_stability
 from .propagation import _floquet, _multipliers
 from .zones import amplitude_edges, period_edges, stability_margin
 
@@ -77,6 +78,11 @@ class StabilityReport(Summary):
         ``nearest_zone`` as an interval of strokes [m] at this frequency (``A`` scales with it).
     A_lo, A_hi : float or None
         ``nearest_zone`` as an interval of amplitudes at this ``T``.
+    nonlinear : str or None
+        The verdict on the full equation's upright where it is linearly stable (undamped
+        square wave only): Lyapunov stable by Moser's twist theorem or Markeev's criterion,
+        or undecided at third order, with the twist (:func:`kapitza.nonlinear_stability`,
+        ``docs/nonlinear.md``).
     """
 
     eps: float
@@ -111,6 +117,7 @@ class StabilityReport(Summary):
     damping: float | None = None
     zeta: float = 0.0
     determinant: float = 1.0
+    nonlinear: str | None = None
 
     @property
     def frequency(self) -> float | None:
@@ -138,6 +145,8 @@ class StabilityReport(Summary):
         rows.append(("growth", f"{_fmt(self.growth)} per period 2T (log of the largest |multiplier|"
                                + ("; < 0: motions decay)" if self.zeta > 0 else ")")))
         rows.append(("rotation number", f"{_fmt(self.rotation_number)} turns per period"))
+        if self.nonlinear is not None:
+            rows.append(("nonlinear", self.nonlinear))
         if self.nearest_zone >= 0:
             where = "in" if self.stable else "nearest"
             rows.append((f"zone ({where})", f"n = {self.nearest_zone}: {_fmt(self.eps_lo)} < eps < {_fmt(self.eps_hi)}"))
@@ -375,6 +384,7 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
         eps_hi=float(m.eps_hi),
         margin=float(m.margin),
         trace_margin=float(1.0 - abs(tau)),
+        nonlinear=str(nonlinear_stability(eps, mu)) if stable else None,
         **phys,
     )
 

@@ -293,11 +293,13 @@ def _coefficients(M, C, lam):
     return np.einsum("...i,...ij->...j", f, D)
 
 
-#: Above this rounding estimate (the area defect), or this ``x = w_h T``, the normal form is
-#: recomputed in extended precision: the cubic terms of the ``+A`` phase grow like ``e^{3x}``
-#: while the map's own coefficients inside the thin zones stay far smaller.
+#: Above this rounding estimate (the area defect; the twist's relative error is found to be at
+#: most about twice it), the normal form is recomputed in extended precision: the cubic terms of
+#: the ``+A`` phase grow like ``e^{3x}`` while the map's own coefficients inside the thin zones
+#: stay far smaller.
 _DEFECT_MP = 1e-10
-_X_MP = 6.0
+#: The looser bound of pictures and of scans that only bracket sign changes.
+_DEFECT_DRAW = 1e-4
 
 
 def _normal_form_mp(eps, mu):
@@ -319,7 +321,7 @@ def _normal_form_mp(eps, mu):
         return float(w), np.array([complex(c) for c in coef]), float(M[0, 1])
 
 
-def _normal_form(eps, mu):
+def _normal_form(eps, mu, defect_max=_DEFECT_MP):
     M, C = _taylor(eps, mu)
     _, _, theta, stable, n = _floquet(eps, mu)
     w = _w_of(theta, n)
@@ -329,8 +331,7 @@ def _normal_form(eps, mu):
     r21 = coef[..., 1] / lam
     with np.errstate(invalid="ignore", divide="ignore"):
         defect = np.abs(r21.real) / np.where(np.abs(r21) > 0, np.abs(r21), 1.0)
-    x = _phase_angles(eps, mu)[0]
-    redo = stable & ((defect > _DEFECT_MP) | (x > _X_MP))
+    redo = stable & (defect > defect_max)
     if np.any(redo):
         w, coef, m12 = np.array(w, float), np.array(coef), np.array(m12, float)
         for i in np.ndindex(redo.shape):
@@ -493,7 +494,7 @@ class NonlinearVerdict:
         out = []
         for e, m, k, rho, tr, tau, c4 in zip(*(np.ravel(a) for a in (
                 self.eps, self.mu, self.kind, self.rotation_number, self.trace, self.twist, self.resonant_4))):
-            nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g}"
+            nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g} per rad^2"
             if k == "moser":
                 s = f"Lyapunov stable (Moser's twist theorem: twist != 0, not at 1:4); {nums}"
             elif k == "moser 1:3":
@@ -512,20 +513,32 @@ class NonlinearVerdict:
         return "\n".join(self.sentences())
 
 
-def _verdict_kinds(w, beta, coef, tol):
+def _on_curve(eps, mu, w, target, tol):
+    """Whether ``w = target`` is crossed within ``tol * eps`` of ``eps`` (or met to 1e-14)."""
+    h = np.maximum(tol, 4.0 * np.finfo(float).eps) * eps
+    _, _, th_m, st_m, n_m = _floquet(eps - h, mu)
+    _, _, th_p, st_p, n_p = _floquet(eps + h, mu)
+    d_m = np.where(st_m, _w_of(th_m, n_m) - target, np.nan)
+    d_p = np.where(st_p, _w_of(th_p, n_p) - target, np.nan)
+    with np.errstate(invalid="ignore"):
+        crossed = (d_m * d_p) <= 0.0
+    return crossed | (np.abs(w - target) <= 1e-14)
+
+
+def _verdict_kinds(w, beta, coef, tol, on4=None, on3=None):
     scale = np.sum(np.abs(coef), -1)
     c03 = np.abs(coef[..., 3])
-    zero_twist = np.abs(beta) <= tol * scale
-    on4 = np.abs(w - 0.5 * PI) <= tol
-    on3 = np.abs(w - 2.0 * PI / 3.0) <= tol
-    tie = on4 & (np.abs(np.abs(beta) - c03) <= tol * scale)
+    zero_twist = np.abs(beta) <= 1e-12 * scale
+    on4 = np.abs(w - 0.5 * PI) <= tol if on4 is None else on4
+    on3 = np.abs(w - 2.0 * PI / 3.0) <= tol if on3 is None else on3
+    tie = on4 & (np.abs(np.abs(beta) - c03) <= 1e-12 * scale)
     code = np.where(on3, 1, 0)
     code = np.where(on4, np.where(np.abs(beta) > c03, 2, 3), code)
     code = np.where(zero_twist | tie, 4, code)
     return code
 
 
-def nonlinear_stability(eps, mu, *, tol=1e-12):
+def nonlinear_stability(eps, mu, *, tol=1e-15):
     """Lyapunov stability of the upright of the full equation (square wave, undamped).
 
     Parameters
@@ -533,9 +546,11 @@ def nonlinear_stability(eps, mu, *, tol=1e-12):
     eps, mu : array_like, broadcast together
         Arnold's parameters of linearly stable points.
     tol : float, optional
-        A point is taken to lie on the 1:4 (1:3) curve where ``|w - pi/2|`` (``|w - 2 pi/3|``)
-        is at most ``tol``, and the twist to vanish where ``|beta|`` is at most ``tol`` times the
-        sum of the cubic coefficients' sizes (both are rounding bounds of the closed forms).
+        A point is taken to lie on the 1:4 (1:3) curve where ``w = pi/2`` (``2 pi/3``) is crossed
+        within a relative distance ``tol`` in ``eps`` (at least 4 ulps: the resolution of a
+        double ``eps``, which in the thin zones moves ``w`` by far more than an ulp); the twist
+        is taken to vanish where ``|beta|`` is below ``1e-12`` times the sum of the cubic
+        coefficients' sizes (a rounding bound of the closed forms).
 
     Returns
     -------
@@ -558,7 +573,9 @@ def nonlinear_stability(eps, mu, *, tol=1e-12):
     tol = float(_v.in_range("tol", tol, 0.0, 1.0, lo_open=False))
     eps, mu = _stable_arnold(eps, mu)
     nf, _ = _normal_form(eps, mu)
-    code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol)
+    on4 = _on_curve(eps, mu, nf.w, 0.5 * PI, tol)
+    on3 = _on_curve(eps, mu, nf.w, 2.0 * PI / 3.0, tol)
+    code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol, on4, on3)
     return NonlinearVerdict(eps=eps, mu=mu, stable=np.isin(code, (0, 1, 2)), unstable=code == 3,
                             kind=np.asarray(KINDS)[code], rotation_number=nf.rotation_number,
                             trace=2.0 * np.cos(nf.w), twist=nf.twist, resonant_4=nf.resonant_4)

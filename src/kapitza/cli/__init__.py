@@ -12,7 +12,7 @@ from ._common import CLIError, Parser
 from .. import __version__
 
 #: Command modules, in the order their commands appear in ``kapitza --help``.
-COMMAND_MODULES = ["engine", "drives", "motion", "paper", "sweep"]
+COMMAND_MODULES = ["engine", "drives", "motion", "nonlinear", "sweep", "paper"]
 
 DESCRIPTION = """\
 Exact stability of the inverted pendulum whose pivot is shaken up and down with a
@@ -35,6 +35,7 @@ examples:
   kapitza simulate --T 0.15 --A 100 --theta0 0.1 --out run   # motion: data + figures
   kapitza animate --T 0.15 --A 100 --out upright.gif         # the pendulum stays up (zone 0)
   kapitza basin --T 0.3 --A 100 --out basin                  # which starts stay up
+  kapitza nonlinear --eps 0.5 --mu 0.3                       # the real pendulum: Lyapunov stable? (twist)
   kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --out map.zarr   # nonlinear map over the chart (Dask, --resume)
 
   kapitza paper --out out/paper               # every figure and numbered claim of the paper, with a report
