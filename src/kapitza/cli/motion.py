@@ -6,8 +6,8 @@ import sys
 import numpy as np
 
 from .. import _io
+from .. import _validate as _v
 from ..analysis import analyze
-from ..parameters import to_physical
 from ._common import (CLIError, add_drive, add_parameters, drive_from, finite_float, format_table, out_stem,
                       parameters_from, print_json)
 
@@ -119,9 +119,9 @@ def _physical_from(args):
     """``(T, A, l, g)`` from --T/--A or --eps/--mu (with --l, --g), validated."""
     kw = parameters_from(args)
     if "eps" in kw:
-        l = args.l if args.l is not None else 1.0
-        T, A = to_physical(kw["eps"], kw["mu"], l, args.g)
-        kw = dict(T=float(T), A=float(A), l=l, g=args.g)
+        T, A, l, g = (float(v) for v in _v.physical_parameters(None, None, 1.0 if args.l is None else args.l, args.g,
+                                                                 kw["eps"], kw["mu"]))
+        kw = dict(T=T, A=A, l=l, g=g)
     args.drive_obj = drive_from(args)
     rep = analyze(**kw, drive=args.drive_obj, damping=getattr(args, "damping", 0.0) or 0.0)
     return kw["T"], kw["A"], kw["l"], kw["g"], rep
