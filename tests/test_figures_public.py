@@ -209,3 +209,48 @@ def test_import_kapitza_figures_does_not_load_every_submodule():
             "F.plot_zones; assert 'kapitza.figures.chart' in sys.modules; "
             "assert 'kapitza.figures.animation' not in sys.modules")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+# ------------------------------------------------------------------ captions
+def test_captions_typeset_their_maths():
+    import re
+
+    for n, make in D.ALL_FIGURES.items():
+        text = make().caption
+        assert text.count("$") % 2 == 0, n
+        outside = " ".join(text.split("$")[::2])
+        for raw in (r"\bw_h", r"\bw_e", r"\btheta", r"\beps\b", r"\bmu\b", r"\^", r"\bpi\b", r"\bphi_", r"\bsqrt",
+                    "->", "T~"):
+            assert not re.search(raw, outside), (n, raw)
+        assert not re.search(r"[A-Za-z]_[A-Za-z0-9{]", outside), n
+
+
+@pytest.mark.parametrize("n", [1, 8])
+def test_caption_clear_of_the_axes_with_no_blank_band_and_no_orphan(n):
+    import matplotlib.pyplot as plt
+
+    from kapitza.figures._style import wrap_caption
+    from kapitza.paper import figures as F
+
+    fig, d = F.make_figure(n)
+    try:
+        fig.canvas.draw()
+        r = fig.canvas.get_renderer()
+        cap = next(a for a in fig.artists if hasattr(a, "get_child")).get_window_extent(r)
+        lowest = min([ax.get_tightbbox(r).y0 for ax in fig.axes] + [lg.get_window_extent(r).y0 for lg in fig.legends])
+        gap = (lowest - cap.y1) / fig.dpi
+        assert 0.0 < gap < 0.35  # clear of the axes, and no blank band between
+        assert cap.y0 / fig.dpi < 0.15  # and none below it
+        assert fig.kapitza_caption.startswith(f"Figure {n}. ")
+    finally:
+        plt.close(fig)
+    lines = wrap_caption(f"Figure {n}. {d.caption}", 100)
+    assert len(lines[-1]) > 0.5 * max(len(ln) for ln in lines)  # balanced: no orphan last line
+
+
+def test_report_title_has_no_literal_asterisks():
+    from kapitza.paper.report import Para, to_html
+
+    html = to_html([Para("L. C. and L. H., *On the existence of periodic motions* (2017). **All checks passed.**")],
+                   None, "t")
+    assert "*" not in html and "<em>On the existence of periodic motions</em>" in html
