@@ -254,3 +254,28 @@ def test_report_title_has_no_literal_asterisks():
     html = to_html([Para("L. C. and L. H., *On the existence of periodic motions* (2017). **All checks passed.**")],
                    None, "t")
     assert "*" not in html and "<em>On the existence of periodic motions</em>" in html
+
+
+def test_physical_chart_magnifies_its_thin_zones():
+    import matplotlib.pyplot as plt
+
+    l, g = 1.0, 9.81
+    T_win, A_win = (0.0, 2.5 * np.sqrt(l / g)), (g, 50 * g)
+    assert chart.magnified_zones_physical(T_win, A_win, l, g) == [1, 2, 3]
+    assert chart.magnified_zones_physical((0.0, 0.2), (50.0, 400.0), l, g) == []  # zone 0 only: nothing thin
+    fig, ax = plt.subplots()
+    try:
+        mu_win = (np.sqrt(g / A_win[1]), 1.0)
+        d = chart.plot_tongue(2, ax, mu_win, points=200, physical=(l, g))
+        x_lo, A = d["lower"].get_data()
+        x_hi, _ = d["upper"].get_data()
+        np.testing.assert_allclose(A, g / d.data.mu**2)
+        span = np.max(x_hi)
+        assert 1.0 <= span < 10.0 and ax.get_yscale() == "log"
+        mid = (A > 30.0) & (A < 300.0)
+        assert np.all(x_hi[mid] - x_lo[mid] > 0.1 * span)  # two distinct edges where the zone is open
+        exp = int(ax.get_xlabel().split("10^{")[1].split("}")[0])
+        width_T = (d.data.eps_hi - d.data.eps_lo) * np.sqrt(8 * l / A)
+        np.testing.assert_allclose((x_hi - x_lo) * 10.0**exp, width_T, rtol=1e-9, atol=1e-300)
+    finally:
+        plt.close(fig)

@@ -106,18 +106,12 @@ def caption(fig, text: str):
         height = box.get_bbox(fig.canvas.get_renderer()).height / fig.dpi
     except Exception:  # a canvas without a renderer: a generous estimate
         height = _ROW_IN * len(lines)
-    height = 1.02 * height + 3.0 / 72.0
+    height = 1.02 * height + 6.0 / 72.0
     fig.set_figheight(fig.get_figheight() + height + 0.1)
     # The room, in the layout: an invisible label of as many rows, spaced to the same height
-    # (a label of n lines is one line plus n - 1 line spacings high).
-    line = 1.2 * CAPTION_SIZE / 72.0
-    spacing = (height / line - 1.0) / (len(lines) - 1) if len(lines) > 1 else 1.0
-    if len(lines) == 1:
-        line_text = "Ág"
-    else:
-        line_text = None
-    fig.supxlabel(line_text or "\n".join("Ág" for _ in lines), fontsize=CAPTION_SIZE * (height / line if line_text else 1.0),
-                  x=0.5, alpha=0.0, linespacing=spacing)
+    # (matplotlib sets a label of n lines n line spacings high).
+    spacing = height / (len(lines) * 1.2 * CAPTION_SIZE / 72.0)
+    fig.supxlabel("\n".join("Ág" for _ in lines), fontsize=CAPTION_SIZE, x=0.5, alpha=0.0, linespacing=spacing)
     art = AnchoredOffsetbox(loc="lower center", child=box, frameon=False, pad=0.0, borderpad=0.0,
                             bbox_to_anchor=(0.5, 0.0), bbox_transform=fig.transFigure)
     art.set_figure(fig)
