@@ -36,3 +36,10 @@ def test_bench_drives_tiny_runs():
         assert needle in out, needle
     assert "pointwise verdicts disagree with the chart: 0 of" in out
     assert "solve_ivp verdicts differing from the exact ones on the sample: 0 of" in out
+
+
+def test_bench_paper_tiny_runs():
+    out = run_tiny("bench_paper.py")
+    for needle in ("baseline: one process, as before", "build: 2 processes",
+                   "ratio (baseline / build): wall", "same files written: True", "every check passed: baseline True"):
+        assert needle in out, needle
