@@ -52,3 +52,10 @@ def test_bench_sweep_tiny_runs():
         assert needle in out, needle
     line = next(ln for ln in out.splitlines() if "worst |relative difference|" in ln)
     assert float(line.split("=")[1].split("%")[0]) <= 1.0  # the bisected tilt is within its stated accuracy
+
+
+def test_bench_paper_tiny_runs():
+    out = run_tiny("bench_paper.py")
+    for needle in ("baseline: one process, as before", "build: 2 processes",
+                   "ratio (baseline / build): wall", "same files written: True", "every check passed: baseline True"):
+        assert needle in out, needle

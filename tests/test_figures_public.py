@@ -209,3 +209,73 @@ def test_import_kapitza_figures_does_not_load_every_submodule():
             "F.plot_zones; assert 'kapitza.figures.chart' in sys.modules; "
             "assert 'kapitza.figures.animation' not in sys.modules")
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+# ------------------------------------------------------------------ captions
+def test_captions_typeset_their_maths():
+    import re
+
+    for n, make in D.ALL_FIGURES.items():
+        text = make().caption
+        assert text.count("$") % 2 == 0, n
+        outside = " ".join(text.split("$")[::2])
+        for raw in (r"\bw_h", r"\bw_e", r"\btheta", r"\beps\b", r"\bmu\b", r"\^", r"\bpi\b", r"\bphi_", r"\bsqrt",
+                    "->", "T~"):
+            assert not re.search(raw, outside), (n, raw)
+        assert not re.search(r"[A-Za-z]_[A-Za-z0-9{]", outside), n
+
+
+@pytest.mark.parametrize("n", [1, 8])
+def test_caption_clear_of_the_axes_with_no_blank_band_and_no_orphan(n):
+    import matplotlib.pyplot as plt
+
+    from kapitza.figures._style import wrap_caption
+    from kapitza.paper import figures as F
+
+    fig, d = F.make_figure(n)
+    try:
+        fig.canvas.draw()
+        r = fig.canvas.get_renderer()
+        cap = next(a for a in fig.artists if hasattr(a, "get_child")).get_window_extent(r)
+        lowest = min([ax.get_tightbbox(r).y0 for ax in fig.axes] + [lg.get_window_extent(r).y0 for lg in fig.legends])
+        gap = (lowest - cap.y1) / fig.dpi
+        assert 0.0 < gap < 0.35  # clear of the axes, and no blank band between
+        assert cap.y0 / fig.dpi < 0.15  # and none below it
+        assert fig.kapitza_caption.startswith(f"Figure {n}. ")
+    finally:
+        plt.close(fig)
+    lines = wrap_caption(f"Figure {n}. {d.caption}", 100)
+    assert len(lines[-1]) > 0.5 * max(len(ln) for ln in lines)  # balanced: no orphan last line
+
+
+def test_report_title_has_no_literal_asterisks():
+    from kapitza.paper.report import Para, to_html
+
+    html = to_html([Para("L. C. and L. H., *On the existence of periodic motions* (2017). **All checks passed.**")],
+                   None, "t")
+    assert "*" not in html and "<em>On the existence of periodic motions</em>" in html
+
+
+def test_physical_chart_magnifies_its_thin_zones():
+    import matplotlib.pyplot as plt
+
+    l, g = 1.0, 9.81
+    T_win, A_win = (0.0, 2.5 * np.sqrt(l / g)), (g, 50 * g)
+    assert chart.magnified_zones_physical(T_win, A_win, l, g) == [1, 2, 3]
+    assert chart.magnified_zones_physical((0.0, 0.2), (50.0, 400.0), l, g) == []  # zone 0 only: nothing thin
+    fig, ax = plt.subplots()
+    try:
+        mu_win = (np.sqrt(g / A_win[1]), 1.0)
+        d = chart.plot_tongue(2, ax, mu_win, points=200, physical=(l, g))
+        x_lo, A = d["lower"].get_data()
+        x_hi, _ = d["upper"].get_data()
+        np.testing.assert_allclose(A, g / d.data.mu**2)
+        span = np.max(x_hi)
+        assert 1.0 <= span < 10.0 and ax.get_yscale() == "log"
+        mid = (A > 30.0) & (A < 300.0)
+        assert np.all(x_hi[mid] - x_lo[mid] > 0.1 * span)  # two distinct edges where the zone is open
+        exp = int(ax.get_xlabel().split("10^{")[1].split("}")[0])
+        width_T = (d.data.eps_hi - d.data.eps_lo) * np.sqrt(8 * l / A)
+        np.testing.assert_allclose((x_hi - x_lo) * 10.0**exp, width_T, rtol=1e-9, atol=1e-300)
+    finally:
+        plt.close(fig)

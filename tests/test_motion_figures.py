@@ -75,7 +75,7 @@ def test_figures_are_written_and_captioned(tmp_path, traj):
     b = basin(**P, periods=5, n_theta=9, n_dtheta=9)
     for name, fig in (("series", time_series_figure(traj)), ("phase", phase_portrait_figure(traj)),
                       ("strobe", strobe_figure(orb)), ("basin", basin_figure([b, b]))):
-        assert fig._supxlabel is not None and "stable (zone 0)" in fig._supxlabel.get_text().replace("\n", " ")
+        assert "stable (zone 0)" in fig.kapitza_caption.replace("\n", " ")
         paths = save(fig, tmp_path / name)
         plt.close(fig)
         png, svg = paths
@@ -157,7 +157,7 @@ def test_strobe_window_frames_the_users_orbit_and_the_island():
     try:
         ax = fig.axes[0]
         assert ax.get_xlim() == pytest.approx((x0, x1)) and ax.get_ylim() == pytest.approx((y0, y1))
-        text = fig._supxlabel.get_text()
+        text = fig.kapitza_caption
         assert f"{int(keep.sum())} of {keep.size}" in text and "120 periods" in text
     finally:
         plt.close(fig)
@@ -173,7 +173,7 @@ def test_strobe_figure_without_island_says_so_and_shows_the_wrapped_map():
     fig = strobe_figure(orbits, highlight=(own.theta, own.dtheta))
     try:
         assert fig.axes[0].get_xlim() == pytest.approx((-np.pi, np.pi))
-        text = fig._supxlabel.get_text()
+        text = fig.kapitza_caption
         assert "no island" in text and "closed curves" not in text
     finally:
         plt.close(fig)

@@ -202,7 +202,7 @@ def test_paper_command_exits_1_and_says_so_when_a_check_fails(tmp_path, capsys, 
 
     failing = C._result("thm3.3-return-matrix", "thm3.3", "a return that does not close", "m", "r", "q",
                         [1.0], ["A=1"], 1e-12)
-    monkeypatch.setattr(C, "run_checks", lambda quick=False, **kw: (failing,))
+    monkeypatch.setattr(C, "run_check", lambda i, cases: failing)  # every check fails, in every process
     code, out, err = run(["paper", "--out", str(tmp_path), "--quiet"], capsys)
     assert code == 1 and "FAILED" in out and "FAILED" in err
     md = (tmp_path / "report.md").read_text()

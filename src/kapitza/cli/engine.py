@@ -198,7 +198,8 @@ def cmd_zones(args):
 # ------------------------------------------------------------------ chart
 def cmd_chart(args):
     from ..figures._style import caption, new_figure, save
-    from ..figures.chart import magnified_zones, plot_tongue, plot_zones, plot_zones_physical, zone_chart_axes
+    from ..figures.chart import (magnified_zones, magnified_zones_physical, plot_tongue, plot_zones,
+                                 plot_zones_physical, zone_chart_axes)
 
     if not (2 <= args.points <= 200000):
         raise CLIError(f"--points must be between 2 and 200000; got {args.points}")
@@ -233,10 +234,22 @@ def cmd_chart(args):
             raise CLIError(f"need 0 <= eps-min < eps-max and 0 <= mu-min < mu-max <= 1; got eps {args.eps_min:g}.."
                            f"{args.eps_max:g}, mu {args.mu_min:g}..{args.mu_max:g}")
         magnify = magnified_zones((args.eps_min, args.eps_max), (args.mu_min, args.mu_max))
+    physical = None
+    if not general and args.plane == "physical" and args.magnify:
+        l, g = args.l, args.g
+        if l <= 0 or g <= 0:
+            raise CLIError(f"--l and --g must be > 0; got l={l:g}, g={g:g}")
+        T_win = (args.T_min, args.T_max if args.T_max is not None else 2.5 * (l / g) ** 0.5)
+        A_win = (args.A_min if args.A_min is not None else g, args.A_max if args.A_max is not None else 50.0 * g)
+        if 0.0 <= T_win[0] < T_win[1] and g <= A_win[0] < A_win[1]:
+            magnify = magnified_zones_physical(T_win, A_win, l, g)
+            physical = (l, g)
+            mu_win = (float(np.sqrt(g / A_win[1])), float(min(np.sqrt(g / A_win[0]), 1.0)))
     fig = new_figure(8.6, 7.4 if magnify else 5.2)
     ax, zooms = zone_chart_axes(fig, len(magnify))
     for zax, n in zip(zooms, magnify):
-        plot_tongue(n, zax, (args.mu_min, args.mu_max), points=min(args.points, 600))
+        plot_tongue(n, zax, mu_win if physical else (args.mu_min, args.mu_max), points=min(args.points, 600),
+                    physical=physical)
     if general:
         from ..figures.drives import drive_curves, plot_drive_comparison
 
@@ -278,6 +291,10 @@ def cmd_chart(args):
         xy = (lambda r: (r.T, r.A))
         what = rf"for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$ (zone $n$)"
         extra = r"; below $A = g$ the upright is always unstable."
+        if magnify:
+            extra += (" Lower panels: zone" + ("s " if len(magnify) > 1 else " ") + ", ".join(str(n) for n in magnify)
+                      + r", too thin to see above, magnified ($T$ from each tongue's midpoint at each $A$, in the "
+                        r"power of ten shown).")
     if mark is not None:
         rep, label = mark
         x, y = xy(rep) if (args.plane == "arnold" or rep.T is not None) else (None, None)

@@ -17,6 +17,8 @@ G_STYLE = dict(color="0.35", linestyle=":", linewidth=1.0)
 #: Caption font size [pt] and the height one caption line takes [inch].
 CAPTION_SIZE = 9
 _LINE_IN = 1.3 * CAPTION_SIZE / 72.0
+#: Height of one caption row [inch]: a line of text with room for a fraction in a formula.
+_ROW_IN = 1.6 * CAPTION_SIZE / 72.0
 
 
 def new_figure(width=7.0, height=5.0, caption_lines=0):
@@ -77,12 +79,45 @@ def wrap_caption(text: str, width_chars: float) -> list:
     return [" ".join(line) for line in lines]
 
 
+def _segments(line: str):
+    """``line`` cut into plain text and ``$...$`` formulas, in order."""
+    parts = line.split("$")
+    return [(p if i % 2 == 0 else f"${p}$") for i, p in enumerate(parts) if p]
+
+
 def caption(fig, text: str):
     """Put ``text`` under the axes as a caption, wrapped to the figure's width (mathtext kept
-    whole, lines balanced), and make the figure taller by exactly what the caption needs."""
+    whole, lines balanced), and make the figure taller by exactly what the caption needs.
+
+    Each line is set as a row of plain-text and formula pieces on one baseline, so that only
+    the formulas go through matplotlib's mathtext parser (a whole line of mixed text costs
+    it ten times more). The space is reserved in the layout by a blank figure label of as
+    many lines. The text is kept as ``fig.kapitza_caption``. Returns the caption's artist.
+    """
+    from matplotlib.offsetbox import AnchoredOffsetbox, HPacker, TextArea, VPacker
+
     lines = wrap_caption(text, fig.get_figwidth() * 72.0 / (0.52 * CAPTION_SIZE))
-    fig.set_figheight(fig.get_figheight() + _LINE_IN * len(lines) + 0.1)
-    return fig.supxlabel("\n".join(lines), fontsize=CAPTION_SIZE, ha="center", x=0.5)
+    props = dict(fontsize=CAPTION_SIZE)
+    rows = [HPacker(children=[TextArea(seg, textprops=props) for seg in _segments(line)], align="baseline", pad=0,
+                    sep=0) for line in lines]
+    box = VPacker(children=rows, align="center", pad=0, sep=0.3 * CAPTION_SIZE)
+    # Its height as set (rows with fractions are taller), so the figure grows by just that.
+    try:
+        height = box.get_bbox(fig.canvas.get_renderer()).height / fig.dpi
+    except Exception:  # a canvas without a renderer: a generous estimate
+        height = _ROW_IN * len(lines)
+    height = 1.02 * height + 6.0 / 72.0
+    fig.set_figheight(fig.get_figheight() + height + 0.1)
+    # The room, in the layout: an invisible label of as many rows, spaced to the same height
+    # (matplotlib sets a label of n lines n line spacings high).
+    spacing = height / (len(lines) * 1.2 * CAPTION_SIZE / 72.0)
+    fig.supxlabel("\n".join("Ág" for _ in lines), fontsize=CAPTION_SIZE, x=0.5, alpha=0.0, linespacing=spacing)
+    art = AnchoredOffsetbox(loc="lower center", child=box, frameon=False, pad=0.0, borderpad=0.0,
+                            bbox_to_anchor=(0.5, 0.0), bbox_transform=fig.transFigure)
+    art.set_figure(fig)
+    fig.add_artist(art)
+    fig.kapitza_caption = text
+    return art
 
 
 def save(fig, stem, formats=("png", "svg"), dpi=150):

@@ -16,6 +16,7 @@ __all__ = [
     "zone_curves",
     "plot_zones",
     "magnified_zones",
+    "magnified_zones_physical",
     "zone_chart_axes",
     "TongueCurves",
     "tongue_curves",
@@ -114,7 +115,7 @@ def _draw_tongues(ax, n, y, x_lo, x_hi, x_range, label_zones=True):
         edges += ax.plot(hi, y, **(EDGE_4T if lower_2t else EDGE_2T))
         if label_zones:
             # Label each tongue just right of its upper edge, near the bottom of the window.
-            inside = (hi > x_range[0]) & (hi < x_range[1])
+            inside = (hi > x_range[0]) & (hi < x_range[0] + 0.93 * (x_range[1] - x_range[0]))  # room for the label
             if inside.any():
                 j = int(np.flatnonzero(inside)[min(np.count_nonzero(inside) - 1, len(y) // 8)])
                 ax.annotate(f"n={k}", (hi[j], y[j]), xytext=(3, 0), textcoords="offset points",
@@ -190,6 +191,28 @@ def magnified_zones(eps_range, mu_range, candidates=(1, 2, 3), fraction=0.02):
     for i, n in enumerate(curves.n):
         seen = (curves.eps_hi[i] >= eps_range[0]) & (curves.eps_lo[i] <= eps_range[1])
         if int(n) in candidates and seen.any() and np.max((curves.eps_hi[i] - curves.eps_lo[i])[seen]) < fraction * width:
+            keep.append(int(n))
+    return keep
+
+
+def _physical_window(T_range, A_range, l, g):
+    """The ``(eps, mu)`` window covering the physical window ``T_range`` x ``A_range``."""
+    (T0, T1), (A0, A1) = T_range, A_range
+    return (T0 * np.sqrt(A0 / (8.0 * l)), T1 * np.sqrt(A1 / (8.0 * l))), (np.sqrt(g / A1), min(np.sqrt(g / A0), 1.0))
+
+
+def magnified_zones_physical(T_range, A_range, l=1.0, g=9.81, candidates=(1, 2, 3), fraction=0.02):
+    """As :func:`magnified_zones`, for the physical ``T``-``A`` window of a rod ``l`` under ``g``:
+    the zones narrower in ``T`` than ``fraction`` of the window wherever they meet it."""
+    eps_range, mu_range = _physical_window(T_range, A_range, l, g)
+    curves = zone_curves(eps_range, mu_range, 200)
+    scale = np.sqrt(8.0 * l * curves.mu**2 / g)  # T = eps sqrt(8 l / A), A = g / mu^2
+    T_lo, T_hi = curves.eps_lo * scale, curves.eps_hi * scale
+    width = float(T_range[1] - T_range[0])
+    keep = []
+    for i, n in enumerate(curves.n):
+        seen = (T_hi[i] >= T_range[0]) & (T_lo[i] <= T_range[1])
+        if int(n) in candidates and seen.any() and np.max((T_hi[i] - T_lo[i])[seen]) < fraction * width:
             keep.append(int(n))
     return keep
 
@@ -270,7 +293,7 @@ def tongue_curves(n, mu_range=(0.0, 1.0), points=400):
                         exponent=exponent, scale=scale)
 
 
-def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True):
+def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physical=None):
     """Draw zone ``n`` magnified (see :func:`tongue_curves`): both edges, the stable tongue between.
 
     Parameters
@@ -283,6 +306,9 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True):
     points : int
     title : bool
         Title the panel with the zone and where it lies.
+    physical : (l, g), optional
+        Draw in the physical plane of a rod ``l`` under ``g`` instead: ``T - T_mid(A)`` [s],
+        in the power of ten shown, against ``A = g / mu^2`` (log axis).
 
     Returns
     -------
@@ -296,15 +322,33 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True):
         _, ax = plt.subplots(layout="constrained")
     lower_2t = t.n % 2 == 0
     out = Drawn(ax, data=t)
-    out["fill"] = ax.fill_betweenx(t.mu, t.lo, t.hi, color=ZONE_FILL, linewidth=0)
-    out["lower"] = ax.plot(t.lo, t.mu, **(EDGE_2T if lower_2t else EDGE_4T))[0]
-    out["upper"] = ax.plot(t.hi, t.mu, **(EDGE_4T if lower_2t else EDGE_2T))[0]
-    w = 1.15 * max(float(np.max(t.hi)), 1e-300)
+    x_lo, x_hi, y, exponent = t.lo, t.hi, t.mu, t.exponent
+    if physical is not None:
+        l, g = (float(_v.positive(k, v)) for k, v in zip(("l", "g"), physical))
+        y = g / t.mu**2
+        s = np.sqrt(8.0 * l / y)
+        half = 0.5 * (t.eps_hi - t.eps_lo) * s
+        exponent = int(np.floor(np.log10(float(np.max(half))))) if np.max(half) > 0 else 0
+        x_lo, x_hi = -half / 10.0**exponent, half / 10.0**exponent
+    out["fill"] = ax.fill_betweenx(y, x_lo, x_hi, color=ZONE_FILL, linewidth=0)
+    out["lower"] = ax.plot(x_lo, y, **(EDGE_2T if lower_2t else EDGE_4T))[0]
+    out["upper"] = ax.plot(x_hi, y, **(EDGE_4T if lower_2t else EDGE_2T))[0]
+    w = 1.15 * max(float(np.max(x_hi)), 1e-300)
     ax.set_xlim(-w, w)
-    ax.set_ylim(*mu_range)
     ax.axvline(0.0, color="0.8", linewidth=0.6, zorder=0)
     ax.tick_params(labelsize=7)
-    ax.set_xlabel(rf"$(\varepsilon - \varepsilon_\mathrm{{mid}})\,/\,10^{{{t.exponent}}}$", fontsize=8)
+    if physical is not None:
+        ax.set_yscale("log")
+        ax.set_ylim(float(np.min(y)), float(np.max(y)))
+        ax.set_xlabel(rf"$(T - T_\mathrm{{mid}})\,/\,10^{{{exponent}}}$ s", fontsize=8)
+        ax.set_ylabel(r"$A$ [m/s$^2$]", fontsize=8)
+        if title:
+            k = int(np.argmax(y))  # the top of the window
+            ax.set_title(rf"zone {t.n}: $T_\mathrm{{mid}}$ = {float(t.eps_mid[k] * s[k]):.3f} s at $A$ = {y[k]:.3g}",
+                         fontsize=8)
+        return out
+    ax.set_ylim(*mu_range)
+    ax.set_xlabel(rf"$(\varepsilon - \varepsilon_\mathrm{{mid}})\,/\,10^{{{exponent}}}$", fontsize=8)
     ax.set_ylabel(r"$\mu$", fontsize=8)
     if title:
         ax.set_title(rf"zone {t.n} ($\varepsilon_\mathrm{{mid}}$ = {t.eps_mid[0]:.3f} at $\mu$ = {float(mu_range[0]):g})",
@@ -376,8 +420,8 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
     if ax is None:
         _, ax = plt.subplots(layout="constrained")
     # eps = T sqrt(A / (8 l)) is largest at (T1, A1); cover the window in (eps, mu).
-    mu_range = (np.sqrt(g / A1), min(np.sqrt(g / A0), 1.0))
-    curves = zone_curves((T0 * np.sqrt(A0 / (8.0 * l)), T1 * np.sqrt(A1 / (8.0 * l))), mu_range, points)
+    eps_range, mu_range = _physical_window((T0, T1), (A0, A1), l, g)
+    curves = zone_curves(eps_range, mu_range, points)
     A = g / curves.mu**2
     scale = np.sqrt(8.0 * l / A)
     res = PhysicalZoneCurves(n=curves.n, A=A, T_lo=curves.eps_lo * scale, T_hi=curves.eps_hi * scale, l=l, g=g)

@@ -267,10 +267,11 @@ def figure1_data(levels=(0.3, 0.6, 0.9, 1.2), extent=1.6, samples=241) -> Figure
     return FigureData(
         number=1,
         title="Hyperbolic and elliptic rotation",
-        caption="Left: the hyperbolic phase (2.6) in x_h = theta, y_h = theta'/w_h: the phase point moves along "
-                "the hyperbolae x_h^2 - y_h^2 = const (H_h is a first integral), away from the origin along "
-                "y_h = x_h and towards it along y_h = -x_h. Right: the elliptic phase (2.12) in x_e = theta, "
-                "y_e = theta'/w_e: uniform clockwise rotation on circles (2.13). Arrows show the direction of motion.",
+        caption=(r"Left: the hyperbolic phase (2.6) in $x_h = \theta$, $y_h = \dot\theta/\omega_h$: the phase point "
+                 r"moves along the hyperbolae $x_h^2 - y_h^2 = $ const ($H_h$ is a first integral), away from the "
+                 r"origin along $y_h = x_h$ and towards it along $y_h = -x_h$. Right: the elliptic phase (2.12) in "
+                 r"$x_e = \theta$, $y_e = \dot\theta/\omega_e$: uniform clockwise rotation on circles (2.13). "
+                 r"Arrows show the direction of motion."),
         parameters=dict(levels=[float(c) for c in levels], extent=extent),
         axes=dict(hyperbolic=("x_h = theta", "y_h = theta'/w_h"), elliptic=("x_e = theta", "y_e = theta'/w_e")),
         series=tuple(series),
@@ -536,11 +537,12 @@ def figure6_data(A=FIGURE6_A, l=1.0, g=G_EARTH, zones=4, samples=1500, zoom_samp
     return FigureData(
         number=6,
         title="Conditions (3.10)-(3.13)",
-        caption=f"A = {A:g} m/s^2, l = {l:g} m, g = {g:g} m/s^2 (D = {w_h / w_e:.4g}). The line y = w_e T meets "
-                "alpha(T) + n pi at the lower edge of zone n and beta(T) + n pi at its upper edge: T_j (2T-periodic "
-                "solution; (3.10) for n = 2k, (3.11) for n = 2k+1) and T~_j (4T-periodic; (3.12) for n = 2k+1, "
-                "(3.13) for n = 2k), j = n + 1. Lower panels: magnified windows around the pairs of zones n >= 1, "
-                "whose widths shrink like e^{-w_h T}.",
+        caption=(rf"$A = {A:g}$ m/s$^2$, $l = {l:g}$ m, $g = {g:g}$ m/s$^2$ ($D = {w_h / w_e:.4g}$). The line "
+                 r"$y = \omega_e T$ meets $\alpha(T) + n\pi$ at the lower edge of zone $n$ and $\beta(T) + n\pi$ at "
+                 r"its upper edge: $T_j$ (2T-periodic solution; (3.10) for $n = 2k$, (3.11) for $n = 2k+1$) and "
+                 r"$\tilde T_j$ (4T-periodic; (3.12) for $n = 2k+1$, (3.13) for $n = 2k$), $j = n + 1$. Lower "
+                 r"panels: magnified windows around the pairs of zones $n \geq 1$, whose widths shrink like "
+                 r"$e^{-\omega_h T}$."),
         parameters=dict(A=A, l=l, g=g, zones=zones, w_h=float(w_h), w_e=float(w_e), D=float(w_h / w_e)),
         axes=axes,
         series=tuple(series),
