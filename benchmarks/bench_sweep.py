@@ -42,23 +42,22 @@ TOL, ACC, FLOOR = 0.5, 0.01, 1e-4
 
 
 class Counter:
-    """Counts the state-periods the kernel advances (periods survived, summed over starts)."""
+    """Counts the state-periods the radius searches advance (states x periods)."""
 
     def __init__(self):
         self.state_periods = 0
-        self._orig = K._survival_chunk
+        self._orig = K._one_period
 
     def __enter__(self):
-        def counted(*args, **kw):
-            r = self._orig(*args, **kw)
-            self.state_periods += int(r.sum()) + int(np.count_nonzero(r < args[3]))  # + the period of each exit
-            return r
+        def counted(th, *args, **kw):
+            self.state_periods += th.size
+            return self._orig(th, *args, **kw)
 
-        K._survival_chunk = counted
+        K._one_period = counted
         return self
 
     def __exit__(self, *exc):
-        K._survival_chunk = self._orig
+        K._one_period = self._orig
 
 
 def kernel_tilt(eps, mu, periods, chunk):
@@ -118,12 +117,12 @@ def dask_sweep(spec, workers, root, tag):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--n", type=int, default=32, help="grid points per side of the kernel run (default 32)")
+    ap.add_argument("--n", type=int, default=64, help="grid points per side of the kernel run (default 64)")
     ap.add_argument("--periods", type=int, default=1000, help="periods (default 1000)")
-    ap.add_argument("--chunk", type=int, default=32, help="points per side of a block (default 32)")
+    ap.add_argument("--chunk", type=int, default=64, help="points per side of a block (default 64)")
     ap.add_argument("--sample", type=int, default=4, help="points of the brute-force comparison (default 4)")
-    ap.add_argument("--dask-n", type=int, default=16, help="grid side of the Dask scaling run (default 16)")
-    ap.add_argument("--dask-periods", type=int, default=200, help="periods of the Dask scaling run (default 200)")
+    ap.add_argument("--dask-n", type=int, default=32, help="grid side of the Dask scaling run (default 32)")
+    ap.add_argument("--dask-periods", type=int, default=100, help="periods of the Dask scaling run (default 100)")
     ap.add_argument("--tiny", action="store_true", help="seconds-long smoke run")
     a = ap.parse_args(argv)
     if a.tiny:
