@@ -56,7 +56,7 @@ def register(sub):
     r = p.add_argument_group("running")
     r.add_argument("--out", default="kapitza-sweep.zarr", metavar="STORE.zarr", help="Zarr store (default kapitza-sweep.zarr)")
     r.add_argument("--resume", action="store_true", help="continue the interrupted sweep in --out")
-    r.add_argument("--chunk", type=int, default=16, help="grid points per side of a chunk (default 16)")
+    r.add_argument("--chunk", type=int, default=10, help="grid points per side of a chunk (default 10; 32-64 vectorise better on big maps)")
     r.add_argument("--workers", type=int, default=None, help="local Dask workers (default: one per core)")
     r.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
     r.add_argument("--serial", action="store_true", help="no Dask: compute in this process")

@@ -136,7 +136,7 @@ def _run_dask(spec, todo, finished, workers, scheduler, client):
             else:
                 n = _v.bounded_int("workers", workers if workers is not None else (os.cpu_count() or 1), 1, 1024)
                 own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                           dashboard_address=None, silence_logs=40)
+                                           dashboard_address=":0", silence_logs=40)
                 client = own_client = Client(own_cluster)
         token = format(abs(hash(spec.to_json())), "x")
         futures = {client.submit(compute_chunk, spec, iy, ix, key=f"kapitza-sweep-{token}-{iy}-{ix}", pure=False,

@@ -71,7 +71,7 @@ def create_store(path, spec: SweepSpec):
     enc["chunk_done"] = {"_FillValue": None}
     coords = {yn: (yn, np.asarray(spec.y), {"units": yu}), xn: (xn, np.asarray(spec.x), {"units": xu})}
     ds = xr.Dataset(data, coords=coords, attrs=_attrs(spec))
-    ds.to_zarr(str(path), mode="w-", compute=False, encoding=enc, consolidated=False)
+    ds.to_zarr(str(path), mode="w-", compute=False, encoding=enc, consolidated=True, zarr_format=2)
     grp = open_store(path)
     grp["chunk_done"][...] = np.zeros(spec.chunk_shape, dtype="int8")
     return grp
@@ -112,7 +112,7 @@ def open_sweep(path):
 
     if not Path(path).exists():
         raise _v.KapitzaValueError(f"store must be an existing sweep store; got {str(path)!r} (no such path)")
-    return xr.open_zarr(str(path), consolidated=False)
+    return xr.open_zarr(str(path))
 
 
 def to_netcdf(ds, path):
