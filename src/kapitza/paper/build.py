@@ -8,7 +8,7 @@ from pathlib import Path
 
 from .. import __version__, _io
 from . import checks as C
-from .report import Code, Heading, Image, Para, Table, to_html, to_markdown
+from .report import Code, Heading, Image, Para, Table, nonlinear_section, to_html, to_markdown
 
 __all__ = ["PaperBuild", "build_paper", "TABLE_AMPLITUDES"]
 
@@ -160,6 +160,7 @@ def build_paper(out, quick=False, progress=None) -> PaperBuild:
         blocks += [Para(f"**{key}.** {note}") for key, note in notes]
     else:
         blocks.append(Para("No discrepancy was found."))
+    blocks += nonlinear_section()
     blocks.append(Heading("Figures"))
     for n, data, paths in figs:
         png = next(p for p in paths if p.suffix == ".png")
