@@ -36,3 +36,10 @@ def test_bench_drives_tiny_runs():
         assert needle in out, needle
     assert "pointwise verdicts disagree with the chart: 0 of" in out
     assert "solve_ivp verdicts differing from the exact ones on the sample: 0 of" in out
+
+
+def test_bench_twist_tiny_runs():
+    out = run_tiny("bench_twist.py")
+    for needle in ("twist_coefficient:", "not from the composed jets", "baseline: solve_ivp DOP853",
+                   "agreement on the sample", "ratio (baseline / closed forms)"):
+        assert needle in out, needle

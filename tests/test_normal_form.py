@@ -254,3 +254,23 @@ def test_twist_and_1to4_term_are_averages_of_the_quartic_potential(n, mu, frac):
     I04 = simpson(x * x * np.conj(xi1) ** 4, x=s) - simpson(u * u * np.conj(xi2) ** 4, x=s)
     np.testing.assert_allclose(nf.beta, I22 / (4 * M[0, 1] * np.sin(nf.w)), rtol=1e-9)
     np.testing.assert_allclose(abs(nf.coefficients[3]), abs(I04) / (12 * abs(M[0, 1]) * np.sin(nf.w)), rtol=1e-9)
+
+
+def test_every_evaluation_path_agrees_with_extended_precision():
+    """The twins: composed closed-form jets (double), the averaged quartic potential (double, thin
+    zones with x <= 13) and the closed forms in extended precision, against the last in zones 0-2
+    (the double-precision rotation angle is good to ~2e-10 in zone 2, ~1e-9 in zone 3)."""
+    rng = np.random.default_rng(5)
+    for n in range(3):
+        mu = rng.uniform(0.01, 0.9, 12)
+        lo, hi = K.zone_edges(mu, n)
+        eps = lo + rng.uniform(0.02, 0.98, 12) * (hi - lo)
+        ok = K.is_stable(eps, mu)
+        eps, mu = eps[ok], mu[ok]
+        nf, _ = NF._normal_form(eps, mu)
+        ref = [NF._normal_form_mp(e, m) for e, m in zip(eps, mu)]
+        coef = np.array([c for _, c, _ in ref])
+        np.testing.assert_allclose(nf.w, [w for w, _, _ in ref], rtol=1e-9)
+        np.testing.assert_allclose(nf.coefficients, coef, rtol=1e-8)
+        tau = np.array([(c[1] / np.exp(1j * w)).imag / (8 * np.pi * m * m) for w, c, m in ref])
+        np.testing.assert_allclose(nf.twist, tau, rtol=1e-8)
