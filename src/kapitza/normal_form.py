@@ -26,6 +26,11 @@ closed form and vectorised over ``(eps, mu)``, everything ``docs/nonlinear.md`` 
    the linear map turns (``r = 2 |z| |m12|`` on the invariant ellipse).
 4. **The verdict**: Moser's twist theorem off 1:4 (1:3 included: oddness removes the ``zbar^2``
    term), Markeev's criterion on 1:4 (``|beta|`` against ``|c03|``), undecided where ``beta = 0``.
+
+In the thin zones the composed jets round badly (the ``+A`` phase's cubic terms grow like
+``e^{3x}``); there the same coefficients come from the quartic potential averaged along the
+Floquet solution (:func:`_coefficients_averaged`, ``x <= 13``) and beyond that from the closed
+forms in extended precision (:func:`_normal_form_mp`). The three paths are tested as twins.
 """
 from __future__ import annotations
 
