@@ -59,3 +59,10 @@ def test_bench_paper_tiny_runs():
     for needle in ("baseline: one process, as before", "build: 2 processes",
                    "ratio (baseline / build): wall", "same files written: True", "every check passed: baseline True"):
         assert needle in out, needle
+
+
+def test_bench_twist_tiny_runs():
+    out = run_tiny("bench_twist.py")
+    for needle in ("twist_coefficient:", "not from the composed jets", "baseline: solve_ivp DOP853",
+                   "agreement on the sample", "ratio (baseline / closed forms)"):
+        assert needle in out, needle

@@ -230,3 +230,47 @@ def test_kapitza_limit_twist_is_the_averaged_potentials():
     assert errs[-1] < 1e-6
     # along eps = 1.5 mu the error of averaging falls like eps^4
     assert 12.0 < errs[0] / errs[1] < 20.0 and 12.0 < errs[1] / errs[2] < 20.0
+
+
+# ---------------------------------------------------------------- first-order perturbation theory
+@pytest.mark.parametrize("n, mu, frac", [(0, 0.3, 0.4), (0, 0.1, 0.2), (1, 0.05, 0.4), (2, 0.2, 0.7)])
+def test_twist_and_1to4_term_are_averages_of_the_quartic_potential(n, mu, frac):
+    """beta = int k |xi|^4 ds / (4 m12 sin w), |c03| = |int k xibar^4 ds| / (12 |m12| sin w),
+    xi the Floquet solution through (m12, lambda - m11), k(s) = x^2 then -u^2 (docs/nonlinear.md
+    section 3): the H4 = k q^4/24 of the Hamiltonian averaged along the linear motion, by quadrature."""
+    from scipy.integrate import simpson
+
+    eps, mu = zone_point(n, mu, frac)
+    x, u, _ = K.phase_angles(eps, mu)
+    M = K.period_map_taylor(eps, mu).linear
+    nf = K.birkhoff_normal_form(eps, mu)
+    lam = np.exp(1j * nf.w)
+    s = np.linspace(0.0, 1.0, 40001)
+    xi0, dxi0 = M[0, 1] + 0j, lam - M[0, 0]
+    xi1 = xi0 * np.cosh(x * s) + dxi0 * np.sinh(x * s) / x
+    a1, b1 = xi0 * np.cosh(x) + dxi0 * np.sinh(x) / x, xi0 * x * np.sinh(x) + dxi0 * np.cosh(x)
+    xi2 = a1 * np.cos(u * s) + b1 * np.sin(u * s) / u
+    I22 = simpson(x * x * np.abs(xi1) ** 4, x=s) - simpson(u * u * np.abs(xi2) ** 4, x=s)
+    I04 = simpson(x * x * np.conj(xi1) ** 4, x=s) - simpson(u * u * np.conj(xi2) ** 4, x=s)
+    np.testing.assert_allclose(nf.beta, I22 / (4 * M[0, 1] * np.sin(nf.w)), rtol=1e-9)
+    np.testing.assert_allclose(abs(nf.coefficients[3]), abs(I04) / (12 * abs(M[0, 1]) * np.sin(nf.w)), rtol=1e-9)
+
+
+def test_every_evaluation_path_agrees_with_extended_precision():
+    """The twins: composed closed-form jets (double), the averaged quartic potential (double, thin
+    zones with x <= 13) and the closed forms in extended precision, against the last in zones 0-2
+    (the double-precision rotation angle is good to ~2e-10 in zone 2, ~1e-9 in zone 3)."""
+    rng = np.random.default_rng(5)
+    for n in range(3):
+        mu = rng.uniform(0.01, 0.9, 12)
+        lo, hi = K.zone_edges(mu, n)
+        eps = lo + rng.uniform(0.02, 0.98, 12) * (hi - lo)
+        ok = K.is_stable(eps, mu)
+        eps, mu = eps[ok], mu[ok]
+        nf, _ = NF._normal_form(eps, mu)
+        ref = [NF._normal_form_mp(e, m) for e, m in zip(eps, mu)]
+        coef = np.array([c for _, c, _ in ref])
+        np.testing.assert_allclose(nf.w, [w for w, _, _ in ref], rtol=1e-9)
+        np.testing.assert_allclose(nf.coefficients, coef, rtol=1e-8)
+        tau = np.array([(c[1] / np.exp(1j * w)).imag / (8 * np.pi * m * m) for w, c, m in ref])
+        np.testing.assert_allclose(nf.twist, tau, rtol=1e-8)

@@ -194,16 +194,16 @@ def plot_rotation_growth(run, ax=None):
 
 def rotation_growth_figure(run):
     """:func:`plot_rotation_growth` with its caption."""
-    fig = _style.new_figure(width=6.5, height=4.3, caption_lines=3)
+    fig = _style.new_figure(width=7.0, height=4.3, caption_lines=4)
     ax = fig.add_subplot()
     plot_rotation_growth(run, ax)
     e, m = float(np.ravel(run.eps)[0]), float(np.ravel(run.mu)[0])
     ax.set_title(rf"$\varepsilon$ = {e:.6g}, $\mu$ = {m:.6g}", fontsize=9)
     _style.caption(fig, (
-        "Amplitude-dependent rotation number of the stroboscopic map (t = 0 mod 2T) around the upright: "
-        "each dot is one orbit of the exact nonlinear map (Jacobi elliptic phase flows) started on the linear "
-        "map's invariant ellipse, placed at the largest $|\\theta|$ it reached, its rotation the windowed average of the angle "
-        "gained per period in the linear normal coordinate; the curve is the Birkhoff normal form's "
-        "$\\rho_0 + \\tau r^2$ (kapitza.twist_coefficient). They agree as $r \\to 0$; the gap at larger r is "
-        "the $O(r^4)$ term."))
+        "Rotation number of the stroboscopic map around the upright against the size of the invariant curve. "
+        "Dots: orbits of the exact nonlinear map (Jacobi elliptic phase flows), each started on the linear "
+        "map's invariant ellipse and placed at the largest $|\\theta|$ it reached; its rotation is the "
+        "windowed average of the angle gained per period in the linear normal coordinate. Curve: the "
+        "Birkhoff normal form's $\\rho_0 + \\tau r^2$ (kapitza.twist_coefficient). They agree as r goes to 0; "
+        "what gap opens at larger r is the $O(r^4)$ term."))
     return fig

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as _v
-from ..normal_form import _normal_form, _stable_arnold, _taylor
+from ..normal_form import _normal_coordinate, _normal_form, _stable_arnold, _taylor
 from ..parameters import G_EARTH, to_physical
 from ._elliptic import _phase_step
 from ._maps import phases
@@ -98,9 +98,8 @@ def measured_rotation_number(eps, mu, r, *, periods=4000):
     lam = np.exp(1j * w)
     T, A = to_physical(eps, mu, 1.0, G_EARTH)
     plan = phases(T, A, 1.0, G_EARTH)
-    e1, e2 = m12 + 0j, lam - m11
-    det = e1 * np.conj(e2) - np.conj(e1) * e2
-    f1, f2 = np.conj(e2) / det, -np.conj(e1) / det
+    f = _normal_coordinate(M, lam)[2]
+    f1, f2 = f[..., 0], f[..., 1]
     th = r.copy()
     om = th * (np.cos(w) - m11) / m12 / T
     z = f1 * th + f2 * om * T

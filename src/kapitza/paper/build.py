@@ -13,7 +13,7 @@ from pathlib import Path
 from .. import __version__, _io
 from .. import _validate as _v
 from . import checks as C
-from .report import Code, Heading, Image, Para, Table, plain_math, to_html, to_markdown
+from .report import Code, Heading, Image, Para, Table, nonlinear_section, plain_math, to_html, to_markdown
 
 __all__ = ["PaperBuild", "build_paper", "TABLE_AMPLITUDES"]
 
@@ -244,6 +244,7 @@ def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(ran
     else:
         blocks.append(Para("No discrepancy was found in the numbered results."))
     blocks.append(Para(FIGURE8_NOTE))
+    blocks += nonlinear_section()
     blocks.append(Heading("Figures"))
     for n, data, paths in figs:
         png = next(p for p in paths if p.suffix == ".png")
