@@ -148,6 +148,9 @@ class Floquet:
     zone: np.ndarray
     determinant: np.ndarray | float = 1.0
 
+    def __post_init__(self):
+        _v.scalar_fields(self)
+
 
 def _multipliers(tau, growth, theta, stable):
     sgn = np.where(tau < 0, -1.0, 1.0)
@@ -159,6 +162,7 @@ def _multipliers(tau, growth, theta, stable):
     return np.stack([lam1, lam2], axis=-1)
 
 
+@_v.shapes_named
 def floquet(eps, mu, drive=None, zeta=0.0):
     """Trace, multipliers, growth and rotation number of one period at ``(eps, mu)``.
 
@@ -203,6 +207,7 @@ def floquet(eps, mu, drive=None, zeta=0.0):
     )
 
 
+@_v.shapes_named
 def floquet_multipliers(eps, mu, drive=None, zeta=0.0):
     """Floquet multipliers of one period, shape ``(..., 2)``, largest modulus first.
 
@@ -221,6 +226,7 @@ def floquet_multipliers(eps, mu, drive=None, zeta=0.0):
     return floquet(eps, mu, drive, zeta).multipliers
 
 
+@_v.shapes_named
 def growth_rate(eps, mu, drive=None, zeta=0.0):
     """``log max|lambda|`` per drive period ``2T``; 0 where stable, finite everywhere.
 
@@ -241,6 +247,7 @@ def growth_rate(eps, mu, drive=None, zeta=0.0):
     return _floquet(eps, mu)[1]
 
 
+@_v.shapes_named
 def rotation_number(eps, mu, drive=None, zeta=0.0):
     """Mean clockwise turns per drive period of the phase point (see :class:`Floquet`).
 
@@ -262,6 +269,7 @@ def rotation_number(eps, mu, drive=None, zeta=0.0):
     return _floquet(eps, mu)[2] / (2.0 * PI)
 
 
+@_v.shapes_named
 def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """The one-period matrix ``M = E(T) H(T)`` acting on ``(theta, theta')``.
 
@@ -309,6 +317,7 @@ def _chebyshev_pair(k, tau, growth, theta, stable):
     return U(k), U(k - 1.0)
 
 
+@_v.shapes_named
 def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Exact solution of the linear equation (2.3) at the times ``t``.
 

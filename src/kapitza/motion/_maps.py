@@ -7,8 +7,11 @@ the tests run one against the other at small amplitude.
 """
 from __future__ import annotations
 
+from concurrent.futures import ProcessPoolExecutor
+
 import numpy as np
 
+from .. import _validate as _v
 from ..propagation import _apply, _flow
 from ._elliptic import _phase_step
 
@@ -39,3 +42,33 @@ AMPLITUDES = {"nonlinear": _nonlinear_amplitude, "linear": _linear_amplitude}
 def phases(T, A, l, g):
     """``(s, duration)`` of the two phases of one period: ``s = (g + a)/l``."""
     return (((g + A) / l, T), ((g - A) / l, T))
+
+
+#: Member-periods one call may map (``KAPITZA_ALLOW_LARGE=1`` lifts it): about a minute or two.
+MAX_MEMBER_PERIODS = 200_000_000
+
+
+def bound_ensemble(periods, members, name="periods * (members + 300)"):
+    """Refuse ensembles whose work, ``periods * (members + 300)`` phase maps, is not bounded
+    (300: the cost of one period's step in member units)."""
+    _v.bounded_work(name, float(periods) * (float(members) + 300.0), MAX_MEMBER_PERIODS,
+                    what="member-periods mapped, about a minute of work")
+
+
+def run_chunks(fn, bounds, args_of, workers, progress, store):
+    """``store(a, b, fn(*args_of(a, b)))`` for each chunk ``(a, b)``, in worker processes when
+    ``workers > 1`` (capped at the CPUs and the chunks), calling ``progress(done, total)``."""
+    total = len(bounds)
+    workers = _v.workers(workers, total)
+    if workers > 1:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            futures = [pool.submit(fn, *args_of(a, b)) for a, b in bounds]
+            for i, ((a, b), f) in enumerate(zip(bounds, futures)):
+                store(a, b, f.result())
+                if progress is not None:
+                    progress(i + 1, total)
+    else:
+        for i, (a, b) in enumerate(bounds):
+            store(a, b, fn(*args_of(a, b)))
+            if progress is not None:
+                progress(i + 1, total)
