@@ -9,6 +9,7 @@ See ``docs/theory.md`` for the mathematics and conventions.
 Arnold's parameters ``eps = T sqrt(A/(8 l))`` and ``mu = sqrt(g/A)`` are used
 throughout; :func:`to_arnold` and :func:`to_physical` convert.
 """
+from . import _interrupt  # noqa: F401  (first: Ctrl-C while the command starts up is one line, not a traceback)
 from . import analysis, drives, limits, mathieu, motion, parameters, periodic, phase_plane, propagation, system, zones
 from ._validate import KapitzaValueError
 from .drives import RectangularWave, SineWave, SquareWave, StepDrive, parse_drive

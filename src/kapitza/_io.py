@@ -34,8 +34,11 @@ def atomic_path(path, suffix=None):
     if path.exists() and not path.is_file():
         raise OSError(errno.EEXIST, "exists and is not a regular file (kapitza writes only regular files)",
                       str(path))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix or path.suffix, dir=path.parent)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix or path.suffix, dir=path.parent)
+    except OSError as exc:
+        raise _about(exc, path) from None
     os.close(fd)
     # mkstemp creates 0600; give the file what a normal write would: 0666 less the umask
     umask = os.umask(0)
@@ -44,12 +47,19 @@ def atomic_path(path, suffix=None):
     try:
         yield Path(tmp)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if isinstance(exc, OSError) and exc.filename in (tmp, str(path.parent)):
+            raise _about(exc, path) from None
         raise
+
+
+def _about(exc: OSError, path: Path) -> OSError:
+    """The same error, naming the user's ``path`` rather than the temporary file beside it."""
+    return type(exc)(exc.errno, exc.strerror or str(exc), str(path))
 
 
 def write_bytes(path, data: bytes) -> Path:

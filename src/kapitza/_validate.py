@@ -9,7 +9,11 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "parameter_set", "physical_parameters",
-           "linearly_stable", "KapitzaValueError"]
+           "linearly_stable", "KapitzaValueError", "bounded_count", "bounded_ints", "bounded_work", "allow_large",
+           "ALLOW_LARGE_ENV", "one", "broadcast", "workers", "scalars"]
+
+#: Set this environment variable to 1 to lift the bounds on work (counts, periods, frames, ...).
+ALLOW_LARGE_ENV = "KAPITZA_ALLOW_LARGE"
 
 
 class KapitzaValueError(ValueError):
@@ -37,7 +41,7 @@ def _as_float(name: str, value) -> np.ndarray:
         raise KapitzaValueError(f"{what}; got the text {value!r}")
     if isinstance(value, np.ma.MaskedArray) and np.ma.is_masked(value):
         raise KapitzaValueError(f"{what}; got a masked array with masked entries")
-    raw = np.asarray(value)
+    raw = _asarray(name, value, what)
     if raw.dtype.kind == "b":
         raise KapitzaValueError(f"{what}; got a truth value {_short(value)}")
     if raw.dtype.kind == "c":
@@ -87,9 +91,18 @@ def in_range(name: str, value, lo: float, hi: float, *, lo_open=True, hi_open=Tr
     return arr
 
 
+def _asarray(name: str, value, what: str) -> np.ndarray:
+    """``np.asarray(value)``; a ragged nesting of lists is refused by name."""
+    try:
+        return np.asarray(value)
+    except (ValueError, TypeError):
+        raise KapitzaValueError(f"{what}; got a ragged sequence {_short(value)} (rows of different lengths)") \
+            from None
+
+
 def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
     """Return ``value`` as an int array of integers >= ``minimum``."""
-    arr = np.asarray(value)
+    arr = _asarray(name, value, f"{name} must be an integer >= {minimum} or an array of them")
     if arr.size == 0:
         raise KapitzaValueError(f"{name} must not be empty")
     if isinstance(value, (str, bytes)) or arr.dtype.kind in "bcUS":
@@ -102,7 +115,13 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
         bad = ~(np.isfinite(f) & (f == np.round(f)))
         if bad.any():
             raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_first_bad(f, bad)}")
+        big = np.abs(f) >= 2.0**62
+        if big.any():  # would wrap on the conversion to int64
+            raise KapitzaValueError(f"{name} must be an integer >= {minimum} and below 2**62; got {_first_bad(f, big)}")
         arr = f.astype(np.int64)
+    elif arr.dtype.kind == "u" and np.any(arr >= 2**62):
+        raise KapitzaValueError(f"{name} must be an integer >= {minimum} and below 2**62; got "
+                                f"{_first_bad(arr, arr >= 2**62)}")
     arr = arr.astype(np.int64)
     bad = arr < minimum
     if bad.any():
@@ -110,9 +129,23 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
     return arr
 
 
-def arnold(eps, mu):
-    """Arnold's ``(eps, mu)`` as float arrays, each finite and > 0 (``mu >= 1`` allowed)."""
-    return positive("eps", eps), positive("mu", mu)
+def arnold(eps, mu, *, together=True):
+    """Arnold's ``(eps, mu)`` as float arrays, each finite and > 0 (``mu >= 1`` allowed); with
+    ``together`` their shapes must broadcast (a mismatch names both)."""
+    eps, mu = positive("eps", eps), positive("mu", mu)
+    if together:
+        shape_check(eps=eps, mu=mu)
+    return eps, mu
+
+
+def shape_check(**arrays) -> tuple:
+    """The broadcast shape of the named arrays; a mismatch names the parameters and their shapes."""
+    try:
+        return np.broadcast_shapes(*(np.shape(v) for v in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} of shape {np.shape(v)}" for k, v in arrays.items())
+        raise KapitzaValueError(f"{', '.join(arrays)} must have shapes that broadcast together; got {shapes}") \
+            from None
 
 
 def parameter_set(eps, mu, T, A) -> str:
@@ -154,6 +187,10 @@ def nonnegative(name: str, value) -> np.ndarray:
     return arr
 
 
+#: Largest damping ratio: beyond it the damped Floquet data lose more than 1e-7 relative.
+ZETA_MAX = 1e4
+
+
 def general_drive(drive, zeta, name="zeta"):
     """``(drive, zeta)`` for the general path, or ``(None, None)`` for the paper's undamped square wave.
 
@@ -164,6 +201,10 @@ def general_drive(drive, zeta, name="zeta"):
 
     d = as_drive(drive)
     z = nonnegative(name, zeta)
+    if name == "zeta" and np.any(z > ZETA_MAX):
+        raise KapitzaValueError(
+            f"zeta, the damping ratio c / (2 sqrt(g/l)), must be <= {ZETA_MAX:g} (so heavily overdamped, the "
+            f"monodromy's growth, about 1/zeta, loses its digits to rounding); got {_first_bad(z, z > ZETA_MAX)}")
     if d.name == "square" and not np.any(z > 0):
         return None, None
     return d, z
@@ -207,3 +248,146 @@ def linearly_stable(eps, mu, stable):
     raise KapitzaValueError(
         f"eps must lie inside a stability zone (alpha + n pi < w_e T < beta + n pi) at mu = {m!r}; "
         f"got eps = {e!r}{where}, where the linearised upright is unstable")
+
+
+# ------------------------------------------------------------------ bounded work
+def allow_large() -> bool:
+    """Whether the bounds on work are lifted (environment variable ``KAPITZA_ALLOW_LARGE=1``)."""
+    import os
+
+    return os.environ.get(ALLOW_LARGE_ENV, "").strip().lower() in ("1", "true", "yes", "on")
+
+
+def _over_limit(name: str, value, limit, what: str) -> KapitzaValueError:
+    return KapitzaValueError(
+        f"{name} must be <= {limit:,} ({what}); got {_short(value)}. To go past it on purpose, set the "
+        f"environment variable {ALLOW_LARGE_ENV}=1")
+
+
+def bounded_count(name: str, value, limit: int, *, minimum: int = 0, what: str = "a bound that keeps the work "
+                  "within minutes and the memory within the machine") -> int:
+    """A single integer ``minimum <= value <= limit``, as a Python ``int``.
+
+    The upper bound keeps the work of one call within minutes and its memory within
+    the machine; ``KAPITZA_ALLOW_LARGE=1`` lifts it (the lower bound stays).
+    Integers beyond int64 are refused with the value shortened, never wrapped.
+    """
+    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) and abs(int(value)) >= 2**62:
+        if int(value) < minimum:
+            raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(int(value))}")
+        if not allow_large():
+            raise _over_limit(name, int(value), limit, what)
+        raise KapitzaValueError(f"{name} must be an integer below 2**62; got {_short(int(value))}")
+    if isinstance(value, (float, np.floating)) and np.isfinite(value) and abs(value) >= 2.0**62:
+        if value < minimum:
+            raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(value)}")
+        if not allow_large():
+            raise _over_limit(name, value, limit, what)
+        raise KapitzaValueError(f"{name} must be an integer below 2**62; got {_short(value)}")
+    arr = nonnegative_int(name, value, minimum=minimum)
+    if arr.size != 1:
+        raise KapitzaValueError(f"{name} must be a single integer; got an array of shape {arr.shape}")
+    n = int(arr.flat[0])
+    if n > limit and not allow_large():
+        raise _over_limit(name, n, limit, what)
+    return n
+
+
+def bounded_ints(name: str, value, limit: int, *, minimum: int = 0) -> np.ndarray:
+    """:func:`nonnegative_int` (any shape) with every element ``<= limit`` (as :func:`bounded_count`)."""
+    arr = nonnegative_int(name, value, minimum=minimum)
+    if np.any(arr > limit) and not allow_large():
+        raise _over_limit(name, int(arr.max()), limit, "a bound that keeps the work within minutes and the memory "
+                          "within the machine")
+    return arr
+
+
+def bounded_work(name: str, amount: float, limit: float, *, what: str) -> None:
+    """Refuse a computed amount of work (``name``, e.g. ``"periods * points_per_period"``) beyond ``limit``
+    unless ``KAPITZA_ALLOW_LARGE=1``."""
+    if not (amount <= limit) and not allow_large():
+        shown = f"{int(amount):,}" if float(amount).is_integer() and abs(amount) < 1e18 else f"{float(amount):.4g}"
+        raise KapitzaValueError(
+            f"{name} must be <= {limit:,.0f} ({what}); got {shown}. To go past it on purpose, set the "
+            f"environment variable {ALLOW_LARGE_ENV}=1")
+
+
+def workers(value, tasks: int) -> int:
+    """Worker processes to start: ``value`` (an integer >= 1, at most 1024) capped at the machine's
+    CPUs and at the number of ``tasks`` (40 asked for 2 chunks start 2)."""
+    import os
+
+    n = bounded_count("workers", value, 1024, minimum=1)
+    try:
+        cpus = len(os.sched_getaffinity(0))  # the CPUs this process may run on
+    except AttributeError:  # not on every platform
+        cpus = os.cpu_count() or 1
+    return max(1, min(n, cpus, int(tasks)))
+
+
+# ------------------------------------------------------------------ results
+def scalars(*values):
+    """Each 0-d array among ``values`` as a numpy scalar (``np.float64``, ``np.int64``, ``np.bool_``):
+    scalar input gives numpy scalars, array input arrays, in every public function. One value in,
+    one value out; several in, a tuple out."""
+    out = tuple(v[()] if isinstance(v, np.ndarray) and v.ndim == 0 else v for v in values)
+    return out[0] if len(out) == 1 else out
+
+
+def scalar_fields(record) -> None:
+    """:func:`scalars` for each field of a frozen dataclass of results (call from ``__post_init__``);
+    a Python ``float`` field becomes ``np.float64``."""
+    import dataclasses
+
+    for f in dataclasses.fields(record):
+        v = getattr(record, f.name)
+        if isinstance(v, np.ndarray) and v.ndim == 0:
+            object.__setattr__(record, f.name, v[()])
+        elif type(v) is float:
+            object.__setattr__(record, f.name, np.float64(v))
+
+
+# ------------------------------------------------------------------ shapes
+def shapes_named(fn):
+    """Decorator of a public function: numpy's broadcast error ("shape mismatch: objects cannot be
+    broadcast ...") becomes a :class:`KapitzaValueError` naming the array arguments and their shapes."""
+    import functools
+    import inspect
+
+    sig = inspect.signature(fn)
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except ValueError as exc:
+            text = str(exc)
+            if isinstance(exc, KapitzaValueError) or not ("broadcast" in text or "shape mismatch" in text):
+                raise
+            try:
+                bound = sig.bind(*args, **kwargs)
+            except TypeError:
+                raise exc from None
+            arrays = {k: v for k, v in bound.arguments.items()
+                      if isinstance(v, (list, tuple, np.ndarray)) and not isinstance(v, str)}
+            shapes = ", ".join(f"{k} of shape {np.shape(v)}" for k, v in arrays.items()) or "no arrays"
+            raise KapitzaValueError(f"{', '.join(arrays) or 'the arguments'} must have shapes that broadcast "
+                                    f"together; got {shapes}") from None
+
+    return wrapper
+
+
+
+def one(name: str, arr) -> float:
+    """The single value of a validated float array ``arr`` as a Python ``float`` (``name`` in the message:
+    a list given where one number is meant is refused by name, not by numpy's conversion text)."""
+    arr = np.asarray(arr)
+    if arr.size != 1:
+        raise KapitzaValueError(f"{name} must be a single number here; got an array of shape {arr.shape}")
+    return float(arr.reshape(()))
+
+
+def broadcast(**arrays):
+    """``np.broadcast_arrays`` of the named arrays; a mismatch names the parameters and their shapes."""
+    shape_check(**arrays)
+    return np.broadcast_arrays(*arrays.values())

@@ -325,23 +325,23 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     if arnold:
         if np.any(np.asarray(damping) != 0):
             raise _v.KapitzaValueError("with eps and mu give the damping as zeta = c / (2 sqrt(g/l)), not damping")
-        eps = float(_v.positive("eps", eps))
-        mu = float(_v.positive("mu", mu))
+        eps = _v.one("eps", _v.positive("eps", eps))
+        mu = _v.one("mu", _v.positive("mu", mu))
     else:
         if zeta is not None:
             raise _v.KapitzaValueError("with T and A give the damping as damping = c [1/s], not zeta")
-        T = float(_v.positive("T", T))
-        A = float(_v.positive("A", A))
-        l = float(_v.positive("l", l))
-        g = float(_v.positive("g", g))
+        T = _v.one("T", _v.positive("T", T))
+        A = _v.one("A", _v.positive("A", A))
+        l = _v.one("l", _v.positive("l", l))
+        g = _v.one("g", _v.positive("g", g))
         eps = T * np.sqrt(A / (8.0 * l))
         mu = np.sqrt(g / A)
     if physical:
-        c = float(_v.nonnegative("damping", damping))
+        c = _v.one("damping", _v.nonnegative("damping", damping))
         zeta_v = 0.5 * c * np.sqrt(l / g)
     else:
         c = None
-        zeta_v = float(_v.nonnegative("zeta", 0.0 if zeta is None else zeta))
+        zeta_v = _v.one("zeta", _v.nonnegative("zeta", 0.0 if zeta is None else zeta))
     general, _ = _v.general_drive(drive, zeta_v)
     if general is not None:
         return _general_report(eps, mu, general, zeta_v, physical, T, A, l, g, c)
@@ -397,7 +397,8 @@ def _general_report(eps, mu, drive, zeta, physical, T, A, l, g, c):
     trace, det, mult, growth, rho, stable, zone = (np.asarray(a)[()] for a in _api.floquet(e, m, drive, z))
     stable_m, nz, lo, hi, margin = (np.asarray(a)[()] for a in _api.margin(e, m, drive, z))
     stable = bool(stable)
-    tau_phi = float(trace) / 2.0 * float(np.exp(2.0 * np.sqrt(8.0) * zeta * mu * eps)) if np.isfinite(trace) else float(trace)
+    with np.errstate(over="ignore", divide="ignore"):  # tr M_phi / 2 = tr M / 2 * e^(cT), +-inf beyond doubles
+        tau_phi = float(np.sign(trace) * np.exp(np.log(abs(float(trace)) / 2.0) + 2.0 * np.sqrt(8.0) * zeta * mu * eps))
     if stable:
         verdict = f"stable (zone {int(zone)})" + (", motions decay" if zeta > 0 else "")
     elif np.all(np.isnan(lo)) and int(nz) < 0:

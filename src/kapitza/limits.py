@@ -19,6 +19,7 @@ from .drives import _api
 __all__ = ["averaging_threshold", "ThresholdRow", "threshold_table"]
 
 
+@_v.shapes_named
 def averaging_threshold(mu, drive=None):
     """``eps_K(mu)``: where ``<v_pivot^2> = g l`` for this drive (the averaging criterion).
 
@@ -52,6 +53,7 @@ class ThresholdRow:
         return dict(self.__dict__)
 
 
+@_v.shapes_named
 def threshold_table(mu, drives, zeta=0.0):
     """The averaging threshold of each drive against its exact zone-0 lower edge.
 
@@ -70,7 +72,7 @@ def threshold_table(mu, drives, zeta=0.0):
         ``relative_error = eps_averaging / eps_exact - 1``.
     """
     mu = np.atleast_1d(_v.in_range("mu", mu, 0.0, 1.0)).ravel()
-    zeta = float(_v.in_range("zeta", zeta, 0.0, np.inf, lo_open=False))
+    zeta = _v.one("zeta", _v.in_range("zeta", zeta, 0.0, np.inf, lo_open=False))
     rows = []
     for drive in drives:
         d = as_drive(drive)

@@ -74,15 +74,38 @@ def _decay_rows(q):
     return first[inv].reshape(q.shape)
 
 
+#: Rows of the largest dense matrix solved for a characteristic value (about a second each;
+#: ``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_ROWS = 4200
+
+
 def _size(k, q):
     """Rows that carry the k-th characteristic value at q to double precision (then checked)."""
-    return int(k + 8 + np.max(_decay_rows(q), initial=1))
+    rows = int(np.max(_decay_rows(q), initial=1))
+    if rows >= 4096:  # beyond the table of _decay_rows: the truncation is not known
+        raise _v.KapitzaValueError(f"q must satisfy |q| <= 4e6 for the characteristic values; got {float(q)!r}")
+    N = int(k + 8 + rows)
+    _v.bounded_work("the rows of the truncated matrix", N, MAX_ROWS,
+                    what=f"dense eigenproblems, order n and |q| set the rows; here n ~ {2 * int(k)}, q = {float(q):.4g}")
+    return N
 
 
 def _eigs(kind, parity, q, N):
     """Ascending eigenvalues, shape ``(len(q), N)``, of the truncated matrices at each q."""
     d_of, s0, shift = _family(kind, parity)
     r = np.arange(N, dtype=float)
+    if N > 64:
+        # large truncations: the tridiagonal solver, O(N^2) per q instead of O(N^3)
+        from scipy.linalg import eigvalsh_tridiagonal
+
+        out = np.empty((q.size, N))
+        for i, qi in enumerate(q):
+            d = d_of(r).astype(float)
+            d[0] += shift * qi
+            e = np.full(N - 1, qi)
+            e[0] *= s0
+            out[i] = eigvalsh_tridiagonal(d, e)
+        return out
     M = np.zeros((q.size, N, N))
     idx = np.arange(N)
     M[:, idx, idx] = d_of(r)[None, :]
@@ -137,6 +160,7 @@ def _converged(kind, parity, k, q):
     return res
 
 
+@_v.shapes_named
 def characteristic_a(n, q):
     """Mathieu characteristic value ``a_n(q)`` (even solutions), ``n >= 0``.
 
@@ -159,9 +183,10 @@ def characteristic_a(n, q):
     """
     n = _v.nonnegative_int("n", n)
     q = _v.finite("q", q)
-    return _characteristic("a", n, q)
+    return _v.scalars(_characteristic("a", n, q))
 
 
+@_v.shapes_named
 def characteristic_b(n, q):
     """Mathieu characteristic value ``b_n(q)`` (odd solutions), ``n >= 1``.
 
@@ -178,7 +203,7 @@ def characteristic_b(n, q):
     """
     n = _v.nonnegative_int("n", n, minimum=1)
     q = _v.finite("q", q)
-    return _characteristic("b", n, q)
+    return _v.scalars(_characteristic("b", n, q))
 
 
 # ---------------------------------------------------------------- the sine drive's edges
@@ -262,6 +287,7 @@ def _sine_edges(mu, n):
     return (scale * np.sqrt(q_lo)).reshape(shape), (scale * np.sqrt(q_hi)).reshape(shape)
 
 
+@_v.shapes_named
 def sine_zone_edges(mu, n):
     """Edges ``eps_lo < eps_hi`` of zone ``n`` of the sine drive (acceleration ``A sin(pi t/T)``).
 
@@ -286,7 +312,7 @@ def sine_zone_edges(mu, n):
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     n = _v.nonnegative_int("n", n)
-    return _sine_edges(mu, n)
+    return _v.scalars(*_sine_edges(mu, n))
 
 
 # ---------------------------------------------------------------- Floquet data (Hill)

@@ -35,6 +35,7 @@ G_EARTH = 9.81
 SQRT8 = np.sqrt(8.0)
 
 
+@_v.shapes_named
 def to_arnold(T, A, l=1.0, g=G_EARTH):
     """Arnold's parameters ``(eps, mu)`` of physical parameters.
 
@@ -58,9 +59,33 @@ def to_arnold(T, A, l=1.0, g=G_EARTH):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
-    return T * np.sqrt(A / (8.0 * l)), np.sqrt(g / A)
+    _v.shape_check(T=T, A=A, l=l, g=g)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        eps, mu = T * np.sqrt(A / (8.0 * l)), np.sqrt(g / A)
+        if not _in_double(eps, mu):
+            # the ratios overflow or underflow before their square roots would: split them
+            eps = T * (np.sqrt(A) / np.sqrt(8.0 * l))
+            mu = np.sqrt(g) / np.sqrt(A)
+    _refuse_outside(dict(T=T, A=A, l=l, g=g), eps=eps, mu=mu)
+    return eps, mu
 
 
+def _in_double(*arrays) -> bool:
+    return all(bool(np.all(np.isfinite(a) & (a > 0))) for a in arrays)
+
+
+def _refuse_outside(given, **results):
+    """Refuse inputs whose derived parameters leave the range of positive doubles, naming them."""
+    for name, v in results.items():
+        bad = ~(np.isfinite(v) & (v > 0))
+        if np.any(bad):
+            shown = ", ".join(f"{k} = {float(np.broadcast_to(x, bad.shape)[bad].flat[0])!r}" for k, x in given.items())
+            raise _v.KapitzaValueError(
+                f"{', '.join(given)} give {name} = {float(np.asarray(v)[bad].flat[0])!r}, outside the range of "
+                f"positive doubles; got {shown}")
+
+
+@_v.shapes_named
 def to_physical(eps, mu, l=1.0, g=G_EARTH):
     """Physical ``(T, A)`` of Arnold's ``(eps, mu)`` for a rod ``l`` under gravity ``g``.
 
@@ -78,10 +103,18 @@ def to_physical(eps, mu, l=1.0, g=G_EARTH):
     mu = _v.positive("mu", mu)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
-    A = g / mu**2
-    return eps * np.sqrt(8.0 * l / A), A
+    _v.shape_check(eps=eps, mu=mu, l=l, g=g)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        A = g / mu**2
+        T = eps * np.sqrt(8.0 * l / A)
+        if not _in_double(T, A):
+            A = (np.sqrt(g) / mu) ** 2
+            T = eps * mu * (np.sqrt(8.0 * l) / np.sqrt(g))
+    _refuse_outside(dict(eps=eps, mu=mu, l=l, g=g), T=T, A=A)
+    return T, A
 
 
+@_v.shapes_named
 def frequencies(A, l=1.0, g=G_EARTH):
     """Hyperbolic and elliptic frequencies ``w_h``, ``w_e`` and their ratio ``D``.
 
@@ -109,9 +142,10 @@ def frequencies(A, l=1.0, g=G_EARTH):
     w_e = np.sqrt(np.maximum(A - g, 0.0) / l)
     with np.errstate(divide="ignore"):
         D = np.where(w_e > 0, w_h / np.where(w_e > 0, w_e, 1.0), np.inf)
-    return w_h, w_e, D
+    return _v.scalars(w_h, w_e, D)
 
 
+@_v.shapes_named
 def phase_angles(eps, mu):
     """The phase angles ``x = w_h T``, ``u = w_e T`` and the ratio ``D`` for Arnold's parameters.
 

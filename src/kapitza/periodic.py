@@ -30,6 +30,9 @@ __all__ = [
     "periodic_solution",
 ]
 
+#: Largest count of boundary periods and largest index (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_COUNT = 100_000
+
 
 def _check_A(A, g):
     if np.any(A <= g):
@@ -50,6 +53,7 @@ def _xD(T, A, l, g):
     return w_h * T, w_e * T, w_h / w_e
 
 
+@_v.shapes_named
 def alpha(T, A, l=1.0, g=G_EARTH):
     """``alpha(T) = 2 atan(D (e^{w_h T} - 1) / (e^{w_h T} + 1)) = 2 atan(D tanh(w_h T / 2))``.
 
@@ -71,6 +75,7 @@ def alpha(T, A, l=1.0, g=G_EARTH):
     return X.alpha_x(x, D)
 
 
+@_v.shapes_named
 def beta(T, A, l=1.0, g=G_EARTH):
     """``beta(T) = 2 atan(D (e^{w_h T} + 1) / (e^{w_h T} - 1)) = 2 atan(D coth(w_h T / 2))``.
 
@@ -92,6 +97,7 @@ def beta(T, A, l=1.0, g=G_EARTH):
     return X.beta_x(x, D)
 
 
+@_v.shapes_named
 def boundary_periods(A, count, l=1.0, g=G_EARTH):
     """The first ``count`` boundary half-periods ``T_n`` and ``T~_n`` of Corollary 4.1.
 
@@ -120,7 +126,7 @@ def boundary_periods(A, count, l=1.0, g=G_EARTH):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
-    count = int(_v.nonnegative_int("count", count, minimum=1))
+    count = _v.bounded_count("count", count, MAX_COUNT, minimum=1)
     _check_A(A, g)
     A, l, g = np.broadcast_arrays(A, l, g)
     n = np.arange(count)
@@ -194,6 +200,7 @@ def _label(n: int, upper: bool):
     return (False, "3.11", k) if upper else (True, "3.12", k)
 
 
+@_v.shapes_named
 def boundary_table(A, count, l=1.0, g=G_EARTH):
     """``T_1 .. T_count`` and ``T~_1 .. T~_count`` in increasing order, each labelled.
 
@@ -211,10 +218,10 @@ def boundary_table(A, count, l=1.0, g=G_EARTH):
     list of BoundaryPeriod
         ``2 * count`` entries in the order of Corollary 4.1.
     """
-    A = float(_v.positive("A", A))
-    l = float(_v.positive("l", l))
-    g = float(_v.positive("g", g))
-    count = int(_v.nonnegative_int("count", count, minimum=1))
+    A = _v.one("A", _v.positive("A", A))
+    l = _v.one("l", _v.positive("l", l))
+    g = _v.one("g", _v.positive("g", g))
+    count = _v.bounded_count("count", count, MAX_COUNT, minimum=1)
     _check_A(A, g)
     mu = np.sqrt(g / A)
     n = np.arange(count)
@@ -294,6 +301,7 @@ class PeriodicSolution(Summary):
         return linear_motion(t, self.theta0, self.dtheta0, self.T, self.A, self.l, self.g)
 
 
+@_v.shapes_named
 def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
     """The periodic solution at ``T_index`` (2T-periodic) or ``T~_index`` (4T-periodic).
 
@@ -318,7 +326,7 @@ def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
     angle ``phi0 = atan((1 - e^{w_h T}) / (1 + e^{w_h T}))`` (3.19) or
     ``phi0 = -atan((e^{w_h T} + 1) / (e^{w_h T} - 1))`` (3.22) is periodic.
     """
-    index = int(_v.nonnegative_int("index", index, minimum=1))
+    index = _v.bounded_count("index", index, MAX_COUNT, minimum=1)
     table = boundary_table(A, index, l, g)
     entry = next(b for b in table if b.index == index and b.tilde == bool(tilde))
     A, l, g = float(A), float(l), float(g)

@@ -32,6 +32,7 @@ PI = np.pi
 QPI = 0.25 * np.pi
 
 
+@_v.shapes_named
 def f(phi, d):
     """Radial factor of the stretch ``(x, y) -> (x, d y)``: ``f(phi; d) = sqrt(1 + (d^2 - 1) sin^2 phi)``.
 
@@ -62,6 +63,7 @@ def _f(phi, d):
     return np.hypot(np.cos(phi), d * np.sin(phi))
 
 
+@_v.shapes_named
 def angle_map(phi, d):
     """The paper's angle map ``phi(phi; d)`` of the stretch ``(x, y) -> (x, d y)``.
 
@@ -97,6 +99,7 @@ def _angle_map(phi, d):
     return phi + np.arctan2((d - 1.0) * s * c, c * c + d * s * s)
 
 
+@_v.shapes_named
 def G(phi):
     """``G(phi) = -1/2 ln|tan(pi/4 - phi)|``, a primitive of ``1 / cos(2 phi)`` (2.9).
 
@@ -119,6 +122,7 @@ def G(phi):
     return -0.5 * np.log(t)
 
 
+@_v.shapes_named
 def G_inverse(s, branch=0):
     """Inverse of :func:`G` on one of its two branches.
 
@@ -142,6 +146,7 @@ def G_inverse(s, branch=0):
     return QPI - np.arctan(e) if branch == 0 else -3.0 * QPI + np.arctan(e)
 
 
+@_v.shapes_named
 def h(phi, D):
     """``h(phi) = |cos 2 phi| / (1 + (D^2 - 1) sin^2 phi)`` (3.7).
 
@@ -171,6 +176,7 @@ def h(phi, D):
     return np.abs(np.cos(2.0 * phi)) / _f(phi, D) ** 2
 
 
+@_v.shapes_named
 def phi_h(t, phi0, w_h):
     """Polar angle ``phi_h(t; phi0)`` of the hyperbolic rotation (2.7), solution (2.11).
 
@@ -234,6 +240,7 @@ class NotablePoints:
         return self.r * np.cos(self.phi), self.r * np.sin(self.phi)
 
 
+@_v.shapes_named
 def notable_points(phi0, T, A, r0=1.0, l=1.0, g=G_EARTH):
     """The notable points (3.1) of the trajectory starting at ``(r0, phi0)``.
 

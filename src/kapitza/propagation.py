@@ -171,6 +171,9 @@ class Floquet(Summary):
                 ("trace tr M", span(self.trace)), ("growth", f"{span(self.growth)} per period 2T"),
                 ("rotation number", span(self.rotation_number)), ("det M", span(self.determinant))]
 
+    def __post_init__(self):
+        _v.scalar_fields(self)
+
 
 def _multipliers(tau, growth, theta, stable):
     sgn = np.where(tau < 0, -1.0, 1.0)
@@ -182,6 +185,7 @@ def _multipliers(tau, growth, theta, stable):
     return np.stack([lam1, lam2], axis=-1)
 
 
+@_v.shapes_named
 def floquet(eps, mu, drive=None, zeta=0.0):
     """Trace, multipliers, growth and rotation number of one period at ``(eps, mu)``.
 
@@ -226,6 +230,7 @@ def floquet(eps, mu, drive=None, zeta=0.0):
     )
 
 
+@_v.shapes_named
 def floquet_multipliers(eps, mu, drive=None, zeta=0.0):
     """Floquet multipliers of one period, shape ``(..., 2)``, largest modulus first.
 
@@ -244,6 +249,7 @@ def floquet_multipliers(eps, mu, drive=None, zeta=0.0):
     return floquet(eps, mu, drive, zeta).multipliers
 
 
+@_v.shapes_named
 def growth_rate(eps, mu, drive=None, zeta=0.0):
     """``log max|lambda|`` per drive period ``2T``; 0 where stable, finite everywhere.
 
@@ -264,6 +270,7 @@ def growth_rate(eps, mu, drive=None, zeta=0.0):
     return _floquet(eps, mu)[1]
 
 
+@_v.shapes_named
 def rotation_number(eps, mu, drive=None, zeta=0.0):
     """Mean clockwise turns per drive period of the phase point (see :class:`Floquet`).
 
@@ -285,6 +292,7 @@ def rotation_number(eps, mu, drive=None, zeta=0.0):
     return _floquet(eps, mu)[2] / (2.0 * PI)
 
 
+@_v.shapes_named
 def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """The one-period matrix ``M = E(T) H(T)`` acting on ``(theta, theta')``.
 
@@ -332,6 +340,7 @@ def _chebyshev_pair(k, tau, growth, theta, stable):
     return U(k), U(k - 1.0)
 
 
+@_v.shapes_named
 def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=0.0, *, eps=None,
                   mu=None):
     """Exact solution of the linear equation (2.3) at the times ``t``.

@@ -24,8 +24,8 @@ def _scalar(name, value, *, positive=True):
     if np.ndim(value) != 0:
         raise _v.KapitzaValueError(f"{name} must be a single number; got {value!r}")
     if positive:
-        return float(_v.positive(name, value))
-    v = float(_v.finite(name, value))
+        return _v.one(name, _v.positive(name, value))
+    v = _v.one(name, _v.finite(name, value))
     if v < 0:
         raise _v.KapitzaValueError(f"{name} must be finite and >= 0 (0 <= {name} < inf); got {v!r}")
     return v
@@ -147,7 +147,7 @@ class Rig:
                 raise _v.KapitzaValueError("give T and A, or the frequency with the stroke, amplitude or A")
             if stroke is not None or amplitude is not None:
                 raise _v.KapitzaValueError("stroke and amplitude go with frequency, not with T and A")
-            return float(_v.positive("T", T)), float(_v.positive("A", A))
+            return _v.one("T", _v.positive("T", T)), _v.one("A", _v.positive("A", A))
         if T is not None:
             raise _v.KapitzaValueError("give T or frequency, not both")
         T_, A_ = self.drive.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A)

@@ -225,6 +225,7 @@ def _verdict_careful(eps, mu):
 
 
 # ---------------------------------------------------------------- public API
+@_v.shapes_named
 def is_stable(eps, mu, drive=None, zeta=0.0):
     """Whether the upright position is (strongly) stable at Arnold's ``(eps, mu)``.
 
@@ -256,10 +257,11 @@ def is_stable(eps, mu, drive=None, zeta=0.0):
     eps, mu = _v.arnold(eps, mu)
     drive, zeta = _v.general_drive(drive, zeta)
     if drive is not None:
-        return _drv.verdict(eps, mu, drive, zeta)[0]
-    return _verdict(eps, mu, want_n=False)[0]
+        return _v.scalars(np.asarray(_drv.verdict(eps, mu, drive, zeta)[0]))
+    return _v.scalars(np.asarray(_verdict(eps, mu, want_n=False)[0]))
 
 
+@_v.shapes_named
 def zone_index(eps, mu, drive=None, zeta=0.0):
     """Index ``n`` of the stability zone containing ``(eps, mu)``, or -1 where unstable.
 
@@ -277,11 +279,12 @@ def zone_index(eps, mu, drive=None, zeta=0.0):
     eps, mu = _v.arnold(eps, mu)
     drive, zeta = _v.general_drive(drive, zeta)
     if drive is not None:
-        return _drv.verdict(eps, mu, drive, zeta)[1]
+        return _v.scalars(np.asarray(_drv.verdict(eps, mu, drive, zeta)[1]))
     stable, n = _verdict(eps, mu)
-    return np.where(stable, n, -1).astype(np.int64)
+    return _v.scalars(np.where(stable, n, -1).astype(np.int64))
 
 
+@_v.shapes_named
 def zone_edges(mu, n, drive=None, zeta=0.0):
     """Edges ``eps_lo < eps_hi`` of stability zone ``n`` at the given ``mu``.
 
@@ -324,6 +327,7 @@ def zone_edges(mu, n, drive=None, zeta=0.0):
     return _edges_eps(mu, n)
 
 
+@_v.shapes_named
 def zone_width(mu, n, log=False):
     """Width ``eps_hi - eps_lo`` of zone ``n``, free of cancellation.
 
@@ -384,6 +388,7 @@ def zone_width(mu, n, log=False):
     return log_du - np.log(SQRT8 * q)
 
 
+@_v.shapes_named
 def G_m_curve(mu, m):
     """The curve ``G_m``: ``2 sqrt 2 eps sqrt(1 - mu^2) = (2m + 1) pi / 2``, as ``eps(mu)``.
 
@@ -415,13 +420,14 @@ class StabilityMargin(Summary):
     zone : ndarray of int
         The zone containing the point, or the nearest zone where unstable.
     eps_lo, eps_hi : ndarray
-        Edges of that zone.
+        Edges of that zone; NaN where there is none to give (``mu >= 1``, or a phase
+        ``u = w_e T`` beyond ``2^52``, whose rounding exceeds a whole zone).
     margin : ndarray
         Signed relative distance to the nearest edge of that zone,
         ``min(eps - eps_lo, eps_hi - eps) / eps``: positive inside a zone
         (the fraction by which ``T`` may change before stability is lost),
         negative outside (the fraction by which ``T`` must change to gain it).
-        ``-inf`` where ``mu >= 1``.
+        ``-inf`` where ``mu >= 1`` or ``u > 2^52``.
     """
 
     stable: np.ndarray
@@ -445,7 +451,12 @@ class StabilityMargin(Summary):
         return [("points", shape_of(self.stable)), ("stable", f"{100 * float(np.mean(self.stable)):.4g}%"),
                 ("margin", f"{span(100 * np.asarray(self.margin))} % of eps")]
 
+    def __post_init__(self):
+        _v.scalar_fields(self)
 
+
+
+@_v.shapes_named
 def stability_margin(eps, mu, drive=None, zeta=0.0):
     """Signed relative distance from ``(eps, mu)`` to the nearest zone edge along ``eps``.
 
@@ -466,7 +477,7 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     eps, mu = np.broadcast_arrays(eps, mu)
     # no zones where A <= g, and none resolvable once the phase u = w_e T exceeds 2^52 (its
     # rounding is then more than a whole zone): the margin is -inf there, as for A <= g
-    u_all = SQRT8 * eps * np.sqrt(np.maximum((1.0 - mu) * (1.0 + mu), 0.0))
+    u_all = SQRT8 * eps * np.sqrt(np.maximum((1.0 - np.minimum(mu, 1.0)) * (1.0 + np.minimum(mu, 1.0)), 0.0))
     ell = (mu < 1.0) & (u_all < 2.0**52)
     mus = np.where(ell, mu, 0.5)
     eps_s = np.where(ell, eps, 1.0)
@@ -500,6 +511,7 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     )
 
 
+@_v.shapes_named
 def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
     """Exact stability verdicts over the grid ``eps`` x ``mu``.
 
@@ -530,7 +542,7 @@ def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
     ``eps`` grid by binary search, and the stable runs are painted row by row.
     The cost is ``O(len(mu) * zones * log len(eps))`` plus writing the output.
     """
-    eps, mu = _v.arnold(eps, mu)
+    eps, mu = _v.arnold(eps, mu, together=False)  # the grid's two axes
     drive, zeta = _v.general_drive(drive, zeta)
     if zeta is not None and zeta.ndim != 0:
         raise _v.KapitzaValueError(f"zeta must be a single number for a grid; got shape {zeta.shape}")
@@ -586,6 +598,7 @@ def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
     return target
 
 
+@_v.shapes_named
 def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Half-periods ``T_lo < T_hi`` bounding stability zone ``n`` for fixed ``A > g``.
 
@@ -628,6 +641,7 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     return lo * scale, hi * scale
 
 
+@_v.shapes_named
 def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Amplitudes ``A_lo < A_hi`` bounding stability zone ``n`` for fixed half-period ``T``.
 
@@ -666,7 +680,7 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
                  zip(T.ravel(), n.ravel(), l.ravel(), g.ravel(), c.ravel())]
         lo = np.array([p[0] for p in pairs]).reshape(T.shape)
         hi = np.array([p[1] for p in pairs]).reshape(T.shape)
-        return lo, hi
+        return _v.scalars(np.asarray(lo), np.asarray(hi))
     T, n, l, g = np.broadcast_arrays(T, n, l, g)
     kappa = 2.0 * g * T * T / l
 
@@ -681,5 +695,8 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
             return u - nn * PI - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
 
     u = X.illinois(F, nn * PI + 0.0, (nn + 1.0) * PI)
-    A = np.stack([g, g]) + np.stack([l, l]) * (u / np.stack([T, T])) ** 2
-    return A[0], A[1]
+    TT, ll, gg = np.stack([T, T]), np.stack([l, l]), np.stack([g, g])
+    with np.errstate(over="ignore"):  # (u / T)^2 may overflow where l (u / T)^2 does not
+        A = gg + ll * (u / TT) ** 2
+        A = np.where(np.isfinite(A), A, gg + (np.sqrt(ll) * u / TT) ** 2)
+    return _v.scalars(A[0], A[1])

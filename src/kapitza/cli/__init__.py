@@ -56,6 +56,9 @@ def build_parser() -> Parser:
 
 
 def main(argv=None) -> int:
+    from .._interrupt import done
+
+    done()  # the imports are over: a Ctrl-C from here on is caught below
     parser = build_parser()
     args = parser.parse_args(argv)
     if getattr(args, "func", None) is None:

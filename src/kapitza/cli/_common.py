@@ -9,7 +9,8 @@ from pathlib import Path
 from .._io import to_jsonable
 from ..parameters import G_EARTH
 
-__all__ = ["CLIError", "Parser", "add_parameters", "parameters_from", "print_json", "finite_float", "format_table"]
+__all__ = ["CLIError", "Parser", "add_parameters", "parameters_from", "print_json", "finite_float", "positive_float",
+           "format_table", "count"]
 
 
 class CLIError(Exception):
@@ -35,6 +36,21 @@ def finite_float(text: str) -> float:
     if v != v or v in (float("inf"), float("-inf")):
         raise argparse.ArgumentTypeError(f"must be finite: {text!r}")
     return v
+
+
+def positive_float(text: str) -> float:
+    """An option's value that must be a finite number > 0."""
+    v = finite_float(text)
+    if not v > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0: {text!r}")
+    return v
+
+
+def count(option: str, value: int, limit: int, minimum: int = 1) -> int:
+    """An integer option ``minimum <= value <= limit`` (the limit lifted by ``KAPITZA_ALLOW_LARGE=1``)."""
+    from .._validate import bounded_count
+
+    return bounded_count(option, value, limit, minimum=minimum)
 
 
 def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):

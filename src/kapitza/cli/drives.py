@@ -8,7 +8,7 @@ import numpy as np
 from .. import _io
 from ..drives import parse_drive
 from ..limits import threshold_table
-from ._common import CLIError, finite_float, format_table, out_stem, print_json
+from ._common import CLIError, count, finite_float, format_table, out_stem, print_json
 
 DRIVE_HELP = ("a drive: 'square' (the paper's), 'sine', 'rectangular:DUTY' (e.g. rectangular:0.3), or "
               "'steps:LEVELS:FRACTIONS' (e.g. steps:2,-1,1,-1:0.2,0.3,0.2,0.3: accelerations LEVELS x A for "
@@ -62,8 +62,7 @@ def cmd_compare(args):
         raise CLIError(f"--zeta must lie in [0, 10); got {args.zeta!r}")
     if not (0.0 < args.eps_max <= 50.0):
         raise CLIError(f"--eps-max must lie in (0, 50]; got {args.eps_max!r}")
-    if not (2 <= args.points <= 20000):
-        raise CLIError(f"--points must lie in [2, 20000]; got {args.points!r}")
+    count("--points", args.points, 20_000, minimum=2)
     mu_table = _mu_list(args.mu)
     rows = threshold_table(mu_table, drives)
     table = [r.as_dict() for r in rows]

@@ -8,7 +8,8 @@ import numpy as np
 from .. import _io
 from ..analysis import analyze
 from ..periodic import boundary_table
-from ._common import (CLIError, add_drive, add_parameters, drive_from, finite_float, format_table, out_stem,
+from .._validate import bounded_work
+from ._common import (CLIError, add_drive, add_parameters, count, drive_from, finite_float, format_table, out_stem,
                       parameters_from, print_json)
 
 
@@ -122,8 +123,7 @@ def cmd_stability(args):
 
 # ------------------------------------------------------------------ periods
 def cmd_periods(args):
-    if args.count < 1 or args.count > 100000:
-        raise CLIError(f"--count must be between 1 and 100000; got {args.count}")
+    count("--count", args.count, 100_000)
     if (args.A is None) == (args.mu is None):
         raise CLIError("give --A or --mu (one of them)")
     if args.mu is not None:
@@ -155,10 +155,9 @@ def _zone_rows(n_zones, mu, drive=None, zeta=0.0):
 
 
 def cmd_zones(args):
-    if args.zones < 1 or args.zones > 10000:
-        raise CLIError(f"--zones must be between 1 and 10000; got {args.zones}")
-    if args.points < 1 or args.points > 10_000_000:
-        raise CLIError(f"--points must be between 1 and 10000000; got {args.points}")
+    count("--zones", args.zones, 10_000)
+    count("--points", args.points, 10_000_000)
+    bounded_work("--zones * --points", args.zones * args.points, 2_000_000, what="edges held in memory")
     if not (0.0 < args.mu_min <= args.mu_max < 1.0):
         raise CLIError(f"need 0 < mu-min <= mu-max < 1; got mu-min={args.mu_min:g}, mu-max={args.mu_max:g}")
     if args.out and Path(args.out).suffix.lower() not in (".csv", ".json"):
@@ -201,8 +200,7 @@ def cmd_chart(args):
     from ..figures.chart import (magnified_zones, magnified_zones_physical, plot_tongue, plot_zones,
                                  plot_zones_physical, zone_chart_axes)
 
-    if not (2 <= args.points <= 200000):
-        raise CLIError(f"--points must be between 2 and 200000; got {args.points}")
+    count("--points", args.points, 200_000, minimum=2)
     mark = None
     if args.mark_eps is not None or args.mark_mu is not None:
         if args.mark_eps is None or args.mark_mu is None:

@@ -8,8 +8,8 @@ import numpy as np
 from .. import _io
 from .. import _validate as _v
 from ..analysis import analyze
-from ._common import (CLIError, add_drive, add_parameters, drive_from, finite_float, format_table, out_stem,
-                      parameters_from, print_json)
+from ._common import (add_drive, add_parameters, count, drive_from, finite_float, format_table,
+                      out_stem, parameters_from, positive_float, print_json)
 
 
 def register(sub):
@@ -33,7 +33,7 @@ def register(sub):
     p.add_argument("--model", choices=["nonlinear", "linear", "both"], default="both",
                    help="equation of motion; 'both': nonlinear, with the linear one for comparison (default)")
     _add_solver(p)
-    p.add_argument("--tol", type=finite_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
+    p.add_argument("--tol", type=positive_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
     p.add_argument("--orbits", type=int, default=12, help="initial states in the stroboscopic-map ensemble (default 12)")
     p.add_argument("--strobe-periods", type=int, default=300, help="periods each orbit of the map is followed (default 300)")
     p.add_argument("--out", metavar="STEM", help="write data and figures under this stem")
@@ -58,7 +58,7 @@ def register(sub):
     p.add_argument("--model", choices=["nonlinear", "linear"], default="nonlinear")
     p.add_argument("--compare-linear", action="store_true", help="also draw the linear theta(t) in the time panel")
     _add_solver(p)
-    p.add_argument("--tol", type=finite_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
+    p.add_argument("--tol", type=positive_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
     p.add_argument("--fps", type=finite_float, default=25.0, help="playback frames per second (default 25)")
     p.add_argument("--slowdown", type=finite_float, default=None,
                    help="playback seconds per second of motion (default: 24 frames per drive period)")
@@ -131,18 +131,13 @@ def _parameters_dict(T, A, l, g, rep):
     return dict(T=T, A=A, l=l, g=g, eps=rep.eps, mu=rep.mu, verdict=rep.verdict, stable=rep.stable, zone=rep.zone)
 
 
-def _check_count(name, value, lo, hi):
-    if not (lo <= value <= hi):
-        raise CLIError(f"--{name} must be between {lo} and {hi}; got {value}")
-
-
 # ------------------------------------------------------------------ simulate
 def cmd_simulate(args):
     from ..motion import simulate, stroboscopic_map
 
     T, A, l, g, rep = _physical_from(args)
-    _check_count("orbits", args.orbits, 1, 1000)
-    _check_count("strobe-periods", args.strobe_periods, 1, 100000)
+    count("--orbits", args.orbits, 1000)
+    count("--strobe-periods", args.strobe_periods, 100_000)
     model = "nonlinear" if args.model == "both" else args.model
     common = dict(periods=args.periods, points_per_period=args.points_per_period, c=args.damping,
                   method=args.method, rtol=args.rtol, atol=args.atol, drive=args.drive_obj)
@@ -265,8 +260,8 @@ def cmd_basin(args):
     from ..motion import basin, survival
 
     T, A, l, g, rep = _physical_from(args)
-    _check_count("resolution", args.resolution, 2, 5000)
-    _check_count("workers", args.workers, 1, 256)
+    count("--resolution", args.resolution, 5000, minimum=2)
+    count("--workers", args.workers, 1024)
     models = ["linear", "nonlinear"] if args.model == "both" else [args.model]
     basins = []
     for m in models:

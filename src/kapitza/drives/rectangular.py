@@ -24,7 +24,7 @@ class RectangularWave(PiecewiseConstant):
     def __init__(self, duty):
         if np.ndim(duty) != 0:
             raise _v.KapitzaValueError(f"duty must be a single number in (0, 1); got {duty!r}")
-        d = float(_v.in_range("duty", duty, 0.0, 1.0))
+        d = _v.one("duty", _v.in_range("duty", duty, 0.0, 1.0))
         self.duty = d
         super().__init__((1.0, -d / (1.0 - d)), (d, 1.0 - d))
 

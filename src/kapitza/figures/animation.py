@@ -26,8 +26,13 @@ from .motion import LINEAR_STYLE, NONLINEAR_STYLE, WINDOW_STYLE, parameter_label
 
 __all__ = ["ProgressBar", "AnimationResult", "animate", "ffmpeg_available", "frame_times", "MAX_FRAMES"]
 
-#: Refuse renders longer than this many frames.
+#: Refuse renders longer than this many frames (``KAPITZA_ALLOW_LARGE=1`` lifts it).
 MAX_FRAMES = 20000
+#: Largest resolution (the figure is 9 x 4.6 inches: 600 dpi is 5400 x 2760 pixels).
+MAX_DPI = 600
+#: A GIF's frames are held in memory (RGBA) until the file is written: at most this many bytes.
+MAX_GIF_BYTES = 2 * 1024**3
+FIGSIZE = (9.0, 4.6)
 
 
 class ProgressBar:
@@ -121,9 +126,12 @@ def default_slowdown(T, fps):
 
 
 def frame_times(duration, fps, slowdown):
-    """Times of the frames [s of motion]: ``k / (fps * slowdown)`` up to ``duration``."""
-    n = int(np.floor(duration * fps * slowdown + 1e-9)) + 1
-    return np.arange(n) / (fps * slowdown)
+    """Times of the frames [s of motion]: ``k / (fps * slowdown)`` up to ``duration``
+    (at most :data:`MAX_FRAMES` of them, checked before anything is allocated)."""
+    n = np.floor(duration * fps * slowdown + 1e-9) + 1.0
+    _v.bounded_work("the frames, duration * fps * slowdown", n, MAX_FRAMES,
+                    what=f"a render of minutes; shorten the motion or lower fps * slowdown (now {fps:g} * {slowdown:.3g})")
+    return np.arange(int(n)) / (fps * slowdown)
 
 
 #: Height of the band kept free above the pendulum for the clock, in rod lengths.
@@ -187,15 +195,13 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     fmt = format or (path.suffix.lower().lstrip(".") or "gif")
     if fmt not in ("gif", "mp4"):
         raise _v.KapitzaValueError(f"animation format must be 'gif' or 'mp4'; got {fmt!r}")
-    fps = float(_v.in_range("fps", fps, 1.0, 60.0, lo_open=False, hi_open=False))
-    slowdown = default_slowdown(traj.T, fps) if slowdown is None else float(_v.positive("slowdown", slowdown))
-    dpi = int(_v.nonnegative_int("dpi", dpi, minimum=20))
+    fps = _v.one("fps", _v.in_range("fps", fps, 1.0, 60.0, lo_open=False, hi_open=False))
+    slowdown = default_slowdown(traj.T, fps) if slowdown is None else _v.one("slowdown", _v.positive("slowdown", slowdown))
+    dpi = _v.bounded_count("dpi", dpi, MAX_DPI, minimum=20)
+    if tol is not None:
+        tol = _v.one("tol", _v.positive("tol", tol))
     duration = float(traj.t[-1])
     times = frame_times(duration, fps, slowdown)
-    if times.size > MAX_FRAMES:
-        raise _v.KapitzaValueError(
-            f"the animation would need {times.size} frames (> {MAX_FRAMES}); shorten the motion or lower "
-            f"fps * slowdown (now {fps:g} * {slowdown:.3g})")
     message = ""
     if fmt == "mp4" and not ffmpeg_available():
         # Never replace a GIF the user already has: fall back to a fresh name, and say which.
@@ -205,6 +211,12 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
         fmt, path = "gif", gif
     else:
         path = path.with_suffix("." + fmt)
+    if fmt == "gif":
+        frame_bytes = 4.0 * round(FIGSIZE[0] * dpi) * round(FIGSIZE[1] * dpi)
+        _v.bounded_work("the GIF's frames * bytes per frame", times.size * frame_bytes, MAX_GIF_BYTES,
+                        what=f"a GIF's frames are held in memory until it is written: {times.size} frames of "
+                             f"{frame_bytes / 2**20:.1f} MiB at dpi {dpi}; lower --dpi, fps * slowdown or the "
+                             f"periods, or write MP4")
 
     th, _ = traj.at(times)
     drive = getattr(traj, "drive", None)
@@ -214,7 +226,7 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     bx = -l * np.sin(th)
     by = yp + l * np.cos(th)
 
-    fig = plt.figure(figsize=(9.0, 4.6), dpi=dpi, layout="constrained")
+    fig = plt.figure(figsize=FIGSIZE, dpi=dpi, layout="constrained")
     gs = fig.add_gridspec(1, 2, width_ratios=[1.0, 1.35])
     ax = fig.add_subplot(gs[0])
     axt = fig.add_subplot(gs[1])

@@ -7,11 +7,11 @@ the tests run one against the other at small amplitude.
 """
 from __future__ import annotations
 
-import os
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+from .. import _validate as _v
 from ..propagation import _apply, _flow
 from ._elliptic import _phase_step
 
@@ -44,21 +44,22 @@ def phases(T, A, l, g):
     return (((g + A) / l, T), ((g - A) / l, T))
 
 
-def usable_workers(workers, tasks):
-    """Worker processes worth starting: no more than the CPUs this process may run on, nor
-    than the tasks to share (asking for more only adds start-up cost)."""
-    try:
-        cpus = len(os.sched_getaffinity(0))
-    except AttributeError:  # not on every platform
-        cpus = os.cpu_count() or 1
-    return max(1, min(int(workers), cpus, tasks))
+#: Member-periods one call may map (``KAPITZA_ALLOW_LARGE=1`` lifts it): about a minute or two.
+MAX_MEMBER_PERIODS = 200_000_000
+
+
+def bound_ensemble(periods, members, name="periods * (members + 300)"):
+    """Refuse ensembles whose work, ``periods * (members + 300)`` phase maps, is not bounded
+    (300: the cost of one period's step in member units)."""
+    _v.bounded_work(name, float(periods) * (float(members) + 300.0), MAX_MEMBER_PERIODS,
+                    what="member-periods mapped, about a minute of work")
 
 
 def chunk_results(fn, bounds, args, workers=1, progress=None):
     """``(a, b, fn(*args(a, b)))`` for each ``(a, b)`` in ``bounds``, in order: in this process,
-    or spread over :func:`usable_workers` processes. ``progress(done, total)`` after each."""
+    or spread over :func:`kapitza._validate.workers` processes. ``progress(done, total)`` after each."""
     total = len(bounds)
-    workers = usable_workers(workers, total)
+    workers = _v.workers(workers, total)
     if workers > 1:
         with ProcessPoolExecutor(max_workers=workers) as pool:
             futures = [pool.submit(fn, *args(a, b)) for a, b in bounds]

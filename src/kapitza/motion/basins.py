@@ -29,10 +29,13 @@ from .. import _validate as _v
 from .._display import Summary, num
 from ..drives import as_drive
 from ..parameters import G_EARTH
-from ._maps import AMPLITUDES, STEPS, chunk_results, phases
-from .nonlinear import MODELS, _choice, _physical
+from ._maps import AMPLITUDES, STEPS, bound_ensemble, chunk_results, phases
+from .nonlinear import MAX_PERIODS, MODELS, _check_speed, _choice, _physical
 
 __all__ = ["survival", "Basin", "basin"]
+
+#: Grid points per axis of a basin (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_GRID = 5000
 
 
 def _scalar_parameters(T, A, l, g, eps=None, mu=None):
@@ -46,7 +49,7 @@ def _scalar_parameters(T, A, l, g, eps=None, mu=None):
 
 
 def _tolerance(tol):
-    return float(_v.in_range("tol", tol, 0.0, np.pi))
+    return _v.one("tol", _v.in_range("tol", tol, 0.0, np.pi))
 
 
 def _sub_steps(s, dur, scaled=1.0):
@@ -168,6 +171,7 @@ def _run_chunks(theta, dtheta, plan, periods, tol, model, chunk, workers, progre
     return out
 
 
+@_v.shapes_named
 def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5,
              model="nonlinear", chunk=4096, workers=1, progress=None, drive=None):
     """How many whole drive periods each motion stays within ``tol`` of the upright.
@@ -211,20 +215,27 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     dtheta0 = _v.finite("dtheta0", dtheta0)
     theta0, dtheta0 = np.broadcast_arrays(theta0, dtheta0)
     T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
-    periods = int(_v.nonnegative_int("periods", periods, minimum=1))
+    periods = _v.bounded_count("periods", periods, MAX_PERIODS, minimum=1)
     tol = _tolerance(tol)
     _choice("model", model, MODELS)
-    chunk = int(_v.nonnegative_int("chunk", chunk, minimum=1))
-    workers = int(_v.nonnegative_int("workers", workers, minimum=1))
+    chunk = _v.bounded_count("chunk", chunk, 10**7, minimum=1)
+    _v.bounded_count("workers", workers, 1024, minimum=1)
     th = np.ascontiguousarray(theta0, dtype=float).ravel()
     om = np.ascontiguousarray(dtheta0, dtype=float).ravel()
     d = as_drive(drive)
+    # Sub-steps of scaled length <= 1 per phase: the work grows with w T as well.
+    per_period = sum(max(1.0, np.ceil(np.sqrt(abs(s_)) * dur)) for s_, dur in
+                     (phases(T, A, l, g) if not hasattr(d, "levels") or d.name == "square" else d.phases(T, A, l, g)))
+    bound_ensemble(periods * per_period / 2.0, th.size,
+                   name="periods * (sub-steps w T per phase, from T, A, l, g) * (members + 300)")
+    if model == "nonlinear" and hasattr(d, "levels"):
+        _check_speed(om, [s_ for s_, _ in (phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g))])
     if not hasattr(d, "levels"):
         out = _survival_integrated(th, om, T, A, l, g, d, periods, tol, model, min(chunk, 1024), progress)
-        return out.reshape(theta0.shape)
+        return _v.scalars(out.reshape(theta0.shape))
     plan = phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g)
     out = _run_chunks(th, om, plan, periods, tol, model, chunk, workers, progress)
-    return out.reshape(theta0.shape)
+    return _v.scalars(out.reshape(theta0.shape))
 
 
 @dataclass(frozen=True, repr=False)
@@ -310,6 +321,7 @@ class Basin(Summary):
                     shape=list(self.periods_survived.shape), fraction=self.fraction)
 
 
+@_v.shapes_named
 def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5, theta_max=None,
           dtheta_max=None, n_theta=121, n_dtheta=121, model="nonlinear", chunk=4096, workers=1, progress=None,
           drive=None) -> Basin:
@@ -344,12 +356,11 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     """
     T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
     tol = _tolerance(tol)
-    theta_max = tol if theta_max is None else float(_v.positive("theta_max", theta_max))
-    dtheta_max = 2.0 * tol / T if dtheta_max is None else float(_v.positive("dtheta_max", dtheta_max))
-    n_theta = int(_v.nonnegative_int("n_theta", n_theta, minimum=2))
-    n_dtheta = int(_v.nonnegative_int("n_dtheta", n_dtheta, minimum=2))
-    if n_theta * n_dtheta > 25_000_000:
-        raise _v.KapitzaValueError(f"n_theta * n_dtheta must be <= 2.5e7; got {n_theta * n_dtheta}")
+    theta_max = tol if theta_max is None else _v.one("theta_max", _v.positive("theta_max", theta_max))
+    dtheta_max = 2.0 * tol / T if dtheta_max is None else _v.one("dtheta_max", _v.positive("dtheta_max", dtheta_max))
+    n_theta = _v.bounded_count("n_theta", n_theta, MAX_GRID, minimum=2)
+    n_dtheta = _v.bounded_count("n_dtheta", n_dtheta, MAX_GRID, minimum=2)
+    _v.bounded_work("n_theta * n_dtheta", n_theta * n_dtheta, 25_000_000, what="grid points held in memory")
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)
     grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model,

@@ -55,8 +55,8 @@ def _damping(c):
 
 
 def _tolerances(rtol, atol):
-    rtol = float(_v.in_range("rtol", rtol, 1e-13, 1.0, lo_open=False))
-    atol = float(_v.positive("atol", atol))
+    rtol = _v.one("rtol", _v.in_range("rtol", rtol, 1e-13, 1.0, lo_open=False))
+    atol = _v.one("atol", _v.positive("atol", atol))
     return rtol, atol
 
 
@@ -72,7 +72,16 @@ def _method(method, c, model="nonlinear"):
 
 
 def _physical(T, A, l, g, eps=None, mu=None):
-    return _v.physical_parameters(T, A, l, g, eps, mu)
+    T, A, l, g = _v.physical_parameters(T, A, l, g, eps, mu)
+    with np.errstate(over="ignore"):
+        s = (g + A) / l
+    if not np.all(np.isfinite(s)):
+        bad = ~np.isfinite(np.broadcast_to(s, np.broadcast_shapes(s.shape, l.shape)))
+        raise _v.KapitzaValueError(
+            f"A, g and l must give a finite (g + A)/l, the hyperbolic phase's w_h^2; got l = "
+            f"{float(np.broadcast_to(l, bad.shape)[bad].flat[0])!r} with A = "
+            f"{float(np.broadcast_to(A, bad.shape)[bad].flat[0])!r}")
+    return T, A, l, g
 
 
 def _times(t):
@@ -82,7 +91,88 @@ def _times(t):
     return t
 
 
+#: Drive periods a call may follow one by one (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_PERIODS = 1_000_000
+#: Samples a trajectory may hold (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_SAMPLES = 20_000_000
+#: Largest ``(w_h + |dtheta0| + c) * duration`` [rad] handed to DOP853: about 20 steps per radian, so
+#: a few million steps (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_DOP853_SWEEP = 1e5
+#: Largest ``|dtheta| / (2 sqrt|s|)``: its square, the phase energy, must stay a double.
+_SPEED_LIMIT = 1e150
+#: Angles beyond this are reduced modulo ``2 pi`` exactly before the motion is followed.
+_REDUCE_ABOVE = 1e3
+
+
+def _peak(drive):
+    """Largest ``|a| / A`` of a drive (1 for the square wave and the sine)."""
+    return float(np.max(np.abs(drive.levels))) if hasattr(drive, "levels") else 1.0
+
+
+def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
+    """Refuse spans whose work is not bounded: ``t_end / (2T)`` periods, and for DOP853 the
+    angle ``(w_h + |dtheta0| + c) t_end`` it must resolve (large ``c`` makes the equation stiff)."""
+    T, A, l, g, c = (np.asarray(v, float) for v in (T, A, l, g, c))
+    _v.bounded_work("duration / (2T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
+                    what="drive periods, each followed phase by phase")
+    if method == "dop853":
+        w = float(np.max(np.sqrt((g + peak * A) / l))) + float(np.max(np.abs(dtheta0)))
+        cmax = float(np.max(c))
+        what = ("the damping makes the equation stiff: DOP853 needs about c * duration / 3 steps; use a "
+                "shorter span or weaker damping" if cmax > w else "DOP853 takes about 20 steps per radian")
+        _v.bounded_work("(w_h + |dtheta0| + c) * duration", (w + cmax) * float(t_end), MAX_DOP853_SWEEP, what=what)
+
+
+def _check_speed(dtheta, s_values, name="dtheta0"):
+    """Refuse angular velocities whose phase energy overflows a double: ``|dtheta| / (2 sqrt|s|) <= 1e150``
+    for every phase ``s = (g + a)/l != 0`` (the limit scales with ``sqrt|s|``)."""
+    s = np.abs(np.asarray(s_values, float)).ravel()
+    s = s[s > 0]
+    if s.size == 0:
+        return
+    lim = 2.0 * _SPEED_LIMIT * float(np.sqrt(np.min(s)))
+    big = np.abs(dtheta) > lim
+    if np.any(big):
+        v = np.asarray(dtheta)[big].flat[0]
+        raise _v.KapitzaValueError(
+            f"{name} must satisfy |{name}| <= {lim:.3g} rad/s here (2e150 sqrt|s|, s = (g + a)/l of the slowest "
+            f"phase; beyond it the energy of the motion overflows a double); got {float(v)!r}")
+
+
+def _reduce_angle(theta):
+    """``theta = r + 2 pi k`` with ``|r| <= pi``, reduced exactly (in extended precision) where
+    ``|theta| > 1e3``; returns ``(r, k)`` (``k`` is ``None`` when nothing was reduced).
+
+    The motion depends on ``theta`` modulo ``2 pi`` only, but a double near ``1e15`` is spaced
+    by ``0.125``: carrying the unwrapped angle from phase to phase would lose the digits that
+    matter. The turns are added back to the result."""
+    theta = np.asarray(theta, float)
+    big = np.abs(theta) > _REDUCE_ABOVE
+    if not big.any():
+        return theta, None
+    import mpmath
+
+    r = theta.copy()
+    k = np.zeros(theta.shape)
+    with mpmath.workprec(1200):  # 2**1024 / (2 pi) to 53 bits after the point
+        two_pi = 2 * mpmath.pi
+        for i in np.flatnonzero(big.ravel()):
+            x = mpmath.mpf(float(theta.flat[i]))
+            n = mpmath.nint(x / two_pi)
+            r.flat[i] = float(x - n * two_pi)
+            k.flat[i] = float(n)
+    return r, k
+
+
+def _add_turns(theta, k):
+    return theta if k is None else theta + TWO_PI * k
+
+
+TWO_PI = 2.0 * np.pi
+
+
 # ------------------------------------------------------------------ one phase
+@_v.shapes_named
 def phase_flow(t, theta0, dtheta0, s):
     """Exact flow of one phase, the autonomous pendulum ``theta'' = s sin(theta)``.
 
@@ -118,12 +208,24 @@ def phase_flow(t, theta0, dtheta0, s):
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     s = _v.finite("s", s)
-    t, theta0, dtheta0, s = np.broadcast_arrays(t, theta0, dtheta0, s)
+    t, theta0, dtheta0, s = _v.broadcast(t=t, theta0=theta0, dtheta0=dtheta0, s=s)
+    _check_speed_pointwise(dtheta0, s)
     back = t < 0
     # Time reversal: run the mirrored state forward and mirror back.
     om = np.where(back, -dtheta0, dtheta0)
-    th1, om1 = _phase_step(theta0, om, s, np.abs(t))
-    return th1, np.where(back, -om1, om1)
+    r, k = _reduce_angle(theta0)
+    th1, om1 = _phase_step(r, om, s, np.abs(t))
+    return _v.scalars(np.asarray(_add_turns(th1, k)), np.where(back, -om1, om1))
+
+
+def _check_speed_pointwise(dtheta, s):
+    """:func:`_check_speed` element by element (``s`` broadcast with ``dtheta``)."""
+    lim = 2.0 * _SPEED_LIMIT * np.sqrt(np.abs(s))
+    big = (np.abs(dtheta) > lim) & (s != 0)
+    if big.any():
+        raise _v.KapitzaValueError(
+            f"dtheta0 must satisfy |dtheta0| <= 2e150 sqrt|s| (beyond it the energy of the motion overflows a "
+            f"double); got dtheta0 = {float(dtheta[big].flat[0])!r} with s = {float(s[big].flat[0])!r}")
 
 
 # ------------------------------------------------------------------ exact, piecewise
@@ -173,9 +275,6 @@ def _chunk_size(rtol):
 def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
     """DOP853 phase by phase. ``t``: sorted unique 1-D times >= 0; ``theta0``, ``dtheta0``:
     1-D; parameters scalars. Returns arrays ``(len(t), n)``."""
-    # scipy.integrate takes half a second to import: only the integrator path pays for it.
-    from scipy.integrate import solve_ivp
-
     n_all = theta0.size
     out_th = np.empty((t.size, n_all))
     out_om = np.empty((t.size, n_all))
@@ -202,10 +301,7 @@ def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
                 def rhs(_, z, s=s):
                     return np.concatenate([z[n:], s * np.sin(z[:n]) - c * z[n:]])
             if t1 > t0:
-                sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol * scale, atol=atol * scale,
-                                t_eval=t[lo:hi] if hi > lo else None)
-                if sol.status != 0:
-                    raise RuntimeError(f"DOP853 failed on [{t0:g}, {t1:g}] s: {sol.message}")
+                sol = _solve(rhs, t0, t1, y, rtol * scale, atol * scale, t_eval=t[lo:hi] if hi > lo else None)
                 if hi > lo:
                     out_th[lo:hi, a:b] = sol.y[:n].T
                     out_om[lo:hi, a:b] = sol.y[n:].T
@@ -217,10 +313,33 @@ def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
 
 
 def _last_state(rhs, t0, t1, y, rtol, atol):
+    return _solve(rhs, t0, t1, y, rtol, atol).y[:, -1]
+
+
+#: Below this ``max |y|`` the state is rescaled by a power of two before DOP853 sees it.
+_TINY = 1e-100
+
+
+def _solve(rhs, t0, t1, y, rtol, atol, t_eval=None):
+    """DOP853 over ``[t0, t1]``; a failure raises.
+
+    A damped motion decays without end; once every component is below ``1e-100``,
+    ``sin(theta) = theta`` exactly in doubles, the equation is linear and homogeneous, and
+    the state is scaled by a power of two (exact) to order one for the step: otherwise
+    DOP853's error norm underflows (``0/0``) near ``|theta| ~ 1e-150`` and it stops with
+    "step size less than spacing"."""
     from scipy.integrate import solve_ivp
 
-    sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol, atol=atol)
-    return sol.y[:, -1]
+    peak = float(np.max(np.abs(y))) if y.size else 0.0
+    factor = 1.0
+    if 0.0 < peak < _TINY:
+        factor = float(2.0 ** -np.frexp(peak)[1])
+    sol = solve_ivp(rhs, (t0, t1), y * factor, method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval)
+    if sol.status != 0:
+        raise RuntimeError(f"DOP853 failed on [{t0:g}, {t1:g}] s: {sol.message}")
+    if factor != 1.0:
+        sol.y = sol.y / factor
+    return sol
 
 
 def _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
@@ -239,6 +358,7 @@ def _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=Fal
     return Y[inv.ravel(), ic].reshape(full), W[inv.ravel(), ic].reshape(full)
 
 
+@_v.shapes_named
 def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, c=0.0, method=None,
                      rtol=1e-10, atol=1e-12):
     """Motion of the full equation ``theta'' = (g + a(t))/l sin(theta) - c theta'``.
@@ -285,13 +405,21 @@ def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, ep
     dtheta0 = _v.finite("dtheta0", dtheta0)
     T, A, l, g = _physical(T, A, l, g, eps, mu)
     c = _damping(c)
+    _v.shape_check(t=t, theta0=theta0, dtheta0=dtheta0, T=T, A=A, l=l, g=g)
     method = _method(method, c)
     if method == "exact":
-        return _exact_motion(t, theta0, dtheta0, T, A, l, g)
-    rtol, atol = _tolerances(rtol, atol)
-    return _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol)
+        _check_speed(dtheta0, [(g + A) / l, (g - A) / l])
+    _budget(float(np.max(t)), T, A, l, g, c, method, dtheta0=dtheta0)
+    r, k = _reduce_angle(theta0)
+    if method == "exact":
+        th, om = _exact_motion(t, r, dtheta0, T, A, l, g)
+    else:
+        rtol, atol = _tolerances(rtol, atol)
+        th, om = _integrated_motion(t, r, dtheta0, T, A, l, g, c, rtol, atol)
+    return _v.scalars(np.asarray(_add_turns(th, k)), np.asarray(om))
 
 
+@_v.shapes_named
 def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None):
     """The energy of the current phase, ``theta'^2/2 + (g + a(t))/l cos(theta)`` [1/s^2].
 
@@ -378,8 +506,6 @@ def _exact_motion_plan(t, theta0, dtheta0, plan):
 def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, drive):
     """DOP853 for any drive, restarted at every step of a piecewise-constant drive (or every
     half-period of a smooth one), never across a jump of the acceleration."""
-    from scipy.integrate import solve_ivp
-
     full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape)
     traj = np.broadcast_shapes(theta0.shape, dtheta0.shape)
     th0 = np.broadcast_to(theta0, traj).ravel()
@@ -421,10 +547,7 @@ def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, dri
                     s_t = (g + A * drive._shape(np.mod(tt / T, 2.0))) / l
                     return np.concatenate([z[n:], s_t * sin(z[:n]) - c * z[n:]])
             sel = np.flatnonzero((tu > t0) & (tu <= t1))
-            sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", rtol=rtol * scale, atol=atol * scale,
-                            t_eval=tu[sel] if sel.size else None, dense_output=False)
-            if sol.status != 0:
-                raise RuntimeError(f"DOP853 failed on [{t0:g}, {t1:g}] s: {sol.message}")
+            sol = _solve(rhs, t0, t1, y, rtol * scale, atol * scale, t_eval=tu[sel] if sel.size else None)
             if sel.size:
                 Y[sel, a:b] = sol.y[:n].T
                 W[sel, a:b] = sol.y[n:].T
@@ -585,6 +708,11 @@ class Trajectory(Summary):
 
 
 def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive=None):
+    if model == "nonlinear":
+        r, k = _reduce_angle(theta0)
+        if k is not None:
+            th, om = _motion(model, method, t, r, dtheta0, T, A, l, g, c, rtol, atol, drive)
+            return _add_turns(th, k), om
     if drive is not None:
         if model == "linear" and method == "exact":
             return linear_motion(t, theta0, dtheta0, T, A, l, g, drive=drive, damping=c)
@@ -604,6 +732,7 @@ def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive=
                               T, A, l, g, c, rtol, atol)
 
 
+@_v.shapes_named
 def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=20.0,
              points_per_period=200, t=None, model="nonlinear", c=0.0, method=None, rtol=1e-10, atol=1e-12,
              drive=None) -> Trajectory:
@@ -647,9 +776,9 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     OverflowError
         For the linear model, where the motion grows beyond a double.
     """
-    theta0 = float(_v.finite("theta0", theta0))
-    dtheta0 = float(_v.finite("dtheta0", dtheta0))
-    T, A, l, g = (float(v) for v in _physical(T, A, l, g, eps, mu))
+    theta0 = _v.one("theta0", _v.finite("theta0", theta0))
+    dtheta0 = _v.one("dtheta0", _v.finite("dtheta0", dtheta0))
+    T, A, l, g = (_v.one(name, v) for name, v in zip("TAlg", _physical(T, A, l, g, eps, mu)))
     c = float(_damping(c))
     _choice("model", model, MODELS)
     drive = _drive_of(drive)
@@ -661,16 +790,21 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     method = _method(method, c, model)
     rtol, atol = _tolerances(rtol, atol)
     if t is None:
-        periods = float(_v.positive("periods", periods))
-        ppp = int(_v.nonnegative_int("points_per_period", points_per_period, minimum=4))
+        periods = _v.one("periods", _v.positive("periods", periods))
+        ppp = _v.bounded_count("points_per_period", points_per_period, MAX_SAMPLES, minimum=4)
+        _v.bounded_work("periods * points_per_period", np.ceil(periods * ppp), MAX_SAMPLES,
+                        what="samples held in memory")
         n = int(np.ceil(periods * ppp))
-        if n > 20_000_000:
-            raise _v.KapitzaValueError(f"periods * points_per_period must be <= 2e7; got {n}")
         t = np.linspace(0.0, 2.0 * T * periods, n + 1)
     else:
         t = _times(t).ravel()
+        _v.bounded_work("len(t)", t.size, MAX_SAMPLES, what="samples held in memory")
         if t.size and np.any(np.diff(t) < 0):
             raise _v.KapitzaValueError("t must be increasing")
+    if model == "nonlinear" and method == "exact":
+        _check_speed(dtheta0, [s_ for s_, _ in drive.phases(T, A, l, g)] if drive is not None else
+                     [(g + A) / l, (g - A) / l])
+    _budget(float(t[-1]) if t.size else 0.0, T, A, l, g, c, method, _peak(drive), dtheta0)
     th, om = _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive)
     return Trajectory(t=t, theta=np.asarray(th), dtheta=np.asarray(om), theta0=theta0, dtheta0=dtheta0,
                       T=T, A=A, l=l, g=g, c=c, model=model, method=method, rtol=rtol, atol=atol, drive=drive)

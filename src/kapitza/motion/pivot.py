@@ -55,9 +55,10 @@ def _checked(t, T, A):
     t = _v.finite("t", t)
     T = _v.positive("T", T)
     A = _v.positive("A", A)
-    return np.broadcast_arrays(t, T, A)
+    return _v.broadcast(t=t, T=T, A=A)
 
 
+@_v.shapes_named
 def pivot_acceleration(t, T, A):
     """The pivot's acceleration ``a(t)`` [m/s^2] (eq. 2.2).
 
@@ -73,9 +74,10 @@ def pivot_acceleration(t, T, A):
     ndarray
         ``+A`` on ``[2kT, (2k+1)T)``, ``-A`` on ``[(2k+1)T, (2k+2)T)``.
     """
-    return _acceleration(*_checked(t, T, A))
+    return _v.scalars(np.asarray(_acceleration(*_checked(t, T, A))))
 
 
+@_v.shapes_named
 def pivot_velocity(t, T, A):
     """The pivot's velocity [m/s]: periodic, zero mean, ``d/dt`` of it is ``a(t)``.
 
@@ -90,9 +92,10 @@ def pivot_velocity(t, T, A):
         ``A (t - T/2)`` on the hyperbolic phase, ``-A (t - 3T/2)`` on the elliptic one
         (``t`` taken modulo ``2T``).
     """
-    return _velocity(*_checked(t, T, A))
+    return _v.scalars(np.asarray(_velocity(*_checked(t, T, A))))
 
 
+@_v.shapes_named
 def pivot_displacement(t, T, A):
     """The pivot's height [m] above its mean position: periodic, zero mean, piecewise parabolic.
 
@@ -113,9 +116,10 @@ def pivot_displacement(t, T, A):
     The two integration constants are fixed by periodicity of the velocity and a
     zero mean of the displacement over one period.
     """
-    return _displacement(*_checked(t, T, A))
+    return _v.scalars(np.asarray(_displacement(*_checked(t, T, A))))
 
 
+@_v.shapes_named
 def pivot_stroke(T, A):
     """Peak-to-peak travel of the pivot, ``A T^2 / 4`` [m].
 

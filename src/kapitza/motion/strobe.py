@@ -15,8 +15,9 @@ import numpy as np
 from .. import _validate as _v
 from .._display import Summary, num, span
 from ..parameters import G_EARTH
-from ._maps import STEPS, chunk_results, phases
-from .nonlinear import (MODELS, _choice, _damping, _drive_of, _integrated_drive, _integrated_motion, _method, _physical,
+from ._maps import STEPS, bound_ensemble, chunk_results, phases
+from .nonlinear import (MAX_PERIODS, MAX_SAMPLES, MODELS, _add_turns, _budget, _check_speed, _choice, _damping,
+                        _drive_of, _integrated_drive, _integrated_motion, _method, _peak, _physical, _reduce_angle,
                         _tolerances)
 
 __all__ = ["StrobeOrbits", "stroboscopic_map"]
@@ -111,6 +112,7 @@ def _map_chunk(theta, dtheta, plan, record, model):
     return out_th, out_om
 
 
+@_v.shapes_named
 def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=1, every=None,
                      model="nonlinear",
                      c=0.0, method=None, rtol=1e-10, atol=1e-12, chunk=16384, workers=1, progress=None,
@@ -173,9 +175,9 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     for name, v in (("T", T), ("A", A), ("l", l), ("g", g)):
         if not isinstance(v, float):
             raise _v.KapitzaValueError(f"{name} must be a single value for the stroboscopic map; got shape {np.shape(v)}")
-    periods = int(_v.nonnegative_int("periods", periods))
+    periods = _v.bounded_count("periods", periods, MAX_PERIODS)
     if every is not None:
-        every = int(_v.nonnegative_int("every", every, minimum=1))
+        every = _v.bounded_count("every", every, MAX_PERIODS, minimum=1)
     _choice("model", model, MODELS)
     c = float(_damping(c))
     drive = _drive_of(drive)
@@ -184,12 +186,24 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
             raise _v.KapitzaValueError(f"method='exact' needs a piecewise-constant drive; got {drive.describe()}")
         method = "dop853"
     method = _method(method, c)
-    chunk = int(_v.nonnegative_int("chunk", chunk, minimum=1))
-    workers = int(_v.nonnegative_int("workers", workers, minimum=1))
+    chunk = _v.bounded_count("chunk", chunk, 10**7, minimum=1)
+    _v.bounded_count("workers", workers, 1024, minimum=1)
     shape = theta0.shape
     th0 = np.ascontiguousarray(theta0, dtype=float).ravel()
     om0 = np.ascontiguousarray(dtheta0, dtype=float).ravel()
+    n_records = periods // every + 2 if every is not None else 2
+    _v.bounded_work("recorded periods * members", float(n_records) * th0.size, MAX_SAMPLES,
+                    what="states held in memory")
     record = _record_list(periods, every)
+    if method == "exact" and model == "nonlinear":
+        _check_speed(om0, [s_ for s_, _ in (phases(T, A, l, g) if drive is None else drive.phases(T, A, l, g))])
+    if method == "dop853":
+        _budget(2.0 * T * periods, T, A, l, g, c, method, _peak(drive), om0)
+    else:
+        bound_ensemble(periods, th0.size)
+    turns = None
+    if model == "nonlinear":
+        th0, turns = _reduce_angle(th0)
     if method == "dop853":
         rtol, atol = _tolerances(rtol, atol)
         if drive is not None:
@@ -206,6 +220,7 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
         for a, b, (th_c, om_c) in chunk_results(_map_chunk, bounds, lambda a, b: (th0[a:b], om0[a:b], plan, record,
                                                                                   model), workers, progress):
             th[:, a:b], om[:, a:b] = th_c, om_c
+    th = _add_turns(th, turns)
     bad = ~(np.isfinite(th) & np.isfinite(om))
     if bad.any():
         k, i = np.argwhere(bad)[0]

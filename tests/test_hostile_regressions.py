@@ -1,0 +1,194 @@
+"""Breaks found by hostile input, each pinned by a test: bounded work, exact angle reduction,
+no NaN for fast starts, the DOP853 floor, named messages, atomic paths named as given,
+Ctrl-C while the command starts. (The fuzz suite, tests/test_fuzz.py, looks for the next ones.)"""
+import os
+import signal
+import subprocess
+import sys
+import time
+import warnings
+
+import mpmath
+import numpy as np
+import pytest
+
+import kapitza as K
+from kapitza import _validate as V
+from kapitza import mathieu
+from kapitza.motion import nonlinear_motion, phase_flow, simulate, stroboscopic_map, survival
+
+from cli_util import assert_one_line_error, run
+
+
+@pytest.fixture(autouse=True)
+def _strict(monkeypatch):
+    monkeypatch.delenv(V.ALLOW_LARGE_ENV, raising=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        yield
+
+
+def _refused(fn, *needles):
+    with pytest.raises(ValueError) as exc:
+        fn()
+    for n in needles:
+        assert n in str(exc.value), (n, str(exc.value))
+    return str(exc.value)
+
+
+# ------------------------------------------------------------------ bounded work
+@pytest.mark.parametrize("call, name", [
+    (lambda: K.boundary_periods(100.0, 10**12), "count"),
+    (lambda: K.boundary_table(100.0, 10**6), "count"),
+    (lambda: K.periodic_solution(100.0, 10**12), "index"),
+    (lambda: stroboscopic_map(0.1, 0.0, 0.15, 100.0, periods=10**12), "periods"),
+    (lambda: survival(0.1, 0.0, 0.15, 100.0, periods=10**9), "periods"),
+    (lambda: K.basin(0.15, 100.0, n_theta=10**12, n_dtheta=2), "n_theta"),
+    (lambda: nonlinear_motion(1e300, 0.1, 0.0, 0.15, 100.0), "duration / (2T)"),
+    (lambda: simulate(0.1, 0.0, 0.15, 100.0, periods=1e9), "periods * points_per_period"),
+    (lambda: simulate(0.1, 0.0, 0.15, 100.0, c=1e6), "stiff"),
+    (lambda: mathieu.characteristic_a(10**6, 1.0), "rows of the truncated matrix"),
+    (lambda: mathieu.characteristic_a(2, 1e300), "q must satisfy"),
+])
+def test_large_requests_are_refused_with_the_limit_and_the_way_past_it(call, name):
+    t0 = time.monotonic()
+    msg = _refused(call, name)
+    assert time.monotonic() - t0 < 5.0
+    if "must be <=" in msg:
+        assert V.ALLOW_LARGE_ENV + "=1" in msg
+
+
+def test_the_environment_variable_lifts_a_bound(monkeypatch):
+    _refused(lambda: V.bounded_count("count", 11, 10), "<= 10")
+    monkeypatch.setenv(V.ALLOW_LARGE_ENV, "1")
+    assert V.bounded_count("count", 11, 10) == 11
+    # beyond int64 nothing is wrapped, bound or no bound
+    _refused(lambda: V.bounded_count("count", 10**400, 10), "below 2**62")
+
+
+def test_workers_are_capped_at_the_cpus_and_the_chunks(monkeypatch):
+    started = []
+    import concurrent.futures as cf
+    from kapitza.motion import _maps
+
+    class Pool(cf.ThreadPoolExecutor):
+        def __init__(self, max_workers):
+            started.append(max_workers)
+            super().__init__(max_workers)
+
+    monkeypatch.setattr(_maps, "ProcessPoolExecutor", Pool)
+    th = np.linspace(0.0, 0.1, 20)
+    ref = stroboscopic_map(th, 0.0, 0.15, 100.0, periods=3, chunk=10)
+    out = stroboscopic_map(th, 0.0, 0.15, 100.0, periods=3, chunk=10, workers=40)
+    assert started and max(started) <= min(2, os.cpu_count())
+    np.testing.assert_array_equal(out.theta, ref.theta)
+    assert V.workers(40, 2) <= 2 and V.workers(1, 100) == 1
+
+
+# ------------------------------------------------------------------ wrong answers and NaN
+def test_huge_angles_are_reduced_exactly():
+    # the truth: the motion from the exact double 1e15 is that from its remainder modulo 2 pi
+    with mpmath.workprec(1200):
+        r = float(mpmath.mpf(1e15) - mpmath.nint(mpmath.mpf(1e15) / (2 * mpmath.pi)) * 2 * mpmath.pi)
+    truth = simulate(r, 0.0, 0.15, 100.0, periods=2).dtheta[-1]
+    got = simulate(1e15, 0.0, 0.15, 100.0, periods=2)
+    assert got.dtheta[-1] == pytest.approx(truth, rel=1e-9)
+    assert got.dtheta[-1] == pytest.approx(2.782, abs=1e-3)
+    th, om = nonlinear_motion(0.6, 1e15, 0.0, 0.15, 100.0)
+    assert om == pytest.approx(nonlinear_motion(0.6, r, 0.0, 0.15, 100.0)[1], rel=1e-9)
+    orb = stroboscopic_map(1e15, 0.0, 0.15, 100.0, periods=2)
+    assert orb.dtheta[-1] == pytest.approx(stroboscopic_map(r, 0.0, 0.15, 100.0, periods=2).dtheta[-1], rel=1e-9)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: phase_flow(1.0, 0.1, 1e155, 10.0),
+    lambda: simulate(0.1, 1e155, 0.15, 100.0, periods=2),
+    lambda: nonlinear_motion(1.0, 0.1, 1e155, 0.15, 100.0),
+    lambda: stroboscopic_map(0.1, 1e300, 0.15, 100.0, periods=2),
+])
+def test_starts_too_fast_for_a_double_are_refused_by_name(call):
+    _refused(call, "dtheta0")
+
+
+def test_a_damped_motion_decays_past_1e_150_without_the_solver_stopping():
+    orb = stroboscopic_map(0.1, 0.0, 0.15, 100.0, periods=600, c=5.0, every=100)
+    assert np.all(np.isfinite(orb.theta))
+    assert abs(orb.theta[-1]) < 1e-150
+    traj = simulate(0.1, 0.0, 0.15, 100.0, periods=600, points_per_period=4, c=5.0)
+    assert np.all(np.isfinite(traj.theta)) and abs(traj.theta[-1]) < 1e-150
+    # the decay is geometric: the log-amplitude falls by the same amount each 100 periods
+    logs = np.log(np.hypot(orb.theta[1:], orb.dtheta[1:]))
+    assert np.ptp(np.diff(logs)) < 0.05 * abs(np.mean(np.diff(logs)))
+
+
+def test_tiny_rods_are_refused_or_finite():
+    eps, mu = K.to_arnold(0.15, 100.0, 5e-324)
+    assert np.isfinite(eps) and eps > 1e160
+    rep = K.analyze(T=0.15, A=100.0, l=5e-324)
+    assert rep.margin == rep.margin and not rep.stable
+    _refused(lambda: simulate(0.1, 0.0, *K.to_physical(0.5, 0.3, 5e-324), l=5e-324), "l")
+    _refused(lambda: K.to_arnold(1e300, 1e300, 1e-300), "eps")
+
+
+# ------------------------------------------------------------------ messages
+@pytest.mark.parametrize("call, needle", [
+    (lambda: K.periodic_solution([100.0, 200.0], 1), "A must be a single number"),
+    (lambda: K.analyze(T=[0.1, 0.2], A=100.0), "got T of shape (2,)"),
+    (lambda: simulate([0.1, 0.2], 0.0, 0.15, 100.0), "theta0 must be a single number"),
+    (lambda: K.is_stable([0.1, 0.2], [0.3, 0.2, 0.1]), "eps, mu must have shapes"),
+    (lambda: K.to_arnold([0.1, 0.2], [1.0, 2.0, 3.0]), "T, A, l, g must have shapes"),
+    (lambda: nonlinear_motion([1.0, 2.0], [0.1, 0.2, 0.3], 0.0, 0.15, 100.0), "t, theta0"),
+    (lambda: K.periodic_solution(100.0, index=1e300), "1e+300"),
+])
+def test_messages_name_the_parameter(call, needle):
+    msg = _refused(call, needle)
+    assert "only 0-dimensional" not in msg and "-9223372036854775808" not in msg
+
+
+# ------------------------------------------------------------------ the command line
+@pytest.mark.parametrize("argv, needles", [
+    (["simulate", "--T", "0.15", "--A", "100", "--tol", "0"], ["--tol", "> 0"]),
+    (["animate", "--T", "0.15", "--A", "100", "--tol", "-1"], ["--tol", "> 0"]),
+    (["animate", "--T", "0.15", "--A", "100", "--dpi", "100000", "--quiet"], ["dpi", "KAPITZA_ALLOW_LARGE"]),
+    (["animate", "--T", "0.15", "--A", "100", "--slowdown", "1e9", "--quiet"], ["frames", "KAPITZA_ALLOW_LARGE"]),
+    (["animate", "--T", "0.15", "--A", "100", "--periods", "790", "--quiet"], ["GIF", "KAPITZA_ALLOW_LARGE"]),
+    (["zones", "--zones", "1000", "--points", "100000", "--json"], ["--zones * --points"]),
+    (["basin", "--T", "0.15", "--A", "100", "--periods", "1000000000", "--quiet"], ["periods"]),
+    (["simulate", "--T", "0.15", "--A", "100", "--damping", "1e6"], ["c / (2 sqrt(g/l))"]),
+    (["simulate", "--T", "0.15", "--A", "100", "--damping", "3e4", "--periods", "20"], ["stiff"]),
+])
+def test_cli_refuses_in_one_line(argv, needles, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    t0 = time.monotonic()
+    code, out, err = run(argv, capsys)
+    assert time.monotonic() - t0 < 20.0
+    assert_one_line_error(code, err, *needles)
+    assert not list(tmp_path.iterdir())
+
+
+def test_cli_names_the_users_path_not_the_temporary_file(capsys, tmp_path):
+    target = tmp_path / "afile"
+    target.write_text("")
+    code, out, err = run(["periods", "--A", "100", "--csv", str(target / "x.csv")], capsys)
+    assert_one_line_error(code, err, str(target / "x.csv"))
+    assert "/." not in err.split(str(tmp_path))[-1]
+
+
+def test_ctrl_c_while_the_command_starts_is_one_line_and_130(tmp_path):
+    # -X importtime reports each module as it is imported: wait for the first of the package,
+    # then interrupt while numpy and scipy are still being imported.
+    env = dict(os.environ, PYTHONWARNINGS="error")
+    with subprocess.Popen([sys.executable, "-X", "importtime", "-W", "error", "-m", "kapitza", "stability", "--T",
+                           "0.15", "--A", "100"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                          env=env, cwd=tmp_path) as p:
+        seen = []
+        for line in p.stderr:
+            seen.append(line)
+            if "kapitza._interrupt" in line:
+                p.send_signal(signal.SIGINT)
+                break
+        rest = p.stderr.read()
+        code = p.wait(timeout=60)
+    err = [ln for ln in (seen + rest.splitlines(True)) if "import time:" not in ln]
+    assert "Traceback" not in "".join(err)
+    assert code == 130 and [ln.strip() for ln in err] == ["kapitza: interrupted"], (code, err)
