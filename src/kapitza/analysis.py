@@ -12,7 +12,7 @@ import numpy as np
 
 from . import _validate as _v
 from ._display import Summary, multipliers
-from .parameters import G_EARTH
+from .parameters import G_EARTH, to_arnold
 from .normal_form import nonlinear_stability
 from .propagation import _floquet, _multipliers
 from .zones import amplitude_edges, period_edges, stability_margin
@@ -334,8 +334,7 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
         A = _v.one("A", _v.positive("A", A))
         l = _v.one("l", _v.positive("l", l))
         g = _v.one("g", _v.positive("g", g))
-        eps = T * np.sqrt(A / (8.0 * l))
-        mu = np.sqrt(g / A)
+        eps, mu = (float(v) for v in to_arnold(T, A, l, g))
     if physical:
         c = _v.one("damping", _v.nonnegative("damping", damping))
         zeta_v = 0.5 * c * np.sqrt(l / g)
