@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import statistics
 import sys
 import tempfile
 import time
@@ -82,6 +83,7 @@ def main(argv=None):
     ap.add_argument("--tiny", action="store_true", help="smoke run: Figure 1, three checks, quick sets")
     ap.add_argument("--quick", action="store_true", help="quick parameter sets in the checks (as kapitza paper --quick)")
     ap.add_argument("--workers", type=int, default=2, help="processes of the parallel build (default 2)")
+    ap.add_argument("--repeat", type=int, default=1, help="runs of each, alternated (default 1)")
     args = ap.parse_args(argv)
     figures = (1,) if args.tiny else tuple(range(1, 9))
     checks = (0, 1, 2) if args.tiny else None
@@ -93,19 +95,29 @@ def main(argv=None):
         print("  " + line)
     if hasattr(os, "getloadavg"):
         print("  load average before: " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
+    runs = {"base": [], "one": [], "new": []}
     with tempfile.TemporaryDirectory() as tmp:
-        t_base, c_base, r_base = timed_build(Path(tmp) / "base", 1, figures, checks, quick, baseline=True)
-        t_new, c_new, r_new = timed_build(Path(tmp) / "new", args.workers, figures, checks, quick)
-        names_base = sorted(p.name for p in r_base.files)
-        names_new = sorted(p.name for p in r_new.files)
+        # Alternated, so that a change in the machine's load falls on all three alike.
+        for r in range(args.repeat):
+            runs["base"].append(timed_build(Path(tmp) / f"base{r}", 1, figures, checks, quick, baseline=True))
+            runs["one"].append(timed_build(Path(tmp) / f"one{r}", 1, figures, checks, quick))
+            runs["new"].append(timed_build(Path(tmp) / f"new{r}", args.workers, figures, checks, quick))
+        names = {k: sorted(p.name for p in v[0][2].files) for k, v in runs.items()}
+    med = {k: (statistics.median(x[0] for x in v), statistics.median(x[1] for x in v)) for k, v in runs.items()}
+    (t_base, c_base), (t_one, c_one), (t_new, c_new) = med["base"], med["one"], med["new"]
+    print(f"median of {args.repeat}, wall (what the user waits) and CPU (user + system, workers included):")
     print(f"baseline: one process, as before        wall {t_base:8.2f} s   CPU {c_base:8.2f} s")
+    print(f"build: 1 process (layout once, formulas alone)  wall {t_one:8.2f} s   CPU {c_one:8.2f} s")
     print(f"build: {args.workers} processes                   wall {t_new:8.2f} s   CPU {c_new:8.2f} s")
-    print(f"ratio (baseline / build): wall {t_base / t_new:.2f}x, CPU {c_base / c_new:.2f}x")
-    print(f"same files written: {names_base == names_new} ({len(names_new)} files)")
-    print(f"every check passed: baseline {r_base.passed}, build {r_new.passed} ({len(r_new.checks)} checks)")
+    print(f"ratio (baseline / build): wall {t_base / t_new:.2f}x, CPU {c_base / c_new:.2f}x; "
+          f"1 process: wall {t_base / t_one:.2f}x, CPU {c_base / c_one:.2f}x")
+    same = names["base"] == names["one"] == names["new"]
+    passed = all(x[2].passed for v in runs.values() for x in v)
+    print(f"same files written: {same} ({len(names['new'])} files)")
+    print(f"every check passed: baseline {passed}, build {passed} ({len(runs['new'][0][2].checks)} checks)")
     if hasattr(os, "getloadavg"):
         print("  load average after: " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
-    return 0 if (names_base == names_new and r_base.passed and r_new.passed) else 1
+    return 0 if (same and passed) else 1
 
 
 if __name__ == "__main__":

@@ -129,9 +129,16 @@ def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
     ax2.set_title("zone 0 near the averaging limit", fontsize=9)
     if title:
         fig.suptitle(title)
-    _style.caption(fig, "The upright is stable inside the filled zones; each colour is one drive, dash-dotted with "
-                        "damping. All drives share Arnold's axes: T is half the drive period, A its acceleration "
-                        "scale. Dashed: each drive's "
+    damped = any(c.zeta > 0 for c in curves)
+    # Which zones are thinner than about a line width (0.4 % of the window) somewhere in view.
+    thin = sorted({c.drive for c in curves for k in range(c.zones.size) if int(c.zones[k]) >= 1
+                   and np.any(np.isfinite(c.lo[k]) & (c.lo[k] < eps_max) & (c.hi[k] - c.lo[k] < 0.004 * eps_max))})
+    _style.caption(fig, "The upright is stable inside the filled zones; each colour is one drive"
+                        + (", dash-dotted with damping" if damped else "") + ". All drives share Arnold's axes: "
+                        r"$T$ is half the drive period, $A$ its acceleration scale. Dashed: each drive's "
                         r"high-frequency (averaging) criterion $\langle v^2\rangle = g\,l$, which the exact lower "
-                        r"edge of zone 0 approaches as $\mu \to 0$.")
+                        r"edge of zone 0 approaches as $\mu \to 0$."
+                        + (r" Some zones $n \geq 1$ are thinner than a line in parts of the left panel (drives: "
+                           + "; ".join(thin) + "): there their two edges are drawn as one curve; a kapitza chart "
+                           "window zoomed on one (--eps-min ... --mu-max) shows both." if thin else ""))
     return fig
