@@ -109,8 +109,6 @@ def cmd_sweep(args):
     if args.serial and (args.scheduler or args.workers is not None):
         raise CLIError("--serial runs without Dask; leave out --workers and --scheduler")
     out = Path(args.out)
-    if out.exists() and not args.resume:
-        raise CLIError(f"{out} exists; continue it with --resume or choose a new --out")
     run = sweep(spec, out, resume=args.resume, serial=args.serial, workers=args.workers, scheduler=args.scheduler,
                 progress=not args.quiet)
     print(f"computed {run.computed} of {run.total} chunks ({run.skipped} already done); store {run.store}",

@@ -140,7 +140,6 @@ def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
         k[restart] = 0
         keep = ~done
         act, r, th, om, k = act[keep], r[keep], th[keep], om[keep], k[keep]
-    hi[lo >= tol] = tol
     return lo.reshape(P, K)
 
 

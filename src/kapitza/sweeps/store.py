@@ -86,8 +86,10 @@ def open_store(path):
 
 def stored_spec(path) -> SweepSpec:
     """The settings a store was created with."""
-    grp = open_store(path)
-    text = grp.attrs.get("sweep_spec")
+    try:
+        text = open_store(path).attrs.get("sweep_spec")
+    except Exception:  # not a Zarr group at all
+        text = None
     if text is None:
         raise _v.KapitzaValueError(f"store must be a kapitza sweep store; got {str(path)!r} (no sweep_spec attribute)")
     return SweepSpec.from_json(text)
