@@ -201,8 +201,14 @@ def test_bisected_tilt_agrees_with_brute_force_on_a_random_sample():
                                periods=periods, tol=tol, quantities=("tilt",), directions=1, basin_resolution=5,
                                accuracy=acc, floor=1e-4)["max_safe_tilt"][0, 0]
         brute, step = _brute_tilt(e, m, periods, tol, 4001)
-        assert got <= brute + step, (e, m)
-        assert brute < got * (1 + acc) + step, (e, m)
+        T, A = (float(v) for v in kapitza.to_physical(e, m))
+        # what the bisection guarantees: the value stays, and a start less than 1 % above it does not
+        assert kapitza.survival(got, 0.0, T, A, periods=periods, tol=tol) == periods, (e, m)
+        above = np.linspace(got, got * (1 + acc), 201)[1:]
+        assert np.any(kapitza.survival(above, 0.0, T, A, periods=periods, tol=tol) < periods), (e, m)
+        # near the zone edges the safe starts are ragged at the 1 % scale (a thin failing band, then safe
+        # starts again), so the value is compared with the first failure of the brute-force line only to 1 %
+        assert got <= (brute + step) * (1 + acc), (e, m)
 
 
 def test_basin_area_is_the_basin_fraction():
