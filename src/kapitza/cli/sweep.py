@@ -101,16 +101,19 @@ def spec_from(args):
 
 
 def cmd_sweep(args):
-    try:
-        from ..sweeps import open_sweep, sweep, to_netcdf
-    except ImportError as exc:  # the optional extra is missing
-        raise CLIError(f"kapitza sweep needs the 'sweep' extra: pip install 'kapitza[sweep]' ({exc})") from None
+    import importlib
+
+    for name in ("zarr", "xarray", "tqdm", "dask", "distributed"):
+        try:
+            importlib.import_module(name)
+        except ImportError:  # the optional extra is missing
+            raise CLIError(f"kapitza sweep needs the 'sweep' extra (no module {name!r}): "
+                           "pip install 'kapitza[sweep]'") from None
+    from ..sweeps import open_sweep, sweep, to_netcdf
     spec = spec_from(args)
     if args.serial and (args.scheduler or args.workers is not None):
         raise CLIError("--serial runs without Dask; leave out --workers and --scheduler")
     out = Path(args.out)
-    if out.exists() and not args.resume:
-        raise CLIError(f"{out} exists; continue it with --resume or choose a new --out")
     run = sweep(spec, out, resume=args.resume, serial=args.serial, workers=args.workers, scheduler=args.scheduler,
                 progress=not args.quiet)
     print(f"computed {run.computed} of {run.total} chunks ({run.skipped} already done); store {run.store}",

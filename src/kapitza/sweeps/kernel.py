@@ -12,9 +12,11 @@ soon as it leaves the window, so a failed candidate costs only the periods it su
   :func:`kapitza.motion.basin`'s window: ``r = tol`` reaches its edge). Bracketed by scanning
   ``r = tol, tol/2, tol/4, ...`` downward to the first survivor, then bisected until the
   bracket ``[lo, hi)`` has ``hi - lo <= accuracy * lo``; ``lo`` (a start seen to survive) is
-  reported. Below ``floor`` no start is tried and 0 is reported. Assumes the safe starts along
-  the ray form one segment ``[0, r*)`` (a connected core), checked by the tests against the
-  brute-force basin.
+  reported: it stays, and a start less than ``accuracy`` above it does not. Below ``floor`` no
+  start is tried and 0 is reported. Where the safe starts along the ray form one segment
+  ``[0, r*)`` (a connected core) this is ``r*`` to ``accuracy``; near the zone edges they can be
+  ragged at that scale, and the value is then a boundary point of the safe set (the tests
+  compare with brute force).
 * **max safe tilt** ``theta*``: the radius along ``phi = 0`` (at rest).
 * **max safe radius**: the smallest radius over ``directions`` directions evenly spaced in
   ``[0, pi)`` (the motion is odd, so ``phi + pi`` repeats ``phi``).
@@ -140,7 +142,6 @@ def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
         k[restart] = 0
         keep = ~done
         act, r, th, om, k = act[keep], r[keep], th[keep], om[keep], k[keep]
-    hi[lo >= tol] = tol
     return lo.reshape(P, K)
 
 

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import os
 import sys
+import uuid
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -54,7 +55,8 @@ def _prepare(spec, store, resume):
     store = Path(store)
     if store.exists():
         if not resume:
-            raise _v.KapitzaValueError(f"store must not exist yet (or resume it); got {str(store)!r}, which exists")
+            raise _v.KapitzaValueError(f"store must be a new path, or resumed (resume=True, --resume); got "
+                                       f"{str(store)!r}, which exists")
         old = stored_spec(store)
         if old != spec:
             diff = [k for k, v in spec.as_dict().items() if old.as_dict()[k] != v]
@@ -138,7 +140,7 @@ def _run_dask(spec, todo, finished, workers, scheduler, client):
                 own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                            dashboard_address=":0", silence_logs=40)
                 client = own_client = Client(own_cluster)
-        token = format(abs(hash(spec.to_json())), "x")
+        token = uuid.uuid4().hex[:12]  # this call's tasks: never mistaken for another sweep's
         futures = {client.submit(compute_chunk, spec, iy, ix, key=f"kapitza-sweep-{token}-{iy}-{ix}", pure=False,
                                  retries=3): (iy, ix) for iy, ix in todo}
         for fut in as_completed(futures):

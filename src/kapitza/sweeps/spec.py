@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -67,7 +67,6 @@ class SweepSpec:
     accuracy: float = 0.01
     floor: float = 1e-4
     chunk: int = 32
-    _checked: bool = field(default=False, repr=False, compare=False)
 
     def __post_init__(self):
         s = object.__setattr__

@@ -42,9 +42,10 @@ def _attrs(spec: SweepSpec) -> dict:
         "g_m_per_s2": spec.g,
         "survival_test": "|theta(t)| <= tol on all of [0, 2NT], checked on the continuous motion "
                          "(kapitza.motion.survival)",
-        "accuracy": (f"max_safe_tilt, max_safe_radius: bisection, the true value lies in [v, v (1 + {spec.accuracy:g})) "
-                     f"({acc}) if the safe starts along each ray are one segment; 0 means below floor "
-                     f"{spec.floor:g} rad; capped at tol. basin_area: exact fraction of a "
+        "accuracy": (f"max_safe_tilt, max_safe_radius: bisection; the value v stays and a start less than "
+                     f"{acc} above it does not, so v is the edge of the safe starts from the upright to {acc} "
+                     f"where they form one segment (near zone edges they can be ragged at that scale); 0 means "
+                     f"below floor {spec.floor:g} rad; capped at tol. basin_area: exact fraction of a "
                      f"{spec.basin_resolution} x {spec.basin_resolution} start grid. Linear quantities: exact."),
         "radius_directions": spec.directions,
         "radius_scale": "start (theta0, dtheta0) = r (cos phi, (2/T) sin phi)",
@@ -86,8 +87,10 @@ def open_store(path):
 
 def stored_spec(path) -> SweepSpec:
     """The settings a store was created with."""
-    grp = open_store(path)
-    text = grp.attrs.get("sweep_spec")
+    try:
+        text = open_store(path).attrs.get("sweep_spec")
+    except Exception:  # not a Zarr group at all
+        text = None
     if text is None:
         raise _v.KapitzaValueError(f"store must be a kapitza sweep store; got {str(path)!r} (no sweep_spec attribute)")
     return SweepSpec.from_json(text)
