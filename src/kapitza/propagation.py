@@ -296,7 +296,7 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
-    drive, c = _v.general_drive(drive, damping, "damping")
+    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.monodromy(T, A, l, g, drive, c)
     return _monodromy(*np.broadcast_arrays(T, A, l, g))
@@ -364,7 +364,7 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, drive=None, dampin
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
-    drive, c = _v.general_drive(drive, damping, "damping")
+    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
     t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)
