@@ -129,10 +129,17 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
     return arr
 
 
+#: Largest eps: the phases ``2 sqrt(2) eps sqrt(1 +- mu^2)`` stay doubles.
+EPS_MAX = 1e307
+
+
 def arnold(eps, mu, *, together=True):
     """Arnold's ``(eps, mu)`` as float arrays, each finite and > 0 (``mu >= 1`` allowed); with
     ``together`` their shapes must broadcast (a mismatch names both)."""
     eps, mu = positive("eps", eps), positive("mu", mu)
+    if np.any(eps > EPS_MAX):
+        raise KapitzaValueError(f"eps must be <= {EPS_MAX:g} (the phase 2 sqrt(2) eps must be a double); got "
+                                f"{_first_bad(eps, eps > EPS_MAX)}")
     if together:
         shape_check(eps=eps, mu=mu)
     return eps, mu
@@ -191,20 +198,28 @@ def nonnegative(name: str, value) -> np.ndarray:
 ZETA_MAX = 1e4
 
 
-def general_drive(drive, zeta, name="zeta"):
+def general_drive(drive, zeta, name="zeta", *, g=None, l=None):
     """``(drive, zeta)`` for the general path, or ``(None, None)`` for the paper's undamped square wave.
 
     ``drive``: ``None``, a name or a :class:`kapitza.drives.Drive`; ``zeta``: damping ratio(s) >= 0
-    (the argument is called ``name`` in messages: ``zeta``, or ``damping`` for ``c``).
+    (the argument is called ``name`` in messages: ``zeta``, or ``damping`` for ``c``, whose ratio
+    ``c / (2 sqrt(g/l))`` is bounded when ``g`` and ``l`` are given).
     """
     from .drives import as_drive
 
     d = as_drive(drive)
     z = nonnegative(name, zeta)
-    if name == "zeta" and np.any(z > ZETA_MAX):
+    ratio = None
+    if name == "zeta":
+        ratio = z
+    elif g is not None and l is not None:
+        with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+            ratio = np.where(z > 0, 0.5 * z * np.sqrt(l) / np.sqrt(g), 0.0)
+    if ratio is not None and np.any(ratio > ZETA_MAX):
+        bad = np.broadcast_to(z, np.shape(ratio))
         raise KapitzaValueError(
-            f"zeta, the damping ratio c / (2 sqrt(g/l)), must be <= {ZETA_MAX:g} (so heavily overdamped, the "
-            f"monodromy's growth, about 1/zeta, loses its digits to rounding); got {_first_bad(z, z > ZETA_MAX)}")
+            f"{name} must give a damping ratio c / (2 sqrt(g/l)) <= {ZETA_MAX:g} (so heavily overdamped, the "
+            f"monodromy's growth, about 1/zeta, loses its digits to rounding); got {_first_bad(bad, ratio > ZETA_MAX)}")
     if d.name == "square" and not np.any(z > 0):
         return None, None
     return d, z

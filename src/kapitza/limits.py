@@ -69,10 +69,13 @@ def threshold_table(mu, drives, zeta=0.0):
     Returns
     -------
     list of ThresholdRow
-        ``relative_error = eps_averaging / eps_exact - 1``.
+        ``relative_error = eps_averaging / eps_exact - 1``; both NaN where the damped drive has
+        no zone 0 at this ``mu`` (damping can close it).
     """
     mu = np.atleast_1d(_v.in_range("mu", mu, 0.0, 1.0)).ravel()
-    zeta = _v.one("zeta", _v.in_range("zeta", zeta, 0.0, np.inf, lo_open=False))
+    if isinstance(drives, (str, bytes)) or not hasattr(drives, "__iter__"):
+        raise _v.KapitzaValueError(f"drives must be a sequence of drives (names or Drive objects); got {drives!r}")
+    zeta = _v.one("zeta", _v.in_range("zeta", zeta, 0.0, _v.ZETA_MAX, lo_open=False, hi_open=False))
     rows = []
     for drive in drives:
         d = as_drive(drive)

@@ -330,7 +330,7 @@ def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
     table = boundary_table(A, index, l, g)
     entry = next(b for b in table if b.index == index and b.tilde == bool(tilde))
     A, l, g = float(A), float(l), float(g)
-    x = np.sqrt((A + g) / l) * entry.T
+    x = np.sqrt(A + g) / np.sqrt(l) * entry.T
     t = np.tanh(0.5 * x)
     if entry.equation in ("3.10", "3.12"):
         phi0 = -np.arctan(t)  # (3.19): atan((1 - e^x)/(1 + e^x)) = -atan(tanh(x/2))

@@ -139,7 +139,7 @@ def G_inverse(s, branch=0):
         ``pi/4 - atan(e^{-2s})`` (branch 0) or ``-3pi/4 + atan(e^{-2s})`` (branch -1).
     """
     s = _v.finite("s", s)
-    if branch not in (0, -1):
+    if not (isinstance(branch, (int, np.integer)) and not isinstance(branch, (bool, np.bool_))) or branch not in (0, -1):
         raise _v.KapitzaValueError(f"branch must be 0 or -1; got {branch!r}")
     with np.errstate(over="ignore"):  # e = inf gives atan(e) = pi/2, the limit
         e = np.exp(-2.0 * s)

@@ -319,7 +319,7 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
-    drive, c = _v.general_drive(drive, damping, "damping")
+    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.monodromy(T, A, l, g, drive, c)
     return _monodromy(*np.broadcast_arrays(T, A, l, g))
@@ -389,7 +389,7 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     T, A, l, g = _v.physical_parameters(T, A, l, g, eps, mu)
-    drive, c = _v.general_drive(drive, damping, "damping")
+    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
     t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)

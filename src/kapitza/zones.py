@@ -497,7 +497,8 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     zone = np.where(use_b, nb, n).astype(np.int64)
     lo = np.where(use_b, lo_b, lo_n)
     hi = np.where(use_b, hi_b, hi_n)
-    margin = np.where(use_b, d_b, d_n) / eps
+    with np.errstate(over="ignore"):  # +-inf for subnormal eps
+        margin = np.where(use_b, d_b, d_n) / eps
     # Edges are good to a few ulp; the certified verdict decides the sign of the margin.
     tiny = np.finfo(float).smallest_subnormal
     margin = np.where(stable, np.maximum(margin, tiny), np.minimum(margin, -tiny))
@@ -625,8 +626,9 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     n = _v.nonnegative_int("n", n)
-    drive, c = _v.general_drive(drive, damping, "damping")
-    mu = np.sqrt(g / A)
+    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
+    with np.errstate(over="ignore", under="ignore"):  # mu = inf (A <= g) or 0 at the ends of the doubles
+        mu = np.sqrt(g / A)
     if drive is not None:
         lo, hi = _drv.edges(mu, n, drive, _drv.zeta_of(c, l, g))
         scale = np.sqrt(8.0 * l / A)
@@ -673,7 +675,7 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     n = _v.nonnegative_int("n", n)
-    drive, c = _v.general_drive(drive, damping, "damping")
+    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         T, n, l, g, c = np.broadcast_arrays(T, n, l, g, c)
         pairs = [_drv.along_amplitude(*args, drive, cc) for *args, cc in

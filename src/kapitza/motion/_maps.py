@@ -44,14 +44,15 @@ def phases(T, A, l, g):
     return (((g + A) / l, T), ((g - A) / l, T))
 
 
-#: Member-periods one call may map (``KAPITZA_ALLOW_LARGE=1`` lifts it): about a minute or two.
-MAX_MEMBER_PERIODS = 200_000_000
+#: Member-periods one call may map (``KAPITZA_ALLOW_LARGE=1`` lifts it): about a minute.
+MAX_MEMBER_PERIODS = 100_000_000
+#: The cost of one period's Python step, in member units (measured: 0.35 ms against 1 us per member).
+STEP_COST = 1000
 
 
-def bound_ensemble(periods, members, name="periods * (members + 300)"):
-    """Refuse ensembles whose work, ``periods * (members + 300)`` phase maps, is not bounded
-    (300: the cost of one period's step in member units)."""
-    _v.bounded_work(name, float(periods) * (float(members) + 300.0), MAX_MEMBER_PERIODS,
+def bound_ensemble(periods, members, name="periods * (members + 1000)"):
+    """Refuse ensembles whose work, ``periods * (members + STEP_COST)`` phase maps, is not bounded."""
+    _v.bounded_work(name, float(periods) * (float(members) + STEP_COST), MAX_MEMBER_PERIODS,
                     what="member-periods mapped, about a minute of work")
 
 

@@ -226,8 +226,8 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     # Sub-steps of scaled length <= 1 per phase: the work grows with w T as well.
     per_period = sum(max(1.0, np.ceil(np.sqrt(abs(s_)) * dur)) for s_, dur in
                      (phases(T, A, l, g) if not hasattr(d, "levels") or d.name == "square" else d.phases(T, A, l, g)))
-    bound_ensemble(periods * per_period / 2.0, th.size,
-                   name="periods * (sub-steps w T per phase, from T, A, l, g) * (members + 300)")
+    bound_ensemble(periods * per_period, th.size,
+                   name="periods * (sub-steps w T per phase, from T, A, l, g) * (members + 1000)")
     if model == "nonlinear" and hasattr(d, "levels"):
         _check_speed(om, [s_ for s_, _ in (phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g))])
     if not hasattr(d, "levels"):

@@ -113,14 +113,14 @@ def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
     """Refuse spans whose work is not bounded: ``t_end / (2T)`` periods, and for DOP853 the
     angle ``(w_h + |dtheta0| + c) t_end`` it must resolve (large ``c`` makes the equation stiff)."""
     T, A, l, g, c = (np.asarray(v, float) for v in (T, A, l, g, c))
-    _v.bounded_work("duration / (2T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
+    _v.bounded_work("duration / (2 T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
                     what="drive periods, each followed phase by phase")
     if method == "dop853":
         w = float(np.max(np.sqrt((g + peak * A) / l))) + float(np.max(np.abs(dtheta0)))
         cmax = float(np.max(c))
         what = ("the damping makes the equation stiff: DOP853 needs about c * duration / 3 steps; use a "
                 "shorter span or weaker damping" if cmax > w else "DOP853 takes about 20 steps per radian")
-        _v.bounded_work("(w_h + |dtheta0| + c) * duration", (w + cmax) * float(t_end), MAX_DOP853_SWEEP, what=what)
+        _v.bounded_work("(w_h + |dtheta0| + c) * duration (w_h = sqrt((g + A) / l))", (w + cmax) * float(t_end), MAX_DOP853_SWEEP, what=what)
 
 
 def _check_speed(dtheta, s_values, name="dtheta0"):
@@ -779,7 +779,7 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     theta0 = _v.one("theta0", _v.finite("theta0", theta0))
     dtheta0 = _v.one("dtheta0", _v.finite("dtheta0", dtheta0))
     T, A, l, g = (_v.one(name, v) for name, v in zip("TAlg", _physical(T, A, l, g, eps, mu)))
-    c = float(_damping(c))
+    c = _v.one("c", _damping(c))
     _choice("model", model, MODELS)
     drive = _drive_of(drive)
     if drive is not None and not hasattr(drive, "levels"):

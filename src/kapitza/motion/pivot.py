@@ -55,7 +55,15 @@ def _checked(t, T, A):
     t = _v.finite("t", t)
     T = _v.positive("T", T)
     A = _v.positive("A", A)
-    return _v.broadcast(t=t, T=T, A=A)
+    t, T, A = _v.broadcast(t=t, T=T, A=A)
+    _stroke_checked(T, A)
+    with np.errstate(over="ignore"):
+        bad = ~(np.abs(t / T) < 2.0**52)
+    if bad.any():
+        raise _v.KapitzaValueError(
+            f"t / T must be below 2**52 (beyond it the time within a half-period is lost); got t = "
+            f"{float(t[bad].flat[0])!r} with T = {float(T[bad].flat[0])!r}")
+    return t, T, A
 
 
 @_v.shapes_named
@@ -134,4 +142,16 @@ def pivot_stroke(T, A):
     """
     T = _v.positive("T", T)
     A = _v.positive("A", A)
-    return 0.25 * A * T * T
+    _stroke_checked(T, A)
+    return _v.scalars(np.asarray(0.25 * A * T * T))
+
+
+def _stroke_checked(T, A):
+    """Refuse ``T``, ``A`` whose stroke ``A T^2 / 4`` (and so the pivot's path) is not a double."""
+    with np.errstate(over="ignore"):
+        bad = ~np.isfinite(0.25 * A * T * T)
+    if np.any(bad):
+        T, A = np.broadcast_arrays(T, A)
+        raise _v.KapitzaValueError(
+            f"T and A must give a finite stroke A T^2 / 4 (the pivot's travel in metres); got T = "
+            f"{float(T[bad].flat[0])!r} with A = {float(A[bad].flat[0])!r}")

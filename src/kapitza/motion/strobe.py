@@ -179,7 +179,7 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     if every is not None:
         every = _v.bounded_count("every", every, MAX_PERIODS, minimum=1)
     _choice("model", model, MODELS)
-    c = float(_damping(c))
+    c = _v.one("c", _damping(c))
     drive = _drive_of(drive)
     if drive is not None and not hasattr(drive, "levels"):
         if method == "exact":
