@@ -26,14 +26,26 @@ def test_point_json_and_physical_parameters(capsys):
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["nonlinear", "--eps", "0.9", "--mu", "0.3"], "eps must lie inside a stability zone"),
-    (["nonlinear", "--eps", "0.5", "--mu", "1.2"], "mu must lie in (0, 1)"),
+    (["nonlinear", "--eps", "-0.5", "--mu", "0.3"], "eps"),
+    (["nonlinear", "--eps", "0.5", "--mu", "nan"], "mu"),
     (["nonlinear"], "give a point"),
     (["nonlinear", "--chart", "--zones", "9"], "--zones must lie in [1, 6]"),
 ])
 def test_bad_input_is_one_line_and_status_2(capsys, argv, needle):
     code, _, err = run(argv, capsys)
     assert_one_line_error(code, err, needle)
+
+
+@pytest.mark.parametrize("eps, mu", [(0.9, 0.3), (0.05, 0.3), (0.5, 1.2)])
+def test_linearly_unstable_points_are_unstable_by_the_first_approximation(capsys, eps, mu):
+    code, out, err = run(["nonlinear", "--eps", str(eps), "--mu", str(mu), "--json"], capsys)
+    assert code == 0, err
+    rec = json.loads(out)
+    f = K.floquet(eps, mu)
+    assert not K.is_stable(eps, mu) and float(f.growth) > 0
+    assert rec["unstable"] is True and rec["stable"] is False and rec["kind"] == "linearly unstable"
+    assert rec["growth"] == pytest.approx(float(f.growth), rel=1e-14)
+    assert "first approximation" in rec["verdict"]
 
 
 def test_chart_writes_figure_and_curves(capsys, tmp_path):

@@ -65,6 +65,10 @@ def cmd_nonlinear(args):
         from ..normal_form import birkhoff_normal_form, nonlinear_stability
 
         eps, mu = _point(args)
+        from ..zones import is_stable
+
+        if not is_stable(eps, mu):
+            return _linearly_unstable(args, eps, mu)
         v = nonlinear_stability(eps, mu)
         nf = birkhoff_normal_form(eps, mu)
         c = nf.coefficients
@@ -91,6 +95,30 @@ def cmd_nonlinear(args):
         print_json(record)
     elif written:
         print("wrote " + ", ".join(str(p) for p in written))
+    return 0
+
+
+def _linearly_unstable(args, eps, mu):
+    """Outside the zones the question is settled by the linearisation: a multiplier outside the unit
+    circle makes the upright of the real pendulum unstable too (Lyapunov's theorem on instability
+    by the first approximation, for the period map); on an edge itself (|tr M| = 2) it is not."""
+    from ..propagation import floquet
+
+    f = floquet(eps, mu)
+    hyperbolic = float(f.growth) > 0
+    verdict = ("unstable: the linearised upright is unstable (a multiplier outside the unit circle, growth "
+               f"{float(f.growth):.6g} per period 2T), and so is the real one (Lyapunov's theorem on instability "
+               "by the first approximation)" if hyperbolic else
+               "undecided: on a zone edge (|tr M| = 2) the linearisation does not decide")
+    record = {"eps": float(eps), "mu": float(mu), "kind": "linearly unstable" if hyperbolic else "edge",
+              "stable": False, "unstable": hyperbolic, "verdict": verdict, "trace": float(f.trace),
+              "growth": float(f.growth)}
+    if args.json:
+        print_json(record)
+    else:
+        print(f"eps = {eps:.12g}, mu = {mu:.12g}")
+        print(f"verdict          {verdict}")
+        print(f"trace tr M       {float(f.trace):.12g}   (linearly stable iff |tr M| < 2)")
     return 0
 
 
