@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["atomic_path", "write_text", "write_bytes", "write_json", "write_csv", "to_jsonable"]
+__all__ = ["atomic_path", "write_text", "write_bytes", "write_json", "write_csv", "csv_text", "to_jsonable"]
 
 
 @contextmanager
@@ -92,6 +92,11 @@ def write_json(path, obj) -> Path:
 
 def write_csv(path, header, rows, comments=()) -> Path:
     """Write ``rows`` (iterable of sequences) under ``header``; ``comments`` become ``# `` lines."""
+    return write_text(path, csv_text(header, rows, comments))
+
+
+def csv_text(header, rows, comments=()) -> str:
+    """What :func:`write_csv` writes, as text."""
     buf = io.StringIO()
     for c in comments:
         buf.write(f"# {c}\n")
@@ -99,4 +104,4 @@ def write_csv(path, header, rows, comments=()) -> Path:
     w.writerow(header)
     for r in rows:
         w.writerow([repr(float(v)) if isinstance(v, (float, np.floating)) else v for v in r])
-    return write_text(path, buf.getvalue())
+    return buf.getvalue()

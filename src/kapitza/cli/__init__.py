@@ -12,7 +12,7 @@ from ._common import CLIError, Parser
 from .. import __version__
 
 #: Command modules, in the order their commands appear in ``kapitza --help``.
-COMMAND_MODULES = ["engine", "drives", "motion", "paper"]
+COMMAND_MODULES = ["engine", "drives", "motion", "paper", "web"]
 
 DESCRIPTION = """\
 Exact stability of the inverted pendulum whose pivot is shaken up and down with a
@@ -37,6 +37,7 @@ examples:
   kapitza basin --T 0.3 --A 100 --out basin                  # which starts stay up
 
   kapitza paper --out out/paper               # every figure and numbered claim of the paper, with a report
+  kapitza serve                               # the explorer in a web browser (needs the 'web' extra)
 
 Run 'kapitza COMMAND --help' for each command's options.
 """

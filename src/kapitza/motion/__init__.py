@@ -14,6 +14,7 @@ from .pivot import pivot_acceleration, pivot_displacement, pivot_stroke, pivot_v
 from .nonlinear import METHODS, MODELS, Trajectory, nonlinear_motion, phase_energy, phase_flow, simulate
 from .strobe import StrobeOrbits, stroboscopic_map
 from .basins import Basin, basin, survival
+from .pair import MotionPair, motion_pair, motion_summary
 
 __all__ = [
     "pivot_acceleration",
@@ -32,4 +33,7 @@ __all__ = [
     "survival",
     "Basin",
     "basin",
+    "MotionPair",
+    "motion_pair",
+    "motion_summary",
 ]
