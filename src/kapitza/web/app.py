@@ -37,7 +37,7 @@ LIMITS = dict(
     general_eps_max=12.0,  # ... with another drive or damping (each edge a Floquet eigenproblem)
     periods=200.0,         # drive periods 2T of a motion
     points_per_period=200,
-    motion_samples=40000,  # periods * points_per_period
+    motion_samples=20000,  # periods * points_per_period
     theta0=3.15,           # |theta0| <= about pi: a tilt from the upright
     drive_text=200,        # characters of a drive's text form
     url=4096,              # characters of a request's path and query

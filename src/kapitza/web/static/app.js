@@ -27,6 +27,7 @@ function qs(obj) {
   for (const [k, v] of Object.entries(obj)) if (v !== null && v !== undefined && v !== "") p.set(k, String(v));
   return p.toString();
 }
+const short = (v) => (Math.abs(v) >= 1000 || (Math.abs(v) < 0.01 && v !== 0) ? v.toExponential(0) : String(Number(v.toPrecision(2))));
 const fmt = (v, d = 6) => (v === null || v === undefined || !isFinite(v) ? "–" : Number(v).toPrecision(d).replace(/\.?0+(e|$)/, "$1"));
 
 // ------------------------------------------------------------------ URL (shareable state)
@@ -147,18 +148,36 @@ function zoneLabels(ctx, ax, d) {
       if (Y > ax.top + 10 && Y < ax.bottom - 10 && X0 < ax.right - 10 && X > ax.left + 4) vis.push([j, X0, X, Y]);
     }
     if (!vis.length) continue;
-    // Near the lower third of the visible part, right of the upper edge (inside when it is wide).
-    const [, X0, X1, Y] = vis[Math.floor(vis.length * (ax.logY ? 0.7 : 0.3))];
-    const text = `n = ${z.n}`, tw = ctx.measureText(text).width;
-    let x = X1 - X0 > tw + 16 ? (Math.max(X0, ax.left) + Math.min(X1, ax.right)) / 2 - tw / 2 : X1 + 6;
-    x = Math.min(Math.max(x, ax.left + 4), ax.right - tw - 4);
+    // Near the lower third of the visible part, right of the upper edge (inside when it is wide),
+    // and not under the legend.
+    const text = `n = ${z.n}`, tw = ctx.measureText(text).width, L = chart.legendBox;
+    const place = (k) => {
+      const [, X0, X1, Y] = vis[k];
+      let x = X1 - X0 > tw + 16 ? (Math.max(X0, ax.left) + Math.min(X1, ax.right)) / 2 - tw / 2 : X1 + 6;
+      x = Math.min(Math.max(x, ax.left + 4), ax.right - tw - 4);
+      const hidden = L && x + tw > L.x && x < L.x + L.w && Y + 9 > L.y && Y - 9 < L.y + L.h;
+      return hidden ? null : [x, Y];
+    };
+    const k0 = Math.floor(vis.length * (ax.logY ? 0.7 : 0.3));
+    let at = null;
+    for (let d = 0; d < vis.length && !at; d += Math.max(1, Math.floor(vis.length / 40))) {
+      at = (k0 + d < vis.length && place(k0 + d)) || (k0 - d >= 0 && place(k0 - d)) || null;
+    }
+    if (!at) continue;
+    const [x, Y] = at;
     ctx.fillStyle = "rgba(255,255,255,0.85)"; ctx.fillRect(x - 3, Y - 9, tw + 6, 18);
     ctx.fillStyle = "#16263d"; ctx.fillText(text, x, Y);
   }
 }
 
 function drawChart() {
-  const { ctx, w, h } = fit(chart.canvas), ax = axes(w, h), v = view();
+  const { ctx, w, h } = fit(chart.canvas), v = view();
+  // room for the longest tick label of the vertical axis, then the axis title
+  ctx.font = "12.5px DejaVu Sans, sans-serif";
+  const yt0 = S.plane === "arnold" ? linTicks(v.y0, v.y1, 6) : null;
+  const widest = yt0 ? Math.max(...yt0.ticks.map((t) => ctx.measureText(tickLabel(t, yt0.step)).width), 20) : 40;
+  chart.pad.l = Math.max(64, Math.ceil(widest) + 36);
+  const ax = axes(w, h);
   ctx.clearRect(0, 0, w, h);
   ctx.fillStyle = "#fff"; ctx.fillRect(ax.left, ax.top, ax.right - ax.left, ax.bottom - ax.top);
   // Where the upright is always unstable (A <= g, mu >= 1): shaded grey.
@@ -182,6 +201,7 @@ function drawChart() {
   for (const t of yt.ticks) { ctx.beginPath(); ctx.moveTo(ax.left, ax.Y(t)); ctx.lineTo(ax.right, ax.Y(t)); ctx.stroke(); }
   if (chart.data) drawZones(ctx, ax, chart.data, { fill: "rgba(158,202,225,0.85)" });
   if (chart.overlay) drawZones(ctx, ax, chart.overlay, { fill: "rgba(213,94,0,0.13)", color: COLORS.overlay, width: 2.2 });
+  chart.legendBox = legendBox(ctx, ax);
   if (chart.data) zoneLabels(ctx, ax, chart.data);
   if (S.plane === "arnold" && edge > ax.top + 14) label(ctx, "μ ≥ 1 (A ≤ g): always unstable", ax.left + 8, Math.max(ax.top + 12, edge - 12));
   if (S.plane === "physical" && edge < ax.bottom - 14) label(ctx, "A ≤ g: always unstable", ax.left + 8, Math.min(ax.bottom - 12, edge + 14));
@@ -231,14 +251,22 @@ function star(ctx, x, y, r) {
   }
   ctx.closePath(); ctx.fillStyle = COLORS.point; ctx.fill(); ctx.strokeStyle = "#000"; ctx.lineWidth = 1.3; ctx.stroke();
 }
-function legend(ctx, ax) {
+function legendRows() {
   const rows = [["fill", COLORS.fill, `stable zone n (${chart.data ? shortDrive(chart.data.drive) : ""})`],
     ["line", COLORS.edge2, "2T-periodic edge (Tₙ)"], ["dash", COLORS.edge4, "4T-periodic edge (T̃ₙ)"]];
   if (chart.overlay) rows.push(["line", COLORS.overlay, `overlay: ${shortDrive(chart.overlay.drive)}`]);
   if (S.point) rows.push(["star", COLORS.point, "chosen point"]);
+  return rows;
+}
+function legendBox(ctx, ax) {
+  const rows = legendRows();
   ctx.font = "12.5px DejaVu Sans, sans-serif";
-  const wd = Math.max(...rows.map((r) => ctx.measureText(r[2]).width)) + 46, ht = rows.length * 19 + 10;
-  const x = ax.right - wd - 8, y = ax.top + 8;
+  const w = Math.max(...rows.map((r) => ctx.measureText(r[2]).width)) + 46, h = rows.length * 19 + 10;
+  return { x: ax.right - w - 8, y: ax.top + 8, w, h };
+}
+function legend(ctx, ax) {
+  const rows = legendRows(), B = legendBox(ctx, ax), wd = B.w, ht = B.h, x = B.x, y = B.y;
+  ctx.font = "12.5px DejaVu Sans, sans-serif";
   ctx.fillStyle = "rgba(255,255,255,0.93)"; ctx.fillRect(x, y, wd, ht); ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 1; ctx.strokeRect(x, y, wd, ht);
   rows.forEach(([kind, col, text], i) => {
     const yy = y + 14 + i * 19;
@@ -340,7 +368,10 @@ chart.canvas.addEventListener("pointerup", (ev) => {
   chart.canvas.classList.remove("dragging");
   if (drag && !drag.moved) {
     const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
-    const x = ax.invX(ev.clientX - r.left), y = ax.invY(ev.clientY - r.top);
+    // rounded to the decimals a pixel can tell apart
+    const round = (v, px) => { const d = Math.max(0, Math.ceil(-Math.log10(Math.abs(px) || 1e-300))); return d > 20 ? v : Number(v.toFixed(d)); };
+    const x = round(ax.invX(ev.clientX - r.left), ax.invX(1) - ax.invX(0));
+    const y = round(ax.invY(ev.clientY - r.top), ax.invY(ev.clientY - r.top - 1) - ax.invY(ev.clientY - r.top));
     if (x > 0 && y > 0) choosePoint(S.plane === "arnold" ? toPhysical(x, y, S.l, S.g) : { T: x, A: y });
   }
   drag = null; saveURL();
@@ -571,7 +602,7 @@ function drawStage(t) {
   const th = lerp(m.theta, k), thl = m.theta_linear ? lerp(m.theta_linear, k) : null;
   const L = m.l, s = Math.min((w / 2) * 0.4 / L, (h - 40) / (2.15 * L + 2 * m.pmax));
   const baseY = 28 + (L + m.pmax) * s;
-  const scene = (cx, theta, title, color, note) => {
+  const scene = (cx, theta, title, color, note, linear) => {
     // rail of the shaker and the pivot's travel
     ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 6; ctx.lineCap = "round";
     ctx.beginPath(); ctx.moveTo(cx, baseY - m.pmax * s - 14); ctx.lineTo(cx, baseY + m.pmax * s + 14); ctx.stroke();
@@ -579,7 +610,10 @@ function drawStage(t) {
     ctx.setLineDash([4, 4]); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1;
     ctx.beginPath(); ctx.moveTo(cx, py); ctx.lineTo(cx, py - L * s * 1.08); ctx.stroke(); ctx.setLineDash([]);
     if (theta === null) { ctx.fillStyle = "#6b7685"; ctx.font = "13px DejaVu Sans"; ctx.textAlign = "center"; ctx.fillText(note, cx, h / 2); return; }
-    const bx = cx + Math.sin(theta) * L * s, by = py - Math.cos(theta) * L * s;
+    // The linear model's angle may grow without bound: drawn at most lying flat (|theta| <= pi/2 shown
+    // as it is, beyond that the rod lies on the side it went).
+    const shown = linear ? Math.max(-Math.PI / 2, Math.min(Math.PI / 2, theta)) : theta;
+    const bx = cx + Math.sin(shown) * L * s, by = py - Math.cos(shown) * L * s;
     ctx.strokeStyle = "#2d3540"; ctx.lineWidth = 4; ctx.beginPath(); ctx.moveTo(cx, py); ctx.lineTo(bx, by); ctx.stroke();
     ctx.fillStyle = color; ctx.beginPath(); ctx.arc(bx, by, Math.max(7, 0.07 * L * s), 0, 2 * Math.PI); ctx.fill();
     ctx.fillStyle = "#16263d"; ctx.fillRect(cx - 16, py - 6, 32, 12);
@@ -587,18 +621,19 @@ function drawStage(t) {
     ctx.fillStyle = "#16263d"; ctx.font = "600 14px DejaVu Sans, sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "top";
     ctx.fillText(title, cx, 6);
     ctx.font = "12.5px DejaVu Sans, sans-serif"; ctx.textBaseline = "bottom";
-    const big = Math.abs(theta) > Math.PI;
-    ctx.fillText(`θ = ${fmt(theta, 4)} rad${big ? " (turned over)" : ""}`, cx, h - 6);
+    const big = Math.abs(theta) > (linear ? Math.PI / 2 : Math.PI);
+    ctx.fillText(`θ = ${fmt(theta, 4)} rad${big && !linear ? " (turned over)" : ""}`, cx, h - 6);
+    if (big && linear) { ctx.fillStyle = "#b42318"; ctx.fillText("beyond small angles: the linear model runs away", cx, h - 24); }
   };
-  scene(w * 0.27, thl, "linear model (2.3)", COLORS.linear, m.summary && typeof m.summary.linear === "string" ? m.summary.linear : "");
-  scene(w * 0.73, th, "nonlinear (the real pendulum)", COLORS.nonlinear, "");
+  scene(w * 0.27, thl, "linear model (2.3)", COLORS.linear, m.summary && typeof m.summary.linear === "string" ? m.summary.linear : "", true);
+  scene(w * 0.73, th, "nonlinear (the real pendulum)", COLORS.nonlinear, "", false);
   ctx.strokeStyle = "#e4e8ee"; ctx.lineWidth = 1; ctx.beginPath(); ctx.moveTo(w / 2, 30); ctx.lineTo(w / 2, h - 26); ctx.stroke();
 }
 
 // Plots drawn incrementally: a base (axes and the faint whole run) and the run so far on top.
 function makePlot(id, kind) {
   const p = { canvas: $(id), base: document.createElement("canvas"), prog: document.createElement("canvas"), upto: 0, m: null };
-  const pad = { l: 40, r: 8, t: 8, b: 20 };
+  const pad = { l: 44, r: 8, t: 8, b: 20 };
   p.frame = () => {
     const r = p.canvas.getBoundingClientRect(), dpr = window.devicePixelRatio || 1;
     return { w: r.width, h: r.height, dpr };
@@ -630,10 +665,10 @@ function makePlot(id, kind) {
     ctx.strokeStyle = "#34404f"; ctx.strokeRect(pad.l, pad.t, w - pad.l - pad.r, h - pad.t - pad.b);
     ctx.fillStyle = "#34404f"; ctx.font = "10.5px DejaVu Sans, sans-serif"; ctx.textAlign = "right"; ctx.textBaseline = "middle";
     const R = p.range;
-    ctx.fillText(fmt(R.y1, 2), pad.l - 3, pad.t + 4); ctx.fillText(fmt(R.y0, 2), pad.l - 3, h - pad.b - 4);
+    ctx.fillText(short(R.y1), pad.l - 3, pad.t + 4); ctx.fillText(short(R.y0), pad.l - 3, h - pad.b - 4);
     ctx.textAlign = "center"; ctx.textBaseline = "top";
-    ctx.fillText(kind === "series" ? "0" : fmt(R.x0, 2), pad.l + 8, h - pad.b + 3);
-    ctx.fillText(kind === "series" ? `${fmt(R.x1, 3)} s` : fmt(R.x1, 2), w - pad.r - 14, h - pad.b + 3);
+    ctx.fillText(kind === "series" ? "0" : short(R.x0), pad.l + 8, h - pad.b + 3);
+    ctx.fillText(kind === "series" ? `${short(R.x1)} s` : short(R.x1), w - pad.r - 14, h - pad.b + 3);
     ctx.fillText(kind === "series" ? "t" : "θ (mod 2π)", (pad.l + w - pad.r) / 2, h - pad.b + 3);
     ctx.save(); ctx.translate(10, (pad.t + h - pad.b) / 2); ctx.rotate(-Math.PI / 2); ctx.textBaseline = "middle";
     ctx.fillText(kind === "series" ? "θ [rad]" : "θ′ [rad/s]", 0, 0); ctx.restore();
@@ -694,8 +729,9 @@ function makePlot(id, kind) {
     if (kind === "phase") { const [X, Y] = p.map(wrap(lerp(m.theta, k)), lerp(m.dtheta, k)); ctx.fillStyle = COLORS.point; ctx.strokeStyle = "#000"; ctx.beginPath(); ctx.arc(X, Y, 5, 0, 2 * Math.PI); ctx.fill(); ctx.stroke(); }
     if (kind === "series") {
       ctx.font = "10.5px DejaVu Sans, sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "top";
-      ctx.fillStyle = COLORS.nonlinear; ctx.fillText("— nonlinear", pad.l + 6, pad.t + 3);
-      if (m.theta_linear) { ctx.fillStyle = COLORS.linear; ctx.fillText("— linear", pad.l + 80, pad.t + 3); }
+      ctx.textAlign = "right";
+      ctx.fillStyle = COLORS.nonlinear; ctx.fillText("— nonlinear", w - pad.r - 4, pad.t + 3);
+      if (m.theta_linear) { ctx.fillStyle = COLORS.linear; ctx.fillText("— linear", w - pad.r - 4, pad.t + 16); }
     }
   };
   return p;
@@ -746,4 +782,6 @@ fetchChart();
 if (S.point) choosePoint(S.point);
 window.addEventListener("resize", () => { drawChart(); anim.prepare(); });
 requestAnimationFrame(frame);
-window.kapitza = { S, anim, chart };
+// For tests and the console: where a point of the chart is on screen.
+window.kapitza = { S, anim, chart, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+  return { x: r.left + ax.X(x), y: r.top + ax.Y(y) }; } };
