@@ -36,3 +36,11 @@ def test_bench_drives_tiny_runs():
         assert needle in out, needle
     assert "pointwise verdicts disagree with the chart: 0 of" in out
     assert "solve_ivp verdicts differing from the exact ones on the sample: 0 of" in out
+
+
+def test_bench_web_tiny_runs():
+    out = run_tiny("bench_web.py")
+    for needle in ("kapitza serve: first request answered", "chart, full view", "chart, zone 2 zoomed",
+                   "point (stability report)", "baseline: the library call in-process", "p50 / baseline"):
+        assert needle in out, needle
+    assert out.count("errors 0") == 6

@@ -26,6 +26,7 @@ def register(sub):
 def cmd_serve(args):
     try:
         import fastapi  # noqa: F401
+        import orjson  # noqa: F401
         import uvicorn  # noqa: F401
     except ImportError:
         raise CLIError("the explorer needs the 'web' extra: pip install 'kapitza[web]' "

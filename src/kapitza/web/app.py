@@ -8,18 +8,18 @@ a view) are bounded here, with the same kind of message, so no request computes 
 from __future__ import annotations
 
 import json
-import re
 import threading
 from pathlib import Path
 from typing import Literal
 
 import numpy as np
+import orjson
 from fastapi import FastAPI, Query, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
 
-from .. import __version__
+from .. import __version__, _io
 from .. import _validate as _v
 from ..analysis import analyze
 from ..drives import parse_drive
@@ -47,18 +47,14 @@ Plane = Literal["arnold", "physical"]
 
 
 # ------------------------------------------------------------------ JSON
-_NONFINITE = re.compile(r"-?Infinity|NaN")
-
-
-def _json_text(obj) -> str:
-    """JSON with NaN as null and +-inf as +-1e308 (an edge beyond the view; JSON has no inf)."""
-    text = json.dumps(obj, separators=(",", ":"), default=_default)
-    return _NONFINITE.sub(lambda m: {"NaN": "null", "Infinity": "1e308", "-Infinity": "-1e308"}[m.group()], text)
+def _json_bytes(obj) -> bytes:
+    """JSON of ``obj``, numpy arrays included (orjson: exact shortest round-trip floats; NaN as null)."""
+    return orjson.dumps(obj, default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
 
 
 def _default(o):
-    if isinstance(o, np.ndarray):
-        return o.tolist()
+    if isinstance(o, np.ndarray):  # not C-contiguous or not float64/int
+        return np.ascontiguousarray(o, dtype=float)
     if isinstance(o, (np.floating, np.integer, np.bool_)):
         return o.item()
     if isinstance(o, complex):
@@ -66,9 +62,14 @@ def _default(o):
     raise TypeError(f"not JSON serialisable: {type(o).__name__}")
 
 
+def _beyond(a):
+    """``+-inf`` (an edge beyond the view) as ``+-1e308``: JSON has no infinity."""
+    return np.clip(a, -1e308, 1e308)
+
+
 class _JSON(JSONResponse):
     def render(self, content) -> bytes:
-        return _json_text(content).encode("utf-8")
+        return _json_bytes(content)
 
 
 # ------------------------------------------------------------------ parsing
@@ -188,7 +189,8 @@ def create_app() -> FastAPI:
             c = physical_zone_curves((T_min, T_max), (A_min, A_max), l, g, samples, d, zeta)
             y, lo, hi = c.A, c.T_lo, c.T_hi
             view = dict(T_min=T_min, T_max=T_max, A_min=A_min, A_max=A_max)
-        zones = [dict(n=int(n), lower_edge=edge_kinds(n)[0], upper_edge=edge_kinds(n)[1], lo=lo[i], hi=hi[i])
+        zones = [dict(n=int(n), lower_edge=edge_kinds(n)[0], upper_edge=edge_kinds(n)[1], lo=_beyond(lo[i]),
+                      hi=_beyond(hi[i]))
                  for i, n in enumerate(c.n)]
         return _JSON(dict(plane=plane, x="eps" if plane == "arnold" else "T", y="mu" if plane == "arnold" else "A",
                     view=view, l=l, g=g, drive=d.describe(), zeta=zeta, samples=int(np.size(y)), y_values=y,
@@ -208,7 +210,7 @@ def create_app() -> FastAPI:
             rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=c)
         else:
             rep = analyze(eps=eps, mu=mu, drive=d, zeta=zeta)
-        return _JSON({**rep.as_dict(), "lines": rep.lines()})
+        return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
 
     # -------------------------------------------------------------- motion
     @app.get("/api/motion", response_class=_JSON, summary="linear and nonlinear motion, sampled for animation")
@@ -218,7 +220,7 @@ def create_app() -> FastAPI:
         """The motion from ``(theta0, dtheta0)`` at ``t = 0``, nonlinear and linear (the library's
         :func:`kapitza.simulate`), the pivot's height, and the stroboscopic points at ``t = 2kT``."""
         pair, _ = _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period)
-        return _JSON(pair.as_dict())
+        return _JSON(pair.as_dict())  # the linear motion may overflow to inf: null
 
     # -------------------------------------------------------------- exports
     @app.get("/api/export/chart.{fmt}", summary="the chart as kapitza chart writes it: PNG, SVG or its CSV",
@@ -230,7 +232,6 @@ def create_app() -> FastAPI:
                      zeta: float = 0.0, samples: int = 1000, T: float | None = None, A: float | None = None):
         """The figure of ``kapitza chart`` for this view (PNG or SVG) or the curves drawn (CSV),
         with the point ``(T, A)`` marked when given."""
-        from .. import _io
         from ..figures._style import figure_bytes
         from ..figures.chart import chart_figure
 
@@ -265,7 +266,6 @@ def create_app() -> FastAPI:
                       periods: float = 20.0, points_per_period: int = 60):
         """``kapitza simulate --out``'s files: the motion as CSV, its summary as JSON, the time
         series (nonlinear with the linear one) as PNG or SVG."""
-        from .. import _io
 
         pair, d = _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period)
         if fmt == "csv":
