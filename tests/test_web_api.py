@@ -136,6 +136,14 @@ def test_motion_is_the_library_simulation(server):
     assert len(d["strobe"]["t"]) == 6
 
 
+def test_motion_of_an_unstable_point_runs_away_in_the_linear_model(server):
+    # T = 0.3 s: the linear motion grows like exp(3.07 per period) to ~1e26 rad; the nonlinear one
+    # falls and whirls. Both come back (no server error on the huge numbers).
+    d = server.get("/api/motion", params=dict(T=0.3, A=100.1337157672325, periods=20, points_per_period=60)).json()
+    assert abs(d["theta_linear"][-1]) > 1e20 and d["summary"]["linear"]["turns"] != 0
+    assert d["summary"]["motion"]["max_abs_theta"] > 1.5
+
+
 def test_exports_are_the_files_the_cli_writes(server, tmp_path):
     q = dict(T=0.15, A=100, theta0=0.1, periods=2, points_per_period=10)
     web_csv = server.get("/api/export/motion.csv", params=q)

@@ -49,7 +49,10 @@ Plane = Literal["arnold", "physical"]
 # ------------------------------------------------------------------ JSON
 def _json_bytes(obj) -> bytes:
     """JSON of ``obj``, numpy arrays included (orjson: exact shortest round-trip floats; NaN as null)."""
-    return orjson.dumps(obj, default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
+    try:
+        return orjson.dumps(obj, default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
+    except TypeError:  # an integer beyond 64 bits (the turns of a run-away linear motion)
+        return json.dumps(_io.to_jsonable(obj), default=_default, separators=(",", ":")).encode()
 
 
 def _default(o):
@@ -220,7 +223,7 @@ def create_app() -> FastAPI:
         """The motion from ``(theta0, dtheta0)`` at ``t = 0``, nonlinear and linear (the library's
         :func:`kapitza.simulate`), the pivot's height, and the stroboscopic points at ``t = 2kT``."""
         pair, _ = _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period)
-        return _JSON(pair.as_dict())  # the linear motion may overflow to inf: null
+        return _JSON(pair.as_dict())
 
     # -------------------------------------------------------------- exports
     @app.get("/api/export/chart.{fmt}", summary="the chart as kapitza chart writes it: PNG, SVG or its CSV",
