@@ -7,8 +7,10 @@ in the same run:
 * the time from starting ``kapitza serve`` to its first answered request (median of 3 starts);
 * p50 / p99 latency at 1, 10 and 50 concurrent clients (threads, each with its own keep-alive
   connection) for: the full chart view the page asks for first (every zone in ``0 <= eps <= 4``,
-  ``0 <= mu <= 1`` at 1000 samples), a deep-zoom view of zone 2 (1e-5 wide), and the stability
-  report of one point (what ``kapitza stability --json`` prints);
+  ``0 <= mu <= 1`` at 1000 samples; the server keeps the last 128 views, so repeats of it are
+  answered from memory), the same view moved by 1e-12 at every request (computed every time), a
+  deep-zoom view of zone 2 (1e-5 wide), and the stability report of one point (what
+  ``kapitza stability --json`` prints);
 * the baseline: the same library call in this process, without HTTP (the chart's curves and
   their JSON; ``analyze``), median over repeats; the ratio of the 1-client p50 to it is the
   cost of the web layer.
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import itertools
 import os
 import statistics
 import subprocess
@@ -40,8 +43,12 @@ from kapitza.curves import window_curves  # noqa: E402
 
 LO2, HI2 = (float(v) for v in kapitza.zone_edges(0.6, 2))
 W2 = HI2 - LO2
+_FRESH = itertools.count(1)
+FULL = dict(plane="arnold", eps_min=0, eps_max=4, mu_min=0, mu_max=1, samples=1000)
 QUERIES = {
-    "chart, full view": ("/api/chart", dict(plane="arnold", eps_min=0, eps_max=4, mu_min=0, mu_max=1, samples=1000)),
+    "chart, full view": ("/api/chart", FULL),
+    "chart, full view moved by 1e-12 each request (never cached)": (
+        "/api/chart", lambda: {**FULL, "eps_max": 4.0 + 1e-12 * next(_FRESH)}),
     "chart, zone 2 zoomed (1e-5 wide)": ("/api/chart", dict(eps_min=LO2 - 5 * W2, eps_max=HI2 + 5 * W2,
                                                            mu_min=0.6 - 2e-5, mu_max=0.6 + 2e-5, samples=1000)),
     "point (stability report)": ("/api/point", dict(T=0.15, A=100, l=1, g=9.81)),
@@ -55,7 +62,8 @@ def baseline(name):
         return lambda: kapitza.analyze(T=0.15, A=100.0).as_dict()
 
     def chart():
-        c = window_curves((q["eps_min"], q["eps_max"]), (q["mu_min"], q["mu_max"]), None, 0.0, q["samples"])
+        p = q() if callable(q) else q
+        c = window_curves((p["eps_min"], p["eps_max"]), (p["mu_min"], p["mu_max"]), None, 0.0, p["samples"])
         return orjson.dumps(dict(y=c.mu, zones=[dict(lo=c.eps_lo[i], hi=c.eps_hi[i]) for i in range(c.n.size)]),
                             option=orjson.OPT_SERIALIZE_NUMPY)
     return chart
@@ -70,14 +78,15 @@ def load(base, path, params, clients, requests, seconds):
 
     def worker():
         with httpx.Client(base_url=base, timeout=120.0) as c:
-            c.get(path, params=params)  # open the connection
+            c.get(path, params=params() if callable(params) else params)  # open the connection
             while True:
                 with lock:
                     if left[0] <= 0 or time.perf_counter() > stop:
                         return
                     left[0] -= 1
+                p = params() if callable(params) else params
                 t0 = time.perf_counter()
-                r = c.get(path, params=params)
+                r = c.get(path, params=p)
                 dt = time.perf_counter() - t0
                 with lock:
                     (times if r.status_code == 200 else errors).append(dt)
@@ -137,7 +146,8 @@ def main():
     with running_server() as (base, _, _proc):
         for name, (path, params) in QUERIES.items():
             med, lo, hi = median_time(baseline(name), repeats=5 if args.tiny else 21, warmup=1)
-            size = len(httpx.get(base + path.lstrip("/"), params=params, timeout=120).content)
+            size = len(httpx.get(base + path.lstrip("/"), params=params() if callable(params) else params,
+                                 timeout=120).content)
             print(f"\n{name}: GET {path} ({size / 1024:.0f} KiB)")
             print(f"  baseline: the library call in-process, no HTTP: median {1e3 * med:.2f} ms (min {1e3 * lo:.2f})")
             for c in levels:

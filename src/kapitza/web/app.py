@@ -7,6 +7,7 @@ a view) are bounded here, with the same kind of message, so no request computes 
 """
 from __future__ import annotations
 
+import functools
 import json
 import threading
 from pathlib import Path
@@ -168,36 +169,8 @@ def create_app() -> FastAPI:
         arnold plane, ``A`` on the physical one); ``x`` is ``eps`` or ``T``. NaN (null) where a zone
         does not exist at a sample; 1e308 for an edge beyond the view. ``lower_edge``/``upper_edge``
         say which periodic motion lives on each edge (2T or 4T)."""
-        from ..curves import edge_kinds, physical_zone_curves, window_curves
-
-        _bounded("samples", samples, LIMITS["samples"], 2)
-        d = _drive(drive)
-        zeta = float(_v.nonnegative("zeta", zeta))
-        general, _ = _v.general_drive(d, zeta)
-        cap = LIMITS["eps_max" if general is None else "general_eps_max"]
-        if plane == "arnold":
-            _bounded("eps_max", eps_max, cap)
-            c = window_curves((eps_min, eps_max), (mu_min, mu_max), d, zeta, samples)
-            y, lo, hi = c.mu, c.eps_lo, c.eps_hi
-            view = dict(eps_min=eps_min, eps_max=eps_max, mu_min=mu_min, mu_max=mu_max)
-        else:
-            l = float(_v.positive("l", l))
-            g = float(_v.positive("g", g))
-            T_max = 2.5 * np.sqrt(l / g) if T_max is None else T_max
-            A_min = g if A_min is None else A_min
-            A_max = 50.0 * g if A_max is None else A_max
-            if np.isfinite(T_max) and np.isfinite(A_max) and A_max > 0:
-                _bounded("T_max * sqrt(A_max / (8 l)) (the largest eps in view)",
-                         float(T_max * np.sqrt(A_max / (8.0 * l))), cap)
-            c = physical_zone_curves((T_min, T_max), (A_min, A_max), l, g, samples, d, zeta)
-            y, lo, hi = c.A, c.T_lo, c.T_hi
-            view = dict(T_min=T_min, T_max=T_max, A_min=A_min, A_max=A_max)
-        zones = [dict(n=int(n), lower_edge=edge_kinds(n)[0], upper_edge=edge_kinds(n)[1], lo=_beyond(lo[i]),
-                      hi=_beyond(hi[i]))
-                 for i, n in enumerate(c.n)]
-        return _JSON(dict(plane=plane, x="eps" if plane == "arnold" else "T", y="mu" if plane == "arnold" else "A",
-                    view=view, l=l, g=g, drive=d.describe(), zeta=zeta, samples=int(np.size(y)), y_values=y,
-                    zones=zones))
+        return Response(_chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g,
+                                    drive, zeta, samples), media_type="application/json")
 
     # -------------------------------------------------------------- point
     @app.get("/api/point", response_class=_JSON, summary="the stability report at one parameter set")
@@ -301,6 +274,42 @@ _FIGURES = threading.Lock()  # pyplot keeps global state: one figure at a time
 def _file(body: bytes, name: str) -> Response:
     return Response(body, media_type=_MEDIA[name.rsplit(".", 1)[1]],
                     headers={"Content-Disposition": f'attachment; filename="{name}"'})
+
+
+@functools.lru_cache(maxsize=128)
+def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples):
+    """The JSON of ``/api/chart``; the last 128 views are kept (each at most a few 100 KiB), so a
+    view many users open (the whole chart) is computed once."""
+    from ..curves import edge_kinds, physical_zone_curves, window_curves
+
+    _bounded("samples", samples, LIMITS["samples"], 2)
+    d = _drive(drive)
+    zeta = float(_v.nonnegative("zeta", zeta))
+    general, _ = _v.general_drive(d, zeta)
+    cap = LIMITS["eps_max" if general is None else "general_eps_max"]
+    if plane == "arnold":
+        _bounded("eps_max", eps_max, cap)
+        c = window_curves((eps_min, eps_max), (mu_min, mu_max), d, zeta, samples)
+        y, lo, hi = c.mu, c.eps_lo, c.eps_hi
+        view = dict(eps_min=eps_min, eps_max=eps_max, mu_min=mu_min, mu_max=mu_max)
+    else:
+        l = float(_v.positive("l", l))
+        g = float(_v.positive("g", g))
+        T_max = 2.5 * np.sqrt(l / g) if T_max is None else T_max
+        A_min = g if A_min is None else A_min
+        A_max = 50.0 * g if A_max is None else A_max
+        if np.isfinite(T_max) and np.isfinite(A_max) and A_max > 0:
+            _bounded("T_max * sqrt(A_max / (8 l)) (the largest eps in view)",
+                     float(T_max * np.sqrt(A_max / (8.0 * l))), cap)
+        c = physical_zone_curves((T_min, T_max), (A_min, A_max), l, g, samples, d, zeta)
+        y, lo, hi = c.A, c.T_lo, c.T_hi
+        view = dict(T_min=T_min, T_max=T_max, A_min=A_min, A_max=A_max)
+    zones = [dict(n=int(n), lower_edge=edge_kinds(n)[0], upper_edge=edge_kinds(n)[1], lo=_beyond(lo[i]),
+                  hi=_beyond(hi[i]))
+             for i, n in enumerate(c.n)]
+    return _json_bytes(dict(plane=plane, x="eps" if plane == "arnold" else "T", y="mu" if plane == "arnold" else "A",
+                            view=view, l=l, g=g, drive=d.describe(), zeta=zeta, samples=int(np.size(y)), y_values=y,
+                            zones=zones))
 
 
 def _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period):

@@ -252,7 +252,7 @@ function star(ctx, x, y, r) {
   ctx.closePath(); ctx.fillStyle = COLORS.point; ctx.fill(); ctx.strokeStyle = "#000"; ctx.lineWidth = 1.3; ctx.stroke();
 }
 function legendRows() {
-  const rows = [["fill", COLORS.fill, `stable zone n (${chart.data ? shortDrive(chart.data.drive) : ""})`],
+  const rows = [["fill", COLORS.fill, chart.data ? `stable zone n (${shortDrive(chart.data.drive)}${S.zeta > 0 ? `, ζ = ${S.zeta}` : ""})` : "stable zone n"],
     ["line", COLORS.edge2, "2T-periodic edge (Tₙ)"], ["dash", COLORS.edge4, "4T-periodic edge (T̃ₙ)"]];
   if (chart.overlay) rows.push(["line", COLORS.overlay, `overlay: ${shortDrive(chart.overlay.drive)}`]);
   if (S.point) rows.push(["star", COLORS.point, "chosen point"]);
@@ -279,7 +279,10 @@ function legend(ctx, ax) {
 const shortDrive = (d) => (d || "").replace(/ \(.*\)$/, "");
 
 function chartParams(drive) {
-  const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples: 1000 };
+  // The square wave's edges are closed forms (1000 samples in milliseconds); another drive or
+  // damping solves an eigenproblem per edge and sample, so fewer samples keep the view quick.
+  const samples = drive === "square" && !(S.zeta > 0) ? 1000 : 300;
+  const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples };
   if (S.plane === "arnold") return { ...base, eps_min: Math.max(0, v.x0), eps_max: v.x1, mu_min: Math.max(0, v.y0), mu_max: Math.min(1, v.y1) };
   return { ...base, T_min: Math.max(0, v.x0), T_max: v.x1, A_min: Math.max(S.g, v.y0), A_max: v.y1 };
 }
