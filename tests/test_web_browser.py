@@ -185,3 +185,22 @@ def test_animation_frame_rate(site):
     # 30 frames/s on a quiet machine; a loaded test machine gets a lower bound with margin.
     assert fps > 10
     page.close()
+
+
+def test_other_drive_with_damping_and_an_overlay(site):
+    """A 30 % duty cycle with damping ratio 0.05, the sine drive's zones overlaid, from a link."""
+    base, context = site
+    page = context.new_page()
+    page.goto(base + "?plane=arnold&x0=0&x1=2&y0=0&y1=1&drive=rectangular&duty=0.3&zeta=0.05&overlay=sine"
+                     "&T=0.2&A=150&theta0=0.3")
+    page.wait_for_function("kapitza.chart.data && kapitza.chart.overlay", timeout=120000)
+    page.wait_for_function("kapitza.anim.m !== null", timeout=120000)
+    page.wait_for_function("document.getElementById('verdict').textContent.includes('motions decay')", timeout=120000)
+    main, over = page.evaluate("[kapitza.chart.data.drive, kapitza.chart.overlay.drive]")
+    assert "duty 0.3" in main or "0.3" in main
+    assert over.startswith("sine")
+    assert page.evaluate("kapitza.chart.data.zones.length") >= 1
+    assert page.evaluate("kapitza.chart.overlay.zones.length") >= 1
+    page.wait_for_timeout(1500)
+    page.screenshot(path=str(SCREENS / "07-duty-cycle-damped-sine-overlay.png"))
+    page.close()
