@@ -181,6 +181,8 @@ def test_exports_are_the_files_the_cli_writes(server, tmp_path):
     ("/api/chart", dict(drive="triangle"), ["drive", "triangle"]),
     ("/api/chart", dict(drive="rectangular:1.5"), ["duty", "1.5"]),
     ("/api/chart", dict(zeta=-1), ["zeta", "-1"]),
+    ("/api/chart", dict(zeta=1e308), ["zeta", "10", "1e+308"]),
+    ("/api/export/chart.png", dict(mu_min=-1e308, zeta=1), ["mu", "mu_min"]),
     ("/api/chart", dict(plane="physical", l=0), ["l", "0"]),
     ("/api/point", dict(eps=-1, mu=0.3), ["eps", "-1"]),
     ("/api/point", dict(T=0.1), ["T and A"]),

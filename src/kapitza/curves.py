@@ -19,7 +19,7 @@ from .limits import averaging_threshold
 from .parameters import G_EARTH, SQRT8
 from .zones import _edges_eps
 
-__all__ = ["edge_kinds", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
+__all__ = ["edge_kinds", "window_range", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
 
 
 def edge_kinds(n) -> tuple[str, str]:
@@ -65,7 +65,7 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
     -------
     ZoneCurves
     """
-    e0, e1 = _window(eps_range, mu_range)
+    e0, e1 = window_range(eps_range, mu_range)
     m0, m1 = (float(v) for v in mu_range)
     points = int(_v.nonnegative_int("points", points, minimum=2))
     tiny = 1e-9
@@ -137,7 +137,7 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     general, _ = _v.general_drive(drive, zeta)
     if general is None:
         return zone_curves(eps_range, mu_range, points, max_zones)
-    e0, e1 = _window(eps_range, mu_range)
+    e0, e1 = window_range(eps_range, mu_range)
     points = int(_v.nonnegative_int("points", points, minimum=2))
     m0, m1 = (float(v) for v in mu_range)
     # from mu = 1e-3 as kapitza chart draws other drives (the window method and the edge-by-edge
@@ -147,8 +147,9 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     return ZoneCurves(n=c.zones, mu=mu, eps_lo=c.lo, eps_hi=c.hi)
 
 
-def _window(eps_range, mu_range):
-    """``(eps_min, eps_max)`` of a checked window of Arnold's plane."""
+def window_range(eps_range, mu_range):
+    """``(eps_min, eps_max)`` of a window of Arnold's plane, checked: ``0 <= eps_min < eps_max < inf``,
+    ``0 <= mu_min < mu_max <= 1`` (:class:`kapitza.KapitzaValueError` otherwise)."""
     e0, e1 = (float(v) for v in eps_range)
     m0, m1 = (float(v) for v in mu_range)
     if not (np.isfinite(e0) and np.isfinite(e1) and 0.0 <= e0 < e1):

@@ -8,7 +8,7 @@ import numpy as np
 
 from .. import _validate as _v
 from ..parameters import SQRT8
-from ..curves import PhysicalZoneCurves, ZoneCurves, physical_zone_curves, zone_curves
+from ..curves import PhysicalZoneCurves, ZoneCurves, physical_zone_curves, window_range, zone_curves
 from ..zones import _edges_eps
 from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL, Drawn, place_legend
 
@@ -327,6 +327,8 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
                                    "arnold plane for other drives and damping")
     if plane not in ("arnold", "physical"):
         raise _v.KapitzaValueError(f"plane must be 'arnold' or 'physical'; got {plane!r}")
+    if plane == "arnold":
+        window_range(eps_range, mu_range)
     magnify = magnified_zones(eps_range, mu_range) if general is None and plane == "arnold" and magnify else []
     fig = new_figure(8.6, 7.4 if magnify else 5.2)
     ax, zooms = zone_chart_axes(fig, len(magnify))

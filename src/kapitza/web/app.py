@@ -40,6 +40,7 @@ LIMITS = dict(
     points_per_period=200,
     motion_samples=20000,  # periods * points_per_period
     theta0=3.15,           # |theta0| <= about pi: a tilt from the upright
+    zeta=10.0,             # damping ratio (10: far beyond critical damping)
     drive_text=200,        # characters of a drive's text form
     url=4096,              # characters of a request's path and query
 )
@@ -90,6 +91,11 @@ def _bounded(name, value, hi, lo=None):
         where = f"{lo:g} <= {name} <= {hi:g}" if np.isfinite(lo) else f"{name} <= {hi:g}"
         raise _v.KapitzaValueError(f"{name} must satisfy {where} in the explorer; got {value!r}")
     return value
+
+
+def _zeta(zeta):
+    """The damping ratio, >= 0 (the library's check) and at most ``LIMITS['zeta']``."""
+    return _bounded("zeta", float(_v.nonnegative("zeta", zeta)), LIMITS["zeta"])
 
 
 def _physical_point(T, A, eps, mu, l, g):
@@ -182,10 +188,10 @@ def create_app() -> FastAPI:
         if T is not None or A is not None:
             if eps is not None or mu is not None:
                 raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
-            c = damping_of(float(_v.nonnegative("zeta", zeta)), float(_v.positive("l", l)), float(_v.positive("g", g)))
+            c = damping_of(_zeta(zeta), float(_v.positive("l", l)), float(_v.positive("g", g)))
             rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=c)
         else:
-            rep = analyze(eps=eps, mu=mu, drive=d, zeta=zeta)
+            rep = analyze(eps=eps, mu=mu, drive=d, zeta=_zeta(zeta))
         return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
 
     # -------------------------------------------------------------- motion
@@ -213,7 +219,7 @@ def create_app() -> FastAPI:
 
         _bounded("samples", samples, LIMITS["samples"], 2)
         d = _drive(drive)
-        zeta = float(_v.nonnegative("zeta", zeta))
+        zeta = _zeta(zeta)
         general, _ = _v.general_drive(d, zeta)
         _bounded("eps_max", eps_max, LIMITS["eps_max" if general is None else "general_eps_max"])
         mark = None
@@ -284,7 +290,7 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
 
     _bounded("samples", samples, LIMITS["samples"], 2)
     d = _drive(drive)
-    zeta = float(_v.nonnegative("zeta", zeta))
+    zeta = _zeta(zeta)
     general, _ = _v.general_drive(d, zeta)
     cap = LIMITS["eps_max" if general is None else "general_eps_max"]
     if plane == "arnold":
@@ -322,6 +328,6 @@ def _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_p
     _bounded("|theta0|", abs(theta0), LIMITS["theta0"])
     _bounded("periods * points_per_period", periods * points_per_period, LIMITS["motion_samples"])
     d = _drive(drive)
-    c = damping_of(float(_v.nonnegative("zeta", zeta)), float(_v.positive("l", l)), float(_v.positive("g", g)))
+    c = damping_of(_zeta(zeta), float(_v.positive("l", l)), float(_v.positive("g", g)))
     pair = motion_pair(theta0, dtheta0, T, A, l, g, periods=periods, points_per_period=points_per_period, c=c, drive=d)
     return pair, d
