@@ -66,3 +66,11 @@ def test_bench_twist_tiny_runs():
     for needle in ("twist_coefficient:", "not from the composed jets", "baseline: solve_ivp DOP853",
                    "agreement on the sample", "ratio (baseline / closed forms)"):
         assert needle in out, needle
+
+
+def test_bench_web_tiny_runs():
+    out = run_tiny("bench_web.py")
+    for needle in ("kapitza serve: first request answered", "chart, full view", "chart, zone 2 zoomed",
+                   "point (stability report)", "baseline: the library call in-process", "p50 / baseline"):
+        assert needle in out, needle
+    assert "never cached" in out and out.count("errors 0") == 8

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["atomic_path", "write_text", "write_bytes", "write_json", "write_csv", "to_jsonable"]
+__all__ = ["atomic_path", "write_text", "write_bytes", "write_json", "write_csv", "csv_text", "to_jsonable"]
 
 
 @contextmanager
@@ -133,8 +133,13 @@ def _quoted(text):
 
 
 def write_csv(path, header, rows=None, comments=(), *, columns=None) -> Path:
-    """Write ``rows`` (iterable of sequences), or ``columns`` (equal-length 1-D arrays, or single
-    values repeated down the column), under ``header``; ``comments`` become ``# `` lines.
+    """Write :func:`csv_text` to ``path``."""
+    return write_text(path, csv_text(header, rows, comments, columns=columns))
+
+
+def csv_text(header, rows=None, comments=(), *, columns=None) -> str:
+    """``rows`` (iterable of sequences), or ``columns`` (equal-length 1-D arrays, or single
+    values repeated down the column), under ``header`` as CSV text; ``comments`` become ``# `` lines.
 
     Floats are written as ``repr`` (the shortest text that reads back to the same double). The
     ``columns`` form formats each column with a few list operations rather than a call per
@@ -154,4 +159,4 @@ def write_csv(path, header, rows=None, comments=(), *, columns=None) -> Path:
     else:
         for r in rows:
             w.writerow([repr(float(v)) if isinstance(v, (float, np.floating)) else v for v in r])
-    return write_text(path, buf.getvalue())
+    return buf.getvalue()

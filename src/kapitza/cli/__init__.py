@@ -12,7 +12,7 @@ from ._common import CLIError, Parser
 from .. import __version__
 
 #: Command modules, in the order their commands appear in ``kapitza --help``.
-COMMAND_MODULES = ["engine", "drives", "motion", "nonlinear", "sweep", "paper"]
+COMMAND_MODULES = ["engine", "drives", "motion", "nonlinear", "sweep", "paper", "web"]
 
 DESCRIPTION = """\
 Exact stability of the inverted pendulum whose pivot is shaken up and down with a
@@ -39,6 +39,7 @@ examples:
   kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --out map.zarr   # nonlinear map over the chart (Dask, --resume)
 
   kapitza paper --out out/paper               # every figure and numbered claim of the paper, with a report
+  kapitza serve                               # the explorer in a web browser (needs the 'web' extra)
 
 Run 'kapitza COMMAND --help' for each command's options.
 """

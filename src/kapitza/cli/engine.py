@@ -167,7 +167,8 @@ def cmd_zones(args):
     if args.zeta < 0:
         raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
     n, lo, hi = _zone_rows(args.zones, mu, drive, args.zeta)
-    kinds = lambda k: ("2T", "4T") if k % 2 == 0 else ("4T", "2T")  # noqa: E731
+    from ..curves import edge_kinds as kinds
+
     records = [
         dict(n=int(k), lower_edge=kinds(k)[0], upper_edge=kinds(k)[1], mu=mu, eps_lo=lo[i], eps_hi=hi[i])
         for i, k in enumerate(n)
@@ -196,9 +197,8 @@ def cmd_zones(args):
 
 # ------------------------------------------------------------------ chart
 def cmd_chart(args):
-    from ..figures._style import caption, new_figure, save
-    from ..figures.chart import (magnified_zones, magnified_zones_physical, plot_tongue, plot_zones,
-                                 plot_zones_physical, zone_chart_axes)
+    from ..figures._style import save
+    from ..figures.chart import chart_figure
 
     count("--points", args.points, 200_000, minimum=2)
     mark = None
@@ -218,98 +218,26 @@ def cmd_chart(args):
     if args.zeta < 0:
         raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
     general = drive.name != "square" or args.zeta > 0
-    if general and args.plane != "arnold":
-        raise CLIError("--plane physical draws the square wave without damping; use --plane arnold for other "
-                       "drives and damping")
     if general and mark is not None:
         rep = mark[0]
         rep = analyze(eps=rep.eps, mu=rep.mu, drive=drive, zeta=args.zeta)
         mark = (rep, mark[1])
+    if general and args.plane != "arnold":
+        raise CLIError("--plane physical draws the square wave without damping; use --plane arnold for other "
+                       "drives and damping")
+    if args.plane == "arnold":
+        if not (0.0 <= args.eps_min < args.eps_max <= (50.0 if general else np.inf)):
+            raise CLIError(f"need 0 <= eps-min < eps-max{' <= 50' if general else ''}; got {args.eps_min:g}, "
+                           f"{args.eps_max:g}")
+        if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
+            raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
+    elif args.l <= 0 or args.g <= 0:
+        raise CLIError(f"--l and --g must be > 0; got l={args.l:g}, g={args.g:g}")
     stem = out_stem(args.out)
-    magnify = []
-    if not general and args.plane == "arnold" and args.magnify:
-        if not (0.0 <= args.eps_min < args.eps_max) or not (0.0 <= args.mu_min < args.mu_max <= 1.0):
-            raise CLIError(f"need 0 <= eps-min < eps-max and 0 <= mu-min < mu-max <= 1; got eps {args.eps_min:g}.."
-                           f"{args.eps_max:g}, mu {args.mu_min:g}..{args.mu_max:g}")
-        magnify = magnified_zones((args.eps_min, args.eps_max), (args.mu_min, args.mu_max))
-    physical = None
-    if not general and args.plane == "physical" and args.magnify:
-        l, g = args.l, args.g
-        if l <= 0 or g <= 0:
-            raise CLIError(f"--l and --g must be > 0; got l={l:g}, g={g:g}")
-        T_win = (args.T_min, args.T_max if args.T_max is not None else 2.5 * (l / g) ** 0.5)
-        A_win = (args.A_min if args.A_min is not None else g, args.A_max if args.A_max is not None else 50.0 * g)
-        if 0.0 <= T_win[0] < T_win[1] and g <= A_win[0] < A_win[1]:
-            magnify = magnified_zones_physical(T_win, A_win, l, g)
-            physical = (l, g)
-            mu_win = (float(np.sqrt(g / A_win[1])), float(min(np.sqrt(g / A_win[0]), 1.0)))
-    fig = new_figure(8.6, 7.4 if magnify else 5.2)
-    ax, zooms = zone_chart_axes(fig, len(magnify))
-    for zax, n in zip(zooms, magnify):
-        plot_tongue(n, zax, mu_win if physical else (args.mu_min, args.mu_max), points=min(args.points, 600),
-                    physical=physical)
-    if general:
-        from ..figures.drives import drive_curves, plot_drive_comparison
-
-        if not (0.0 <= args.eps_min < args.eps_max <= 50.0):
-            raise CLIError(f"need 0 <= eps-min < eps-max <= 50; got {args.eps_min:g}, {args.eps_max:g}")
-        if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
-            raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
-        mu_s = np.linspace(max(args.mu_min, 1e-3), min(args.mu_max, 0.999), min(args.points, 4000))
-        curves = drive_curves(drive, mu_s, args.eps_max, args.zeta)
-        plot_drive_comparison([curves], ax, eps_range=(args.eps_min, args.eps_max),
-                              mu_range=(args.mu_min, args.mu_max))
-        header = ["drive", "zeta", "n", "mu", "eps_lo", "eps_hi"]
-        xy = (lambda r: (r.eps, r.mu))
-        ax.set_title(args.title or f"Exact stability zones: {drive.label}"
-                     + (f", damping ratio {args.zeta:g}" if args.zeta > 0 else ""))
-    elif args.plane == "arnold":
-        if not (0.0 <= args.eps_min < args.eps_max):
-            raise CLIError(f"need 0 <= eps-min < eps-max; got {args.eps_min:g}, {args.eps_max:g}")
-        if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
-            raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
-        curves = plot_zones(ax, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), show_G=args.show_G,
-                            points=args.points).data
-        header = ["n", "mu", "eps_lo", "eps_hi"]
-        xy = (lambda r: (r.eps, r.mu))
-        what = r"$\alpha + n\pi < \omega_e T < \beta + n\pi$ (zone $n$)"
-        extra = r"; dotted: the curves $G_m$." if args.show_G else "."
-        if magnify:
-            extra += (" Lower panels: zone" + ("s " if len(magnify) > 1 else " ") + ", ".join(str(n) for n in magnify) + r", too thin to see above, "
-                      r"magnified ($\varepsilon$ from each tongue's midpoint, in the power of ten shown).")
-    else:
-        l, g = args.l, args.g
-        if l <= 0 or g <= 0:
-            raise CLIError(f"--l and --g must be > 0; got l={l:g}, g={g:g}")
-        T_max = args.T_max if args.T_max is not None else 2.5 * (l / g) ** 0.5
-        A_min = args.A_min if args.A_min is not None else g
-        A_max = args.A_max if args.A_max is not None else 50.0 * g
-        curves = plot_zones_physical(ax, (args.T_min, T_max), (A_min, A_max), l=l, g=g, points=args.points).data
-        header = ["n", "A", "T_lo", "T_hi"]
-        xy = (lambda r: (r.T, r.A))
-        what = rf"for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$ (zone $n$)"
-        extra = r"; below $A = g$ the upright is always unstable."
-        if magnify:
-            extra += (" Lower panels: zone" + ("s " if len(magnify) > 1 else " ") + ", ".join(str(n) for n in magnify)
-                      + r", too thin to see above, magnified ($T$ from each tongue's midpoint at each $A$, in the "
-                        r"power of ten shown).")
-    if mark is not None:
-        rep, label = mark
-        x, y = xy(rep) if (args.plane == "arnold" or rep.T is not None) else (None, None)
-        if x is None:
-            raise CLIError("on the physical plane mark a point with --mark-T and --mark-A")
-        ax.plot([x], [y], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
-                label=f"{label}: {rep.verdict.split(':')[0].split(' (')[0]}")
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    if general:
-        caption(fig, f"Shaded: the upright position is stable ({drive.describe()}"
-                     + (f", damping ratio {args.zeta:g}" if args.zeta > 0 else "")
-                     + r"); lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$.")
-    else:
-        ax.set_title(args.title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
-        caption(fig, rf"Shaded: the upright position is stable, {what}. "
-                     r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
-                     + extra)
+    fig, curves, header = chart_figure(
+        args.plane, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), (args.T_min, args.T_max),
+        (args.A_min, args.A_max), l=args.l, g=args.g, drive=drive, zeta=args.zeta, points=args.points, mark=mark,
+        show_G=args.show_G, magnify=args.magnify, title=args.title)
     formats = ("png", "svg", "pdf") if args.pdf else ("png", "svg")
     paths = save(fig, stem, formats)
     import matplotlib.pyplot as plt

@@ -8,6 +8,7 @@ import numpy as np
 from .. import _io
 from .. import _validate as _v
 from ..analysis import analyze
+from ..motion.pair import parameters_summary
 from ._common import (add_drive, add_parameters, count, drive_from, finite_float, format_table,
                       out_stem, parameters_from, positive_float, print_json)
 
@@ -127,41 +128,24 @@ def _physical_from(args):
     return kw["T"], kw["A"], kw["l"], kw["g"], rep
 
 
-def _parameters_dict(T, A, l, g, rep):
-    return dict(T=T, A=A, l=l, g=g, eps=rep.eps, mu=rep.mu, verdict=rep.verdict, stable=rep.stable, zone=rep.zone)
-
-
 # ------------------------------------------------------------------ simulate
 def cmd_simulate(args):
-    from ..motion import simulate, stroboscopic_map
+    from ..motion import motion_pair, stroboscopic_map
 
     T, A, l, g, rep = _physical_from(args)
     count("--orbits", args.orbits, 1000)
     count("--strobe-periods", args.strobe_periods, 100_000)
     model = "nonlinear" if args.model == "both" else args.model
-    common = dict(periods=args.periods, points_per_period=args.points_per_period, c=args.damping,
-                  method=args.method, rtol=args.rtol, atol=args.atol, drive=args.drive_obj)
-    traj = simulate(args.theta0, args.dtheta0, T, A, l, g, model=model, **common)
-    linear, linear_note = None, None
-    if args.model == "both":
-        try:
-            linear = simulate(args.theta0, args.dtheta0, T, A, l, g, model="linear", **common)
-        except OverflowError as exc:
-            linear_note = f"linear motion not shown: {exc}"
-    summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
-                   motion=traj.summary())
-    if linear is not None:
-        summary["linear"] = linear.summary()
-    elif linear_note:
-        summary["linear"] = linear_note
+    pair = motion_pair(args.theta0, args.dtheta0, T, A, l, g, model=model, compare_linear=args.model == "both",
+                       periods=args.periods, points_per_period=args.points_per_period, c=args.damping,
+                       method=args.method, rtol=args.rtol, atol=args.atol, drive=args.drive_obj)
+    traj, linear, linear_note = pair.motion, pair.linear, pair.linear_note
+    summary = pair.summary(rep)
     files = []
     if args.out:
         stem = out_stem(args.out)
-        header = ["t", "theta", "dtheta", "pivot_y"] + (["theta_linear", "dtheta_linear"] if linear is not None else [])
-        cols = [traj.t, traj.theta, traj.dtheta, traj.pivot] + ([linear.theta, linear.dtheta] if linear is not None else [])
-        files.append(_io.write_csv(stem.with_suffix(".csv"), header, columns=cols, comments=[
-            f"kapitza simulate: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2, c = {args.damping!r} 1/s",
-            f"{traj.model} model ({traj.method}); theta from the upright [rad], dtheta [rad/s], pivot_y [m]"]))
+        header, cols, comments = pair.table()
+        files.append(_io.write_csv(stem.with_suffix(".csv"), header, columns=cols, comments=comments))
         # An ensemble on the theta axis from near the upright out to the start (or 0.6 rad) for the map.
         reach = max(abs(args.theta0), 0.6) if args.theta0 else 0.6
         th_ens = np.linspace(reach / args.orbits, reach, args.orbits)
@@ -239,7 +223,7 @@ def cmd_animate(args):
                   linear=linear, tol=args.tol)
     if res.message:
         print(f"kapitza animate: {res.message}", file=sys.stderr)
-    summary = dict(parameters=_parameters_dict(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
+    summary = dict(parameters=parameters_summary(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
                    motion=traj.summary(), file=str(res.path), format=res.format, frames=res.frames,
                    fps=res.fps, slowdown=res.slowdown, message=res.message)
     if args.json:
@@ -283,7 +267,7 @@ def cmd_basin(args):
     paths.append(_io.write_csv(stem.with_suffix(".csv"), header, columns=cols, comments=[
         f"kapitza basin: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2; window |theta| <= {args.tol!r} rad "
         f"for {args.periods} periods 2T (survived = 1)"]))
-    summary = dict(parameters=_parameters_dict(T, A, l, g, rep), tol=args.tol, periods=args.periods,
+    summary = dict(parameters=parameters_summary(T, A, l, g, rep), tol=args.tol, periods=args.periods,
                    basins=[b.summary() for b in basins],
                    small_tilt=dict(theta0=probe, dtheta0=0.0, periods_survived=demo,
                                    stays_up={m: v >= args.periods for m, v in demo.items()}))

@@ -20,6 +20,11 @@ def zeta_of(c, l, g):
     return 0.5 * c * np.sqrt(l / g)
 
 
+def damping_of(zeta, l, g):
+    """Viscous damping ``c = 2 zeta sqrt(g/l)`` [1/s] of the damping ratio ``zeta`` (inverse of :func:`zeta_of`)."""
+    return 2.0 * zeta * np.sqrt(g / l)
+
+
 def floquet(eps, mu, drive, zeta):
     """``(trace, determinant, multipliers, growth, rotation_number, stable, zone)``.
 

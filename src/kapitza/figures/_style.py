@@ -138,6 +138,15 @@ def save(fig, stem, formats=("png", "svg"), dpi=150):
     return paths
 
 
+def figure_bytes(fig, fmt="png", dpi=150) -> bytes:
+    """The figure as the bytes :func:`save` would write in format ``fmt``."""
+    import io
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format=fmt, dpi=dpi)
+    return buf.getvalue()
+
+
 class Drawn(dict):
     """What a ``plot_*`` function drew.
 

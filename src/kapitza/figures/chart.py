@@ -8,6 +8,7 @@ import numpy as np
 
 from .. import _validate as _v
 from ..parameters import SQRT8
+from ..curves import PhysicalZoneCurves, ZoneCurves, physical_zone_curves, window_range, zone_curves
 from ..zones import _edges_eps
 from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL, Drawn, place_legend
 
@@ -23,85 +24,8 @@ __all__ = [
     "plot_tongue",
     "PhysicalZoneCurves",
     "plot_zones_physical",
+    "chart_figure",
 ]
-
-
-@dataclass(frozen=True)
-class ZoneCurves:
-    """Edge curves of the zones visible in a window: for zone ``n[i]``,
-    ``eps_lo[i]``, ``eps_hi[i]`` sampled at ``mu`` (arrays ``(zones, points)``)."""
-
-    n: np.ndarray
-    mu: np.ndarray
-    eps_lo: np.ndarray
-    eps_hi: np.ndarray
-
-    def rows(self):
-        """``(n, mu, eps_lo, eps_hi)`` rows for CSV export."""
-        for i, n in enumerate(self.n):
-            for j, m in enumerate(self.mu):
-                yield int(n), m, self.eps_lo[i, j], self.eps_hi[i, j]
-
-
-def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zones=400):
-    """Sample the edges of every zone that meets the window.
-
-    Parameters
-    ----------
-    eps_range, mu_range : (float, float)
-        The window; ``0 <= eps_min < eps_max``, ``0 <= mu_min < mu_max <= 1``.
-    points : int
-        Samples of ``mu`` across the window (>= 2). The edges are exact at
-        every sample; nothing is interpolated on a pixel grid.
-    max_zones : int
-        Refuse windows that would need more zones than this.
-
-    Returns
-    -------
-    ZoneCurves
-    """
-    e0, e1 = (float(v) for v in eps_range)
-    m0, m1 = (float(v) for v in mu_range)
-    if not (np.isfinite(e0) and np.isfinite(e1) and 0.0 <= e0 < e1):
-        raise _v.KapitzaValueError(f"eps range must satisfy 0 <= eps_min < eps_max < inf; got ({e0:g}, {e1:g})")
-    if not (0.0 <= m0 < m1 <= 1.0):
-        raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= 1; got ({m0:g}, {m1:g})")
-    points = int(_v.nonnegative_int("points", points, minimum=2))
-    tiny = 1e-9
-    # Cluster samples towards the ends where the edges bend fastest (mu -> 0, mu -> 1).
-    s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, points))
-    mu = np.clip(m0 + (m1 - m0) * s, tiny, 1.0 - tiny)
-    q = np.sqrt((1.0 - mu) * (1.0 + mu))
-    n_hi = int(np.floor(SQRT8 * q.max() * e1 / np.pi))
-    # Zone n needs eps >= n pi / (SQRT8 q) at least; the lowest zone that can reach e0:
-    n_lo = max(0, int(np.floor(SQRT8 * q.min() * e0 / np.pi)) - 1)
-    if n_hi - n_lo + 1 > max_zones:
-        raise _v.KapitzaValueError(
-            f"the window holds {n_hi - n_lo + 1} zones (more than {max_zones}); narrow eps range or mu range"
-        )
-    n = np.arange(n_lo, n_hi + 1)
-    lo, hi = _edges_eps(mu[None, :], n[:, None])
-    # Edges are continuous in mu: a zone meets the window if its eps range overlaps the window's,
-    # even when it crosses the window between two samples (the resampling below then finds it).
-    visible = (hi.max(axis=1) >= e0) & (lo.min(axis=1) <= e1)
-    n, lo, hi = n[visible], lo[visible], hi[visible]
-    # In a narrow eps window an edge may cross the window within a few mu samples; resample
-    # each zone's crossing densely (still exact at every sample) so the zoom shows a curve.
-    for _ in range(3):  # each pass zooms on the crossings by a factor ~ points / 4
-        extra = []
-        for i in range(n.size):
-            inside = ((lo[i] >= e0) & (lo[i] <= e1)) | ((hi[i] >= e0) & (hi[i] <= e1)) | ((lo[i] < e0) & (hi[i] > e1))
-            idx = np.flatnonzero(inside)
-            if not idx.size:  # crossed between two samples: the bracketing pair
-                k = np.flatnonzero(np.diff(np.sign(lo[i] - e0)) != 0)
-                idx = k if k.size else np.flatnonzero(np.diff(np.sign(hi[i] - e1)) != 0)
-            if idx.size and idx.size < points // 4:
-                extra.append(np.linspace(mu[max(idx[0] - 1, 0)], mu[min(idx[-1] + 1, mu.size - 1)], points))
-        if not extra:
-            break
-        mu = np.unique(np.concatenate([mu, *extra]))
-        lo, hi = _edges_eps(mu[None, :], n[:, None])
-    return ZoneCurves(n=n, mu=mu, eps_lo=lo, eps_hi=hi)
 
 
 def _draw_tongues(ax, n, y, x_lo, x_hi, x_range, label_zones=True):
@@ -195,19 +119,11 @@ def magnified_zones(eps_range, mu_range, candidates=(1, 2, 3), fraction=0.02):
     return keep
 
 
-def _physical_window(T_range, A_range, l, g):
-    """The ``(eps, mu)`` window covering the physical window ``T_range`` x ``A_range``."""
-    (T0, T1), (A0, A1) = T_range, A_range
-    return (T0 * np.sqrt(A0 / (8.0 * l)), T1 * np.sqrt(A1 / (8.0 * l))), (np.sqrt(g / A1), min(np.sqrt(g / A0), 1.0))
-
-
 def magnified_zones_physical(T_range, A_range, l=1.0, g=9.81, candidates=(1, 2, 3), fraction=0.02):
     """As :func:`magnified_zones`, for the physical ``T``-``A`` window of a rod ``l`` under ``g``:
     the zones narrower in ``T`` than ``fraction`` of the window wherever they meet it."""
-    eps_range, mu_range = _physical_window(T_range, A_range, l, g)
-    curves = zone_curves(eps_range, mu_range, 200)
-    scale = np.sqrt(8.0 * l * curves.mu**2 / g)  # T = eps sqrt(8 l / A), A = g / mu^2
-    T_lo, T_hi = curves.eps_lo * scale, curves.eps_hi * scale
+    curves = physical_zone_curves(T_range, A_range, l, g, 200)
+    T_lo, T_hi = curves.T_lo, curves.T_hi
     width = float(T_range[1] - T_range[0])
     keep = []
     for i, n in enumerate(curves.n):
@@ -356,25 +272,6 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     return out
 
 
-@dataclass(frozen=True)
-class PhysicalZoneCurves:
-    """Zone edges in the physical plane: for zone ``n[i]``, the half-periods
-    ``T_lo[i]``, ``T_hi[i]`` at the amplitudes ``A`` (arrays ``(zones, points)``)."""
-
-    n: np.ndarray
-    A: np.ndarray
-    T_lo: np.ndarray
-    T_hi: np.ndarray
-    l: float
-    g: float
-
-    def rows(self):
-        """``(n, A, T_lo, T_hi)`` rows for CSV export."""
-        for i, n in enumerate(self.n):
-            for j, a in enumerate(self.A):
-                yield int(n), a, self.T_lo[i, j], self.T_hi[i, j]
-
-
 def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, points=1200, label_zones=True,
                         legend="outside"):
     """Draw the exact stability zones in the physical ``T``-``A`` plane of a rod ``l`` under ``g``.
@@ -409,23 +306,12 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
     """
     import matplotlib.pyplot as plt
 
-    l = float(_v.positive("l", l))
-    g = float(_v.positive("g", g))
-    T0, T1 = (0.0, 2.5 * np.sqrt(l / g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
-    A0, A1 = (g, 50.0 * g) if A_range is None else (float(A_range[0]), float(A_range[1]))
-    if not (np.isfinite(T1) and 0.0 <= T0 < T1):
-        raise _v.KapitzaValueError(f"T range must satisfy 0 <= T_min < T_max < inf; got ({T0:g}, {T1:g})")
-    if not (np.isfinite(A1) and g <= A0 < A1):
-        raise _v.KapitzaValueError(f"A range must satisfy g <= A_min < A_max < inf (g = {g:g}); got ({A0:g}, {A1:g})")
+    res = physical_zone_curves(T_range, A_range, l, g, points)
     if ax is None:
         _, ax = plt.subplots(layout="constrained")
-    # eps = T sqrt(A / (8 l)) is largest at (T1, A1); cover the window in (eps, mu).
-    eps_range, mu_range = _physical_window((T0, T1), (A0, A1), l, g)
-    curves = zone_curves(eps_range, mu_range, points)
-    A = g / curves.mu**2
-    scale = np.sqrt(8.0 * l / A)
-    res = PhysicalZoneCurves(n=curves.n, A=A, T_lo=curves.eps_lo * scale, T_hi=curves.eps_hi * scale, l=l, g=g)
-    out = Drawn(ax, _draw_tongues(ax, res.n, A, res.T_lo, res.T_hi, (T0, T1), label_zones), data=res)
+    T0, T1 = (0.0, 2.5 * np.sqrt(res.l / res.g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
+    A0, A1 = (res.g, 50.0 * res.g) if A_range is None else (float(A_range[0]), float(A_range[1]))
+    out = Drawn(ax, _draw_tongues(ax, res.n, res.A, res.T_lo, res.T_hi, (T0, T1), label_zones), data=res)
     ax.set_yscale("log")
     ax.set_xlim(T0, T1)
     ax.set_ylim(A0, A1)
@@ -434,3 +320,115 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
     if legend:
         out["legend"] = place_legend(ax, inside=(legend == "inside"))
     return out
+
+
+def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_range=(0.0, None), A_range=(None, None),
+                 *, l=1.0, g=9.81, drive=None, zeta=0.0, points=1200, mark=None, show_G=True, magnify=True,
+                 title=None):
+    """The whole chart ``kapitza chart`` writes and the explorer exports: zones, edges, caption.
+
+    Parameters
+    ----------
+    plane : {"arnold", "physical"}
+        Arnold's ``eps``-``mu`` plane, or ``T``-``A`` for the rod ``l`` under ``g`` (the square
+        wave without damping).
+    eps_range, mu_range : (float, float)
+        The window of the arnold plane.
+    T_range, A_range : (float or None, float or None)
+        The window of the physical plane; None: ``T`` up to ``2.5 sqrt(l/g)``, ``A`` from ``g``
+        to ``50 g``.
+    drive, zeta :
+        The pivot's motion and the damping ratio (:func:`kapitza.curves.window_curves`).
+    points : int
+        Samples per edge.
+    mark : (StabilityReport, str) or None
+        A point to mark with a star, and its label.
+    show_G : bool
+        Draw the curves ``G_m`` (square wave, arnold plane).
+    magnify : bool
+        Add panels magnifying the zones 1-3 when they are too thin to see (square wave, arnold plane).
+    title : str, optional
+
+    Returns
+    -------
+    (Figure, curves, header)
+        The figure, the curves drawn (``.rows()`` for CSV) and the CSV header.
+    """
+    from ._style import caption, new_figure
+
+    general, _ = _v.general_drive(drive, zeta)
+    zeta = float(zeta)
+    if general is not None and plane != "arnold":
+        raise _v.KapitzaValueError("the physical plane is drawn for the square wave without damping; use the "
+                                   "arnold plane for other drives and damping")
+    if plane not in ("arnold", "physical"):
+        raise _v.KapitzaValueError(f"plane must be 'arnold' or 'physical'; got {plane!r}")
+    if plane == "arnold":
+        window_range(eps_range, mu_range)
+    physical = None
+    if plane == "physical":
+        l = float(_v.positive("l", l))
+        g = float(_v.positive("g", g))
+        T_range = (T_range[0], T_range[1] if T_range[1] is not None else 2.5 * (l / g) ** 0.5)
+        A_range = (A_range[0] if A_range[0] is not None else g, A_range[1] if A_range[1] is not None else 50.0 * g)
+    if general is not None or not magnify:
+        magnify = []
+    elif plane == "arnold":
+        magnify = magnified_zones(eps_range, mu_range)
+    elif 0.0 <= T_range[0] < T_range[1] and g <= A_range[0] < A_range[1]:
+        magnify = magnified_zones_physical(T_range, A_range, l, g)
+        physical = (l, g)
+        mu_range = (float(np.sqrt(g / A_range[1])), float(min(np.sqrt(g / A_range[0]), 1.0)))
+    else:
+        magnify = []
+    fig = new_figure(8.6, 7.4 if magnify else 5.2)
+    ax, zooms = zone_chart_axes(fig, len(magnify))
+    for zax, n in zip(zooms, magnify):
+        plot_tongue(n, zax, mu_range, points=min(points, 600), physical=physical)
+    if general is not None:
+        from .drives import drive_curves, plot_drive_comparison
+
+        mu_s = np.linspace(max(mu_range[0], 1e-3), min(mu_range[1], 0.999), min(points, 4000))
+        curves = drive_curves(general, mu_s, eps_range[1], zeta)
+        plot_drive_comparison([curves], ax, eps_range=eps_range, mu_range=mu_range)
+        header = ["drive", "zeta", "n", "mu", "eps_lo", "eps_hi"]
+        ax.set_title(title or f"Exact stability zones: {general.label}" + (f", damping ratio {zeta:g}" if zeta > 0 else ""))
+    elif plane == "arnold":
+        curves = plot_zones(ax, eps_range, mu_range, show_G=show_G, points=points).data
+        header = ["n", "mu", "eps_lo", "eps_hi"]
+        what = r"$\alpha + n\pi < \omega_e T < \beta + n\pi$ (zone $n$)"
+        extra = r"; dotted: the curves $G_m$." if show_G else "."
+        if magnify:
+            extra += (" Lower panels: zone" + ("s " if len(magnify) > 1 else " ") + ", ".join(str(n) for n in magnify)
+                      + r", too thin to see above, "
+                      r"magnified ($\varepsilon$ from each tongue's midpoint, in the power of ten shown).")
+    else:
+        curves = plot_zones_physical(ax, T_range, A_range, l=l, g=g, points=points).data
+        header = ["n", "A", "T_lo", "T_hi"]
+        what = rf"for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$ (zone $n$)"
+        extra = r"; below $A = g$ the upright is always unstable."
+        if magnify:
+            extra += (" Lower panels: zone" + ("s " if len(magnify) > 1 else " ") + ", ".join(str(n) for n in magnify)
+                      + r", too thin to see above, magnified ($T$ from each tongue's midpoint at each $A$, in the "
+                        r"power of ten shown).")
+    if mark is not None:
+        rep, label = mark
+        if plane == "arnold":
+            x, y = rep.eps, rep.mu
+        elif rep.T is not None:
+            x, y = rep.T, rep.A
+        else:
+            raise _v.KapitzaValueError("on the physical plane mark a point by its T and A")
+        ax.plot([x], [y], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
+                label=f"{label}: {rep.verdict.split(':')[0].split(' (')[0]}")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    if general is not None:
+        caption(fig, f"Shaded: the upright position is stable ({general.describe()}"
+                     + (f", damping ratio {zeta:g}" if zeta > 0 else "")
+                     + r"); lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$.")
+    else:
+        ax.set_title(title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
+        caption(fig, rf"Shaded: the upright position is stable, {what}. "
+                     r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
+                     + extra)
+    return fig, curves, header

@@ -1,13 +1,9 @@
 """Several drives on one chart: their exact stability zones overlaid on Arnold's plane."""
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from ..drives import as_drive
-from ..drives import _api
-from ..limits import averaging_threshold
+from ..curves import DriveCurves, drive_curves
 from . import _style
 from ._style import Drawn
 
@@ -15,42 +11,6 @@ __all__ = ["DriveCurves", "drive_curves", "plot_drive_comparison", "drive_compar
 
 #: One colour per drive, in order (colour-blind safe).
 DRIVE_COLOURS = ["#1f4e9c", "#d55e00", "#009e73", "#cc79a7", "#e69f00", "#56b4e9"]
-
-
-@dataclass(frozen=True)
-class DriveCurves:
-    """Zone edges of one drive at the ``mu`` samples: ``lo[k]``, ``hi[k]`` for ``zones[k]``."""
-
-    drive: str
-    zeta: float
-    mu: np.ndarray
-    zones: np.ndarray
-    lo: np.ndarray
-    hi: np.ndarray
-    averaging: np.ndarray
-
-    def rows(self):
-        """``(drive, zeta, zone, mu, eps_lo, eps_hi)`` rows for CSV."""
-        for k, n in enumerate(self.zones):
-            for m, a, b in zip(self.mu, self.lo[k], self.hi[k]):
-                if np.isfinite(a) and np.isfinite(b):
-                    yield self.drive, self.zeta, int(n), float(m), float(a), float(b)
-
-
-def drive_curves(drive, mu, eps_max, zeta=0.0):
-    """Edges of every zone of ``drive`` that meets ``0 < eps < eps_max``, at the values ``mu``."""
-    d = as_drive(drive)
-    mu = np.asarray(mu, float)
-    rows, zone, lo_f, hi_f = _api.window_edges(d, mu, 0.0, float(eps_max), np.full(mu.size, float(zeta)))
-    ok = np.isfinite(lo_f) & (lo_f < eps_max)
-    zones = np.unique(zone[ok])
-    lo = np.full((zones.size, mu.size), np.nan)
-    hi = np.full((zones.size, mu.size), np.nan)
-    k = np.searchsorted(zones, zone[ok])
-    lo[k, rows[ok]] = lo_f[ok]
-    hi[k, rows[ok]] = hi_f[ok]
-    return DriveCurves(drive=d.label, zeta=float(zeta), mu=mu, zones=zones, lo=lo, hi=hi,
-                       averaging=averaging_threshold(mu, d))
 
 
 def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), averaging=True,

@@ -16,6 +16,7 @@ from .nonlinear import METHODS, MODELS, Trajectory, nonlinear_motion, phase_ener
 from .strobe import StrobeOrbits, stroboscopic_map
 from .basins import Basin, basin, survival
 from .rotation import RotationRun, measured_rotation_number
+from .pair import MotionPair, motion_pair
 
 __all__ = [
     "pivot_acceleration",
@@ -36,4 +37,6 @@ __all__ = [
     "basin",
     "RotationRun",
     "measured_rotation_number",
+    "MotionPair",
+    "motion_pair",
 ]

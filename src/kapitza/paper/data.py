@@ -1,8 +1,9 @@
 """The numbers behind the paper's Figures 1-8, computed by the library.
 
-Everything here is numpy/scipy, except that :func:`figure7_data` takes its curves from
-:func:`kapitza.figures.chart.zone_curves` (so that the data file holds exactly what
-:func:`~kapitza.figures.chart.plot_zones` draws), and that module imports matplotlib.
+Everything here is numpy/scipy: :func:`figure7_data` takes its curves from
+:func:`kapitza.curves.zone_curves` (so that the data file holds exactly what
+:func:`~kapitza.figures.chart.plot_zones` draws), except its magnified tongues, which come from
+:mod:`kapitza.figures.chart`, a module that imports matplotlib.
 
 Each ``figureN_data`` returns a :class:`FigureData`: named curves
 (:class:`Series`) and labelled points (:class:`Point`) on one or more panels,
@@ -579,7 +580,8 @@ def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600, magnify=
     the curves drawn by :func:`kapitza.figures.chart.plot_zones`; ``G_m``:
     ``2 sqrt 2 eps sqrt(1 - mu^2) = (2m + 1) pi/2`` (section 4).
     """
-    from ..figures.chart import tongue_curves, zone_curves  # what plot_zones / plot_tongue draw
+    from ..curves import zone_curves  # what plot_zones draws
+    from ..figures.chart import tongue_curves  # what plot_tongue draws
 
     points = int(_v.nonnegative_int("points", points, minimum=2))
     curves = zone_curves(eps_range, mu_range, points)

@@ -1,0 +1,273 @@
+"""Zone edges as data: exact curves of every zone that meets a window of a chart.
+
+What a chart draws, without drawing it: the edges ``eps_lo(mu)``, ``eps_hi(mu)`` of each
+zone visible in a window of Arnold's plane (:func:`zone_curves`), the same in the physical
+``T``-``A`` plane of a rod (:func:`physical_zone_curves`) and for any drive with damping
+(:func:`drive_curves`). Every sample is an exact edge (``docs/theory.md`` section 5); where an
+edge crosses a narrow window the samples are refined there, so a tongue far thinner than a
+pixel grid is still drawn as a curve. Used by the figures, the paper's data and the explorer.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _validate as _v
+from .drives import _api, as_drive
+from .limits import averaging_threshold
+from .parameters import G_EARTH, SQRT8
+from .zones import _edges_eps
+
+__all__ = ["edge_kinds", "window_range", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
+
+
+def edge_kinds(n) -> tuple[str, str]:
+    """``(lower, upper)``: which periodic motion lives on each edge of zone ``n``, ``"2T"`` or ``"4T"``.
+
+    The lower edge of zone ``n`` is 2T-periodic (``T_n``) for even ``n`` and 4T-periodic
+    (``T~_n``) for odd ``n``; the upper edge the other way round (Corollary 4.1).
+    """
+    return ("2T", "4T") if int(n) % 2 == 0 else ("4T", "2T")
+
+
+@dataclass(frozen=True)
+class ZoneCurves:
+    """Edge curves of the zones visible in a window: for zone ``n[i]``,
+    ``eps_lo[i]``, ``eps_hi[i]`` sampled at ``mu`` (arrays ``(zones, points)``)."""
+
+    n: np.ndarray
+    mu: np.ndarray
+    eps_lo: np.ndarray
+    eps_hi: np.ndarray
+
+    def rows(self):
+        """``(n, mu, eps_lo, eps_hi)`` rows for CSV export."""
+        for i, n in enumerate(self.n):
+            for j, m in enumerate(self.mu):
+                yield int(n), m, self.eps_lo[i, j], self.eps_hi[i, j]
+
+
+def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zones=400):
+    """Sample the edges of every zone that meets the window.
+
+    Parameters
+    ----------
+    eps_range, mu_range : (float, float)
+        The window; ``0 <= eps_min < eps_max``, ``0 <= mu_min < mu_max <= 1``.
+    points : int
+        Samples of ``mu`` across the window (>= 2). The edges are exact at
+        every sample; nothing is interpolated on a pixel grid.
+    max_zones : int
+        Refuse windows that would need more zones than this.
+
+    Returns
+    -------
+    ZoneCurves
+    """
+    e0, e1 = window_range(eps_range, mu_range)
+    m0, m1 = (float(v) for v in mu_range)
+    points = int(_v.nonnegative_int("points", points, minimum=2))
+    tiny = 1e-9
+    # Cluster samples towards the ends where the edges bend fastest (mu -> 0, mu -> 1).
+    s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, points))
+    mu = np.clip(m0 + (m1 - m0) * s, tiny, 1.0 - tiny)
+    q = np.sqrt((1.0 - mu) * (1.0 + mu))
+    n_hi = int(np.floor(SQRT8 * q.max() * e1 / np.pi))
+    # Zone n needs eps >= n pi / (SQRT8 q) at least; the lowest zone that can reach e0:
+    n_lo = max(0, int(np.floor(SQRT8 * q.min() * e0 / np.pi)) - 1)
+    if n_hi - n_lo + 1 > max_zones:
+        raise _v.KapitzaValueError(
+            f"the window holds {n_hi - n_lo + 1} zones (more than {max_zones}); narrow eps range or mu range"
+        )
+    n = np.arange(n_lo, n_hi + 1)
+    lo, hi = _edges_eps(mu[None, :], n[:, None])
+    # Edges are continuous in mu: a zone meets the window if its eps range overlaps the window's,
+    # even when it crosses the window between two samples (the resampling below then finds it).
+    visible = (hi.max(axis=1) >= e0) & (lo.min(axis=1) <= e1)
+    n, lo, hi = n[visible], lo[visible], hi[visible]
+    # In a narrow eps window an edge may cross the window within a few mu samples; resample
+    # each zone's crossing densely (still exact at every sample) so the zoom shows a curve.
+    for _ in range(3):  # each pass zooms on the crossings by a factor ~ points / 4
+        extra = []
+        for i in range(n.size):
+            inside = ((lo[i] >= e0) & (lo[i] <= e1)) | ((hi[i] >= e0) & (hi[i] <= e1)) | ((lo[i] < e0) & (hi[i] > e1))
+            idx = np.flatnonzero(inside)
+            if not idx.size:  # crossed between two samples: the bracketing pair
+                k = np.flatnonzero(np.diff(np.sign(lo[i] - e0)) != 0)
+                idx = k if k.size else np.flatnonzero(np.diff(np.sign(hi[i] - e1)) != 0)
+            if idx.size and idx.size < points // 4:
+                extra.append(np.linspace(mu[max(idx[0] - 1, 0)], mu[min(idx[-1] + 1, mu.size - 1)], points))
+        if not extra:
+            break
+        mu = np.unique(np.concatenate([mu, *extra]))
+        lo, hi = _edges_eps(mu[None, :], n[:, None])
+    return ZoneCurves(n=n, mu=mu, eps_lo=lo, eps_hi=hi)
+
+
+def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.0, points=1200, max_zones=400):
+    """The edges of every zone of any drive, with damping, that meets a window of Arnold's plane.
+
+    Parameters
+    ----------
+    eps_range, mu_range : (float, float)
+        The window; ``0 <= eps_min < eps_max``, ``0 <= mu_min < mu_max <= 1``.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
+    zeta : float
+        Damping ratio ``c / (2 sqrt(g/l))`` >= 0.
+    points : int
+        ``mu`` samples (>= 2).
+    max_zones : int
+        Refuse windows that would need more zones than this (square wave).
+
+    Returns
+    -------
+    ZoneCurves
+        NaN where a zone does not exist at a sample (other drives, damping); an upper edge of
+        a damped zone beyond the window may be ``inf``.
+
+    Notes
+    -----
+    The undamped square wave takes :func:`zone_curves` (closed forms, refined where an edge
+    crosses a narrow window); any other drive or damping takes :func:`drive_curves` at
+    ``points`` values of ``mu`` spread over the window, each edge exact (``docs/drives.md``).
+    """
+    zeta = float(_v.nonnegative("zeta", zeta))
+    general, _ = _v.general_drive(drive, zeta)
+    if general is None:
+        return zone_curves(eps_range, mu_range, points, max_zones)
+    e0, e1 = window_range(eps_range, mu_range)
+    points = int(_v.nonnegative_int("points", points, minimum=2))
+    m0, m1 = (float(v) for v in mu_range)
+    # from mu = 1e-3 as kapitza chart draws other drives (the window method and the edge-by-edge
+    # solution of a damped zone 0 disagree at mu ~ 1e-9)
+    mu = np.linspace(max(m0, 1e-3), min(m1, 1.0 - 1e-9), points)
+    c = drive_curves(general, mu, e1, zeta, eps_min=e0)
+    return ZoneCurves(n=c.zones, mu=mu, eps_lo=c.lo, eps_hi=c.hi)
+
+
+def window_range(eps_range, mu_range):
+    """``(eps_min, eps_max)`` of a window of Arnold's plane, checked: ``0 <= eps_min < eps_max < inf``,
+    ``0 <= mu_min < mu_max <= 1`` (:class:`kapitza.KapitzaValueError` otherwise)."""
+    e0, e1 = (float(v) for v in eps_range)
+    m0, m1 = (float(v) for v in mu_range)
+    if not (np.isfinite(e0) and np.isfinite(e1) and 0.0 <= e0 < e1):
+        raise _v.KapitzaValueError(f"eps range must satisfy 0 <= eps_min < eps_max < inf; got ({e0:g}, {e1:g})")
+    if not (0.0 <= m0 < m1 <= 1.0):
+        raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= 1; got ({m0:g}, {m1:g})")
+    return e0, e1
+
+
+@dataclass(frozen=True)
+class PhysicalZoneCurves:
+    """Zone edges in the physical plane: for zone ``n[i]``, the half-periods
+    ``T_lo[i]``, ``T_hi[i]`` at the amplitudes ``A`` (arrays ``(zones, points)``)."""
+
+    n: np.ndarray
+    A: np.ndarray
+    T_lo: np.ndarray
+    T_hi: np.ndarray
+    l: float
+    g: float
+
+    def rows(self):
+        """``(n, A, T_lo, T_hi)`` rows for CSV export."""
+        for i, n in enumerate(self.n):
+            for j, a in enumerate(self.A):
+                yield int(n), a, self.T_lo[i, j], self.T_hi[i, j]
+
+def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=1200, drive=None, zeta=0.0):
+    """The edges of every zone visible in a window of the physical ``T``-``A`` plane.
+
+    Parameters
+    ----------
+    T_range : (float, float), optional
+        Half-periods [s]; default ``(0, 2.5 sqrt(l/g))``.
+    A_range : (float, float), optional
+        Acceleration amplitudes [m/s^2], ``g <= A_min < A_max``; default ``(g, 50 g)``.
+    l, g : float
+        Rod length [m] and gravity [m/s^2].
+    points : int
+        ``A`` samples per edge (>= 2; more where the edges cross a narrow window).
+    drive, zeta :
+        As in :func:`window_curves` (``zeta = c / (2 sqrt(g/l))`` is the same over the plane).
+
+    Returns
+    -------
+    PhysicalZoneCurves
+
+    Notes
+    -----
+    The edges of :func:`zone_curves`, mapped by ``A = g / mu^2`` and ``T = eps sqrt(8 l / A)``:
+    at each ``A`` zone ``n`` is ``T_lo < T < T_hi`` (:func:`kapitza.period_edges`).
+    """
+    l = float(_v.positive("l", l))
+    g = float(_v.positive("g", g))
+    T0, T1 = (0.0, 2.5 * np.sqrt(l / g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
+    A0, A1 = (g, 50.0 * g) if A_range is None else (float(A_range[0]), float(A_range[1]))
+    if not (np.isfinite(T1) and 0.0 <= T0 < T1):
+        raise _v.KapitzaValueError(f"T range must satisfy 0 <= T_min < T_max < inf; got ({T0:g}, {T1:g})")
+    if not (np.isfinite(A1) and g <= A0 < A1):
+        raise _v.KapitzaValueError(f"A range must satisfy g <= A_min < A_max < inf (g = {g:g}); got ({A0:g}, {A1:g})")
+    # eps = T sqrt(A / (8 l)) is largest at (T1, A1); cover the window in (eps, mu).
+    mu_range = (np.sqrt(g / A1), min(np.sqrt(g / A0), 1.0))
+    curves = window_curves((T0 * np.sqrt(A0 / (8.0 * l)), T1 * np.sqrt(A1 / (8.0 * l))), mu_range, drive, zeta,
+                           points)
+    A = g / curves.mu**2
+    scale = np.sqrt(8.0 * l / A)
+    return PhysicalZoneCurves(n=curves.n, A=A, T_lo=curves.eps_lo * scale, T_hi=curves.eps_hi * scale, l=l, g=g)
+
+
+@dataclass(frozen=True)
+class DriveCurves:
+    """Zone edges of one drive at the ``mu`` samples: ``lo[k]``, ``hi[k]`` for ``zones[k]``."""
+
+    drive: str
+    zeta: float
+    mu: np.ndarray
+    zones: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    averaging: np.ndarray
+
+    def rows(self):
+        """``(drive, zeta, zone, mu, eps_lo, eps_hi)`` rows for CSV."""
+        for k, n in enumerate(self.zones):
+            for m, a, b in zip(self.mu, self.lo[k], self.hi[k]):
+                if np.isfinite(a) and np.isfinite(b):
+                    yield self.drive, self.zeta, int(n), float(m), float(a), float(b)
+
+
+def drive_curves(drive, mu, eps_max, zeta=0.0, eps_min=0.0):
+    """Edges of every zone of ``drive`` that meets ``eps_min < eps < eps_max``, at the values ``mu``.
+
+    Parameters
+    ----------
+    drive : Drive or str
+        The pivot's motion (:mod:`kapitza.drives`).
+    mu : array_like, shape ``(points,)``
+        Where the edges are computed (each exactly: no interpolation).
+    eps_max, eps_min : float
+        The window of ``eps``.
+    zeta : float
+        Damping ratio ``c / (2 sqrt(g/l))``.
+
+    Returns
+    -------
+    DriveCurves
+        NaN where a zone does not exist at a ``mu``; an upper edge beyond the window of a
+        damped zone may be ``inf`` (``docs/drives.md``).
+    """
+    d = as_drive(drive)
+    mu = np.asarray(mu, float)
+    rows, zone, lo_f, hi_f = _api.window_edges(d, mu, float(eps_min), float(eps_max), np.full(mu.size, float(zeta)))
+    ok = np.isfinite(lo_f) & (lo_f < eps_max) & ~(hi_f < eps_min)
+    zones = np.unique(zone[ok])
+    lo = np.full((zones.size, mu.size), np.nan)
+    hi = np.full((zones.size, mu.size), np.nan)
+    k = np.searchsorted(zones, zone[ok])
+    lo[k, rows[ok]] = lo_f[ok]
+    hi[k, rows[ok]] = hi_f[ok]
+    return DriveCurves(drive=d.label, zeta=float(zeta), mu=mu, zones=zones, lo=lo, hi=hi,
+                       averaging=averaging_threshold(mu, d))

@@ -1,0 +1,44 @@
+"""Running the explorer: bind a socket (a free port by default), then serve the app on it."""
+from __future__ import annotations
+
+import ipaddress
+import socket
+
+__all__ = ["bind", "serve", "is_loopback"]
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` is reachable only from this machine."""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def bind(host: str = "127.0.0.1", port: int = 0) -> socket.socket:
+    """A listening socket on ``host:port`` (``port=0``: a free port chosen by the system)."""
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    sock.bind((host, port))
+    sock.listen(128)
+    return sock
+
+
+def address(sock: socket.socket) -> str:
+    """``http://host:port/`` of a bound socket."""
+    host, port = sock.getsockname()[:2]
+    return f"http://[{host}]:{port}/" if ":" in host else f"http://{host}:{port}/"
+
+
+def serve(sock: socket.socket, log_level: str = "warning") -> None:
+    """Serve the explorer on ``sock`` until interrupted."""
+    import uvicorn
+
+    from .app import create_app
+
+    config = uvicorn.Config(create_app(), log_level=log_level, limit_concurrency=256,
+                            timeout_keep_alive=5, h11_max_incomplete_event_size=16384)
+    uvicorn.Server(config).run(sockets=[sock])

@@ -1,0 +1,790 @@
+// kapitza explorer: the exact stability chart and the pendulum on its vibrating pivot, one picture.
+// Plain JavaScript, no libraries. Every number shown comes from the JSON API under /api (the
+// library); the page converts only between (eps, mu) and (T, A) for the hover readout and inputs.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const COLORS = { edge2: "#1f4e9c", edge4: "#c0392b", fill: "#9ecae1", overlay: "#d55e00", point: "#ffbf00",
+  grid: "#e4e8ee", axis: "#34404f", nonlinear: "#1f4e9c", linear: "#8a94a3", forbidden: "#eef0f3" };
+
+// ------------------------------------------------------------------ state
+const DEFAULT_VIEWS = (l, g) => ({
+  arnold: { x0: 0, x1: 4, y0: 0, y1: 1 },
+  physical: { x0: 0, x1: 2.5 * Math.sqrt(l / g), y0: g, y1: 50 * g },
+});
+const S = {
+  plane: "arnold", l: 1, g: 9.81, drive: "square", duty: 0.3, zeta: 0, overlay: "",
+  point: null, theta0: 0.1, speed: 0.25, views: DEFAULT_VIEWS(1, 9.81),
+};
+// The same conversions as kapitza.to_arnold / kapitza.to_physical (docs/theory.md section 2).
+const toArnold = (T, A, l, g) => ({ eps: T * Math.sqrt(A / (8 * l)), mu: Math.sqrt(g / A) });
+const toPhysical = (eps, mu, l, g) => { const A = g / (mu * mu); return { T: eps * Math.sqrt(8 * l / A), A }; };
+const driveText = () => (S.drive === "rectangular" ? `rectangular:${S.duty}` : S.drive);
+const view = () => S.views[S.plane];
+
+function qs(obj) {
+  const p = new URLSearchParams();
+  for (const [k, v] of Object.entries(obj)) if (v !== null && v !== undefined && v !== "") p.set(k, String(v));
+  return p.toString();
+}
+const short = (v) => (Math.abs(v) >= 1000 || (Math.abs(v) < 0.01 && v !== 0) ? v.toExponential(0) : String(Number(v.toPrecision(2))));
+const fmt = (v, d = 6) => (v === null || v === undefined || !isFinite(v) ? "–" : Number(v).toPrecision(d).replace(/\.?0+(e|$)/, "$1"));
+
+// ------------------------------------------------------------------ URL (shareable state)
+function saveURL() {
+  const v = view();
+  const o = { plane: S.plane, x0: v.x0, x1: v.x1, y0: v.y0, y1: v.y1, l: S.l, g: S.g, drive: S.drive, zeta: S.zeta,
+    overlay: S.overlay, theta0: S.theta0, speed: S.speed };
+  if (S.drive === "rectangular") o.duty = S.duty;
+  if (S.point) { o.T = S.point.T; o.A = S.point.A; }
+  history.replaceState(null, "", "?" + qs(o));
+}
+function loadURL() {
+  const p = new URLSearchParams(location.search);
+  const num = (k) => (p.has(k) && isFinite(parseFloat(p.get(k))) ? parseFloat(p.get(k)) : null);
+  if (num("l") > 0) S.l = num("l");
+  if (num("g") > 0) S.g = num("g");
+  S.views = DEFAULT_VIEWS(S.l, S.g);
+  if (["arnold", "physical"].includes(p.get("plane"))) S.plane = p.get("plane");
+  if (["square", "sine", "rectangular"].includes(p.get("drive"))) S.drive = p.get("drive");
+  if (num("duty") !== null) S.duty = num("duty");
+  if (num("zeta") !== null) S.zeta = num("zeta");
+  if (p.has("overlay")) S.overlay = p.get("overlay");
+  if (num("theta0") !== null) S.theta0 = num("theta0");
+  if (num("speed") !== null) S.speed = num("speed");
+  const v = ["x0", "x1", "y0", "y1"].map(num);
+  if (v.every((x) => x !== null) && v[0] < v[1] && v[2] < v[3]) S.views[S.plane] = { x0: v[0], x1: v[1], y0: v[2], y1: v[3] };
+  if (num("T") > 0 && num("A") > 0) S.point = { T: num("T"), A: num("A") };
+}
+
+// ------------------------------------------------------------------ canvas helpers
+function fit(canvas) {
+  const r = canvas.getBoundingClientRect(), dpr = window.devicePixelRatio || 1;
+  const w = Math.max(1, Math.round(r.width * dpr)), h = Math.max(1, Math.round(r.height * dpr));
+  if (canvas.width !== w || canvas.height !== h) { canvas.width = w; canvas.height = h; }
+  const ctx = canvas.getContext("2d");
+  ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  return { ctx, w: r.width, h: r.height };
+}
+function niceStep(span, target) {
+  const raw = span / target, p = Math.pow(10, Math.floor(Math.log10(raw))), m = raw / p;
+  return (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * p;
+}
+function linTicks(a, b, target) {
+  const step = niceStep(b - a, target), out = [];
+  for (let k = Math.ceil(a / step); k * step <= b + 1e-12 * Math.abs(step); k++) out.push(k * step);
+  return { ticks: out, step };
+}
+function tickLabel(v, step) {
+  if (v === 0) return "0";
+  const digits = Math.max(1, Math.ceil(Math.log10(Math.abs(v) / step) + 1e-9) + 1);
+  if (digits > 16) return v.toPrecision(16);
+  const a = Math.abs(v);
+  if (a >= 1e-3 && a < 1e5 && step >= 1e-6) return Number(v.toFixed(Math.max(0, -Math.floor(Math.log10(step) + 1e-9))));
+  return Number(v.toPrecision(Math.min(digits, 16))).toString();
+}
+
+// ------------------------------------------------------------------ the chart
+const chart = { canvas: $("chart"), data: null, overlay: null, pad: { l: 78, r: 18, t: 14, b: 50 }, error: null };
+function axes(w, h) {
+  const v = view(), P = chart.pad, logY = S.plane === "physical";
+  const fy = logY ? Math.log : (x) => x;
+  const y0 = fy(v.y0 > 0 || !logY ? v.y0 : 1e-9), y1 = fy(v.y1);
+  return {
+    left: P.l, right: w - P.r, top: P.t, bottom: h - P.b, logY,
+    X: (x) => P.l + ((x - v.x0) / (v.x1 - v.x0)) * (w - P.l - P.r),
+    Y: (y) => h - P.b - ((fy(y) - y0) / (y1 - y0)) * (h - P.t - P.b),
+    invX: (px) => v.x0 + ((px - P.l) / (w - P.l - P.r)) * (v.x1 - v.x0),
+    invY: (py) => { const f = y0 + ((h - P.b - py) / (h - P.t - P.b)) * (y1 - y0); return logY ? Math.exp(f) : f; },
+  };
+}
+const clampPx = (p) => Math.max(-4000, Math.min(8000, p));
+
+function drawZones(ctx, ax, d, style) {
+  const ys = d.y_values, v = view(), far = v.x1 + 10 * (v.x1 - v.x0);
+  const val = (x) => (x === null ? null : x > far ? far : x);
+  for (const z of d.zones) {
+    const runs = []; let cur = [];
+    for (let j = 0; j < ys.length; j++) {
+      const a = val(z.lo[j]), b = val(z.hi[j]);
+      if (a === null || b === null) { if (cur.length) runs.push(cur); cur = []; continue; }
+      cur.push(j);
+    }
+    if (cur.length) runs.push(cur);
+    for (const run of runs) {
+      if (style.fill) {
+        ctx.beginPath();
+        run.forEach((j, i) => { const X = clampPx(ax.X(val(z.lo[j]))), Y = clampPx(ax.Y(ys[j])); i ? ctx.lineTo(X, Y) : ctx.moveTo(X, Y); });
+        for (let i = run.length - 1; i >= 0; i--) { const j = run[i]; ctx.lineTo(clampPx(ax.X(val(z.hi[j]))), clampPx(ax.Y(ys[j]))); }
+        ctx.closePath(); ctx.fillStyle = style.fill; ctx.fill();
+      }
+      for (const [key, kind] of [["lo", z.lower_edge], ["hi", z.upper_edge]]) {
+        ctx.beginPath();
+        let on = false;
+        for (const j of run) {
+          const x = z[key][j];
+          if (x > far) { on = false; continue; }
+          const X = clampPx(ax.X(x)), Y = clampPx(ax.Y(ys[j]));
+          on ? ctx.lineTo(X, Y) : ctx.moveTo(X, Y); on = true;
+        }
+        ctx.strokeStyle = style.color ? style.color : kind === "2T" ? COLORS.edge2 : COLORS.edge4;
+        ctx.setLineDash(kind === "4T" ? [7, 4] : []);
+        ctx.lineWidth = style.width || 1.8;
+        ctx.stroke();
+      }
+      ctx.setLineDash([]);
+    }
+  }
+}
+
+function zoneLabels(ctx, ax, d) {
+  ctx.font = "600 13px DejaVu Sans, sans-serif";
+  ctx.textBaseline = "middle";
+  for (const z of d.zones) {
+    const vis = [];
+    for (let j = 0; j < d.y_values.length; j++) {
+      if (z.lo[j] === null || z.hi[j] === null) continue;
+      const X = ax.X(z.hi[j]), Y = ax.Y(d.y_values[j]), X0 = ax.X(z.lo[j]);
+      if (Y > ax.top + 10 && Y < ax.bottom - 10 && X0 < ax.right - 10 && X > ax.left + 4) vis.push([j, X0, X, Y]);
+    }
+    if (!vis.length) continue;
+    // Near the lower third of the visible part, right of the upper edge (inside when it is wide),
+    // and not under the legend.
+    const text = `n = ${z.n}`, tw = ctx.measureText(text).width, L = chart.legendBox;
+    const place = (k) => {
+      const [, X0, X1, Y] = vis[k];
+      let x = X1 - X0 > tw + 16 ? (Math.max(X0, ax.left) + Math.min(X1, ax.right)) / 2 - tw / 2 : X1 + 6;
+      x = Math.min(Math.max(x, ax.left + 4), ax.right - tw - 4);
+      const hidden = L && x + tw > L.x && x < L.x + L.w && Y + 9 > L.y && Y - 9 < L.y + L.h;
+      return hidden ? null : [x, Y];
+    };
+    const k0 = Math.floor(vis.length * (ax.logY ? 0.7 : 0.3));
+    let at = null;
+    for (let d = 0; d < vis.length && !at; d += Math.max(1, Math.floor(vis.length / 40))) {
+      at = (k0 + d < vis.length && place(k0 + d)) || (k0 - d >= 0 && place(k0 - d)) || null;
+    }
+    if (!at) continue;
+    const [x, Y] = at;
+    ctx.fillStyle = "rgba(255,255,255,0.85)"; ctx.fillRect(x - 3, Y - 9, tw + 6, 18);
+    ctx.fillStyle = "#16263d"; ctx.fillText(text, x, Y);
+  }
+}
+
+function drawChart() {
+  const { ctx, w, h } = fit(chart.canvas), v = view();
+  // room for the longest tick label of the vertical axis, then the axis title
+  ctx.font = "12.5px DejaVu Sans, sans-serif";
+  const yt0 = S.plane === "arnold" ? linTicks(v.y0, v.y1, 6) : null;
+  const widest = yt0 ? Math.max(...yt0.ticks.map((t) => ctx.measureText(tickLabel(t, yt0.step)).width), 20) : 40;
+  chart.pad.l = Math.max(64, Math.ceil(widest) + 36);
+  const ax = axes(w, h);
+  ctx.clearRect(0, 0, w, h);
+  ctx.fillStyle = "#fff"; ctx.fillRect(ax.left, ax.top, ax.right - ax.left, ax.bottom - ax.top);
+  // Where the upright is always unstable (A <= g, mu >= 1): shaded grey.
+  const edge = S.plane === "arnold" ? ax.Y(1) : ax.Y(S.g);
+  ctx.save(); ctx.beginPath(); ctx.rect(ax.left, ax.top, ax.right - ax.left, ax.bottom - ax.top); ctx.clip();
+  ctx.fillStyle = COLORS.forbidden;
+  if (S.plane === "arnold" && edge > ax.top) ctx.fillRect(ax.left, ax.top, ax.right - ax.left, edge - ax.top);
+  if (S.plane === "physical" && edge < ax.bottom) ctx.fillRect(ax.left, edge, ax.right - ax.left, ax.bottom - edge);
+  // grid
+  const xt = linTicks(v.x0, v.x1, 8);
+  let yt;
+  if (ax.logY) {
+    yt = { ticks: [], step: 1 };
+    const a = Math.floor(Math.log10(v.y0)), b = Math.ceil(Math.log10(v.y1));
+    const mult = b - a > 3 ? [1] : b - a > 1 ? [1, 2, 5] : [1, 1.5, 2, 3, 4, 5, 6, 7, 8, 9];
+    for (let e = a; e <= b; e++) for (const m of mult) { const t = m * Math.pow(10, e); if (t >= v.y0 && t <= v.y1) yt.ticks.push(t); }
+    if (yt.ticks.length < 3) yt = linTicks(v.y0, v.y1, 6);
+  } else yt = linTicks(v.y0, v.y1, 6);
+  ctx.strokeStyle = COLORS.grid; ctx.lineWidth = 1;
+  for (const t of xt.ticks) { ctx.beginPath(); ctx.moveTo(ax.X(t), ax.top); ctx.lineTo(ax.X(t), ax.bottom); ctx.stroke(); }
+  for (const t of yt.ticks) { ctx.beginPath(); ctx.moveTo(ax.left, ax.Y(t)); ctx.lineTo(ax.right, ax.Y(t)); ctx.stroke(); }
+  if (chart.data) drawZones(ctx, ax, chart.data, { fill: "rgba(158,202,225,0.85)" });
+  if (chart.overlay) drawZones(ctx, ax, chart.overlay, { fill: "rgba(213,94,0,0.13)", color: COLORS.overlay, width: 2.2 });
+  chart.legendBox = legendBox(ctx, ax);
+  if (chart.data) zoneLabels(ctx, ax, chart.data);
+  if (S.plane === "arnold" && edge > ax.top + 14) label(ctx, "μ ≥ 1 (A ≤ g): always unstable", ax.left + 8, Math.max(ax.top + 12, edge - 12));
+  if (S.plane === "physical" && edge < ax.bottom - 14) label(ctx, "A ≤ g: always unstable", ax.left + 8, Math.min(ax.bottom - 12, edge + 14));
+  // the chosen point
+  if (S.point) {
+    const { eps, mu } = toArnold(S.point.T, S.point.A, S.l, S.g);
+    const px = S.plane === "arnold" ? ax.X(eps) : ax.X(S.point.T), py = S.plane === "arnold" ? ax.Y(mu) : ax.Y(S.point.A);
+    star(ctx, px, py, 11);
+  }
+  ctx.restore();
+  // frame, ticks, labels
+  ctx.strokeStyle = COLORS.axis; ctx.lineWidth = 1.2; ctx.strokeRect(ax.left, ax.top, ax.right - ax.left, ax.bottom - ax.top);
+  ctx.fillStyle = COLORS.axis; ctx.font = "12.5px DejaVu Sans, sans-serif";
+  ctx.textAlign = "center"; ctx.textBaseline = "top";
+  for (const t of xt.ticks) ctx.fillText(tickLabel(t, xt.step), ax.X(t), ax.bottom + 5);
+  ctx.textAlign = "right"; ctx.textBaseline = "middle";
+  for (const t of yt.ticks) ctx.fillText(tickLabel(t, yt.step || t / 10), ax.left - 6, ax.Y(t));
+  ctx.font = "14px DejaVu Sans, sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "bottom";
+  ctx.fillText(S.plane === "arnold" ? "ε = T √(A / 8l)" : "half-period of the drive T [s]", (ax.left + ax.right) / 2, h - 4);
+  ctx.save(); ctx.translate(16, (ax.top + ax.bottom) / 2); ctx.rotate(-Math.PI / 2); ctx.textBaseline = "middle";
+  ctx.fillText(S.plane === "arnold" ? "μ = √(g / A)" : "pivot acceleration amplitude A [m/s²] (log scale)", 0, 0);
+  ctx.restore();
+  legend(ctx, ax);
+  if (chart.error) { ctx.fillStyle = "rgba(180,35,24,0.92)"; ctx.font = "600 14px DejaVu Sans, sans-serif"; ctx.textAlign = "left";
+    ctx.textBaseline = "top"; wrapText(ctx, chart.error, ax.left + 12, ax.top + 12, ax.right - ax.left - 24); }
+  $("view-info").textContent = S.plane === "arnold"
+    ? `ε ${tickLabel(v.x0, (v.x1 - v.x0) / 100)} … ${tickLabel(v.x1, (v.x1 - v.x0) / 100)} · μ ${tickLabel(v.y0, (v.y1 - v.y0) / 100)} … ${tickLabel(v.y1, (v.y1 - v.y0) / 100)}`
+    : `T ${fmt(v.x0, 4)} … ${fmt(v.x1, 4)} s · A ${fmt(v.y0, 4)} … ${fmt(v.y1, 4)} m/s²`;
+}
+function label(ctx, text, x, y) {
+  ctx.font = "italic 12.5px DejaVu Sans, sans-serif"; ctx.fillStyle = "#6b7685"; ctx.textAlign = "left"; ctx.textBaseline = "middle";
+  ctx.fillText(text, x, y);
+}
+function wrapText(ctx, text, x, y, width) {
+  let line = "";
+  for (const word of text.split(" ")) {
+    if (ctx.measureText(line + word).width > width && line) { ctx.fillText(line, x, y); y += 18; line = ""; }
+    line += word + " ";
+  }
+  ctx.fillText(line, x, y);
+}
+function star(ctx, x, y, r) {
+  ctx.beginPath();
+  for (let k = 0; k < 10; k++) {
+    const a = -Math.PI / 2 + (k * Math.PI) / 5, rr = k % 2 ? r * 0.45 : r;
+    k ? ctx.lineTo(x + rr * Math.cos(a), y + rr * Math.sin(a)) : ctx.moveTo(x + rr * Math.cos(a), y + rr * Math.sin(a));
+  }
+  ctx.closePath(); ctx.fillStyle = COLORS.point; ctx.fill(); ctx.strokeStyle = "#000"; ctx.lineWidth = 1.3; ctx.stroke();
+}
+function legendRows() {
+  const rows = [["fill", COLORS.fill, chart.data ? `stable zone n (${shortDrive(chart.data.drive)}${S.zeta > 0 ? `, ζ = ${S.zeta}` : ""})` : "stable zone n"],
+    ["line", COLORS.edge2, "2T-periodic edge (Tₙ)"], ["dash", COLORS.edge4, "4T-periodic edge (T̃ₙ)"]];
+  if (chart.overlay) rows.push(["line", COLORS.overlay, `overlay: ${shortDrive(chart.overlay.drive)}`]);
+  if (S.point) rows.push(["star", COLORS.point, "chosen point"]);
+  return rows;
+}
+function legendBox(ctx, ax) {
+  const rows = legendRows();
+  ctx.font = "12.5px DejaVu Sans, sans-serif";
+  const w = Math.max(...rows.map((r) => ctx.measureText(r[2]).width)) + 46, h = rows.length * 19 + 10;
+  return { x: ax.right - w - 8, y: ax.top + 8, w, h };
+}
+function legend(ctx, ax) {
+  const rows = legendRows(), B = legendBox(ctx, ax), wd = B.w, ht = B.h, x = B.x, y = B.y;
+  ctx.font = "12.5px DejaVu Sans, sans-serif";
+  ctx.fillStyle = "rgba(255,255,255,0.93)"; ctx.fillRect(x, y, wd, ht); ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 1; ctx.strokeRect(x, y, wd, ht);
+  rows.forEach(([kind, col, text], i) => {
+    const yy = y + 14 + i * 19;
+    if (kind === "fill") { ctx.fillStyle = col; ctx.fillRect(x + 8, yy - 6, 26, 12); }
+    else if (kind === "star") star(ctx, x + 21, yy, 7);
+    else { ctx.beginPath(); ctx.moveTo(x + 8, yy); ctx.lineTo(x + 34, yy); ctx.strokeStyle = col; ctx.lineWidth = 2; ctx.setLineDash(kind === "dash" ? [7, 4] : []); ctx.stroke(); ctx.setLineDash([]); }
+    ctx.fillStyle = COLORS.axis; ctx.textAlign = "left"; ctx.textBaseline = "middle"; ctx.fillText(text, x + 40, yy);
+  });
+}
+const shortDrive = (d) => (d || "").replace(/ \(.*\)$/, "");
+
+function chartParams(drive) {
+  // The square wave's edges are closed forms (1000 samples in milliseconds); another drive or
+  // damping solves an eigenproblem per edge and sample, so fewer samples keep the view quick.
+  const samples = drive === "square" && !(S.zeta > 0) ? 1000 : 300;
+  const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples };
+  if (S.plane === "arnold") return { ...base, eps_min: Math.max(0, v.x0), eps_max: v.x1, mu_min: Math.max(0, v.y0), mu_max: Math.min(1, v.y1) };
+  return { ...base, T_min: Math.max(0, v.x0), T_max: v.x1, A_min: Math.max(S.g, v.y0), A_max: v.y1 };
+}
+let chartTimer = null, chartAbort = null, chartSeq = 0;
+function requestChart(delay = 60) {
+  clearTimeout(chartTimer);
+  chartTimer = setTimeout(fetchChart, delay);
+}
+async function fetchChart() {
+  if (chartAbort) chartAbort.abort();
+  chartAbort = new AbortController();
+  const seq = ++chartSeq, signal = chartAbort.signal;
+  $("busy").hidden = false;
+  try {
+    const v = view();
+    if ((S.plane === "arnold" && v.y0 >= 1) || (S.plane === "physical" && v.y1 <= S.g) || v.x1 <= 0) {
+      chart.data = null; chart.overlay = null; chart.error = null;
+    } else {
+      const main = getJSON("/api/chart?" + qs(chartParams(driveText())), signal);
+      const over = S.overlay && S.overlay !== driveText() ? getJSON("/api/chart?" + qs(chartParams(S.overlay)), signal) : null;
+      const [a, b] = await Promise.all([main, over]);
+      if (seq !== chartSeq) return;
+      chart.data = a; chart.overlay = b; chart.error = null;
+    }
+  } catch (e) {
+    if (e.name === "AbortError") return;
+    chart.error = String(e.message || e);
+  } finally {
+    if (seq === chartSeq) { $("busy").hidden = true; chart.canvas.dataset.fetches = String(seq); }
+  }
+  drawChart();
+  updateCaption();
+  updateExports();
+}
+async function getJSON(url, signal) {
+  const r = await fetch(url, { signal });
+  const body = await r.json().catch(() => ({}));
+  if (!r.ok) throw new Error(body.detail || `${r.status} ${r.statusText}`);
+  return body;
+}
+function updateCaption() {
+  const d = chart.data;
+  if (!d) { $("caption").textContent = ""; return; }
+  const zones = d.zones.map((z) => z.n);
+  $("caption").textContent = `Shaded: the upright position is stable (${d.drive}${S.zeta > 0 ? `, damping ratio ζ = ${S.zeta}` : ""}). ` +
+    `Zones in view: ${zones.length ? zones.join(", ") : "none"}; each edge exact at ${d.samples} samples of ${d.y}. ` +
+    (S.plane === "physical" ? `Rod l = ${S.l} m, g = ${S.g} m/s². ` : "") +
+    "Solid blue: 2T-periodic edges; dashed red: 4T-periodic edges.";
+}
+
+// ------------------------------------------------------------------ chart interaction
+let drag = null, hoverSeq = 0, hoverBusy = false, hoverNext = null;
+chart.canvas.addEventListener("wheel", (ev) => {
+  ev.preventDefault();
+  const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height), v = view();
+  const f = Math.exp(Math.max(-0.5, Math.min(0.5, ev.deltaY * 0.0015)));
+  const mx = ax.invX(ev.clientX - r.left), my = ax.invY(ev.clientY - r.top);
+  if (!ev.altKey) { v.x0 = mx + (v.x0 - mx) * f; v.x1 = mx + (v.x1 - mx) * f; }
+  if (!ev.shiftKey) {
+    if (ax.logY) { const L = Math.log(my); v.y0 = Math.exp(L + (Math.log(v.y0) - L) * f); v.y1 = Math.exp(L + (Math.log(v.y1) - L) * f); }
+    else { v.y0 = my + (v.y0 - my) * f; v.y1 = my + (v.y1 - my) * f; }
+  }
+  clampView(); drawChart(); requestChart(); saveURL();
+}, { passive: false });
+chart.canvas.addEventListener("pointerdown", (ev) => {
+  chart.canvas.setPointerCapture(ev.pointerId);
+  drag = { x: ev.clientX, y: ev.clientY, v: { ...view() }, moved: false };
+});
+chart.canvas.addEventListener("pointermove", (ev) => {
+  const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+  if (drag) {
+    const dx = ev.clientX - drag.x, dy = ev.clientY - drag.y;
+    if (Math.abs(dx) + Math.abs(dy) > 4) drag.moved = true;
+    if (drag.moved) {
+      chart.canvas.classList.add("dragging");
+      const v = view(), o = drag.v, sx = (o.x1 - o.x0) / (ax.right - ax.left);
+      v.x0 = o.x0 - dx * sx; v.x1 = o.x1 - dx * sx;
+      if (ax.logY) { const k = Math.log(o.y1 / o.y0) / (ax.bottom - ax.top); v.y0 = o.y0 * Math.exp(dy * k); v.y1 = o.y1 * Math.exp(dy * k); }
+      else { const sy = (o.y1 - o.y0) / (ax.bottom - ax.top); v.y0 = o.y0 + dy * sy; v.y1 = o.y1 + dy * sy; }
+      clampView(); drawChart(); requestChart(120);
+    }
+  }
+  hover(ev.clientX - r.left, ev.clientY - r.top, ax);
+});
+chart.canvas.addEventListener("pointerup", (ev) => {
+  chart.canvas.classList.remove("dragging");
+  if (drag && !drag.moved) {
+    const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+    // rounded to the decimals a pixel can tell apart
+    const round = (v, px) => { const d = Math.max(0, Math.ceil(-Math.log10(Math.abs(px) || 1e-300))); return d > 20 ? v : Number(v.toFixed(d)); };
+    const x = round(ax.invX(ev.clientX - r.left), ax.invX(1) - ax.invX(0));
+    const y = round(ax.invY(ev.clientY - r.top), ax.invY(ev.clientY - r.top - 1) - ax.invY(ev.clientY - r.top));
+    if (x > 0 && y > 0) choosePoint(S.plane === "arnold" ? toPhysical(x, y, S.l, S.g) : { T: x, A: y });
+  }
+  drag = null; saveURL();
+});
+chart.canvas.addEventListener("pointerleave", () => { $("hover").hidden = true; });
+
+function clampView() {
+  const v = view(), B = S.plane === "arnold" ? { x0: 0, x1: 12, y0: 0, y1: 1.2 } : { x0: 0, x1: 4 * Math.sqrt(S.l / S.g), y0: 0.3 * S.g, y1: 300 * S.g };
+  const span = Math.min(v.x1 - v.x0, B.x1 - B.x0), ok = (a) => isFinite(a);
+  if (!ok(v.x0) || !ok(v.x1) || !(v.x1 > v.x0)) Object.assign(v, DEFAULT_VIEWS(S.l, S.g)[S.plane]);
+  if (v.x1 - v.x0 > B.x1 - B.x0) { v.x0 = B.x0; v.x1 = B.x1; }
+  if (v.x0 < B.x0) { v.x0 = B.x0; v.x1 = B.x0 + span; }
+  if (v.x1 > B.x1) { v.x1 = B.x1; v.x0 = B.x1 - span; }
+  if (S.plane === "arnold") {
+    const sy = Math.min(v.y1 - v.y0, B.y1 - B.y0);
+    if (v.y0 < B.y0) { v.y0 = B.y0; v.y1 = B.y0 + sy; }
+    if (v.y1 > B.y1) { v.y1 = B.y1; v.y0 = B.y1 - sy; }
+  } else {
+    const r = Math.min(v.y1 / v.y0, B.y1 / B.y0);
+    if (v.y0 < B.y0) { v.y0 = B.y0; v.y1 = B.y0 * r; }
+    if (v.y1 > B.y1) { v.y1 = B.y1; v.y0 = B.y1 / r; }
+  }
+  // A view narrower than about 1e-13 of its position cannot be told apart in double precision.
+  const minX = 1e-13 * Math.max(Math.abs(v.x0), Math.abs(v.x1), 1e-12), minY = 1e-13 * Math.max(Math.abs(v.y1), 1e-12);
+  if (v.x1 - v.x0 < minX) { const c = (v.x0 + v.x1) / 2; v.x0 = c - minX / 2; v.x1 = c + minX / 2; }
+  if (v.y1 - v.y0 < minY) { const c = (v.y0 + v.y1) / 2; v.y0 = c - minY / 2; v.y1 = c + minY / 2; }
+}
+
+function hover(px, py, ax) {
+  const box = $("hover");
+  if (px < ax.left || px > ax.right || py < ax.top || py > ax.bottom) { box.hidden = true; return; }
+  const x = ax.invX(px), y = ax.invY(py);
+  let eps, mu, T, A;
+  if (S.plane === "arnold") { eps = x; mu = y; ({ T, A } = toPhysical(eps, mu, S.l, S.g)); }
+  else { T = x; A = y; ({ eps, mu } = toArnold(T, A, S.l, S.g)); }
+  const v = view(), dx = (v.x1 - v.x0) / 2000;
+  const digits = Math.min(16, Math.max(6, Math.ceil(Math.log10(Math.max(Math.abs(x), 1e-300) / dx)) + 1));
+  box.hidden = false;
+  box.innerHTML = `(ε, μ) = (${fmt(eps, digits)}, ${fmt(mu, 6)})<br>(T, A) = (${fmt(T, digits)} s, ${fmt(A, 6)} m/s²)<br>` +
+    `<span id="hover-verdict">${box.dataset.verdict || "…"}</span>`;
+  const r = chart.canvas.getBoundingClientRect();
+  box.style.left = Math.min(px + 16, r.width - 330) + "px"; box.style.top = Math.max(py - 70, 4) + "px";
+  if (!(eps > 0 && mu > 0)) return;
+  hoverNext = S.plane === "arnold" ? { eps, mu, zeta: S.zeta } : { T, A, l: S.l, g: S.g, zeta: S.zeta };
+  if (!hoverBusy) hoverVerdict();
+}
+async function hoverVerdict() {
+  if (!hoverNext) return;
+  const q = hoverNext; hoverNext = null; hoverBusy = true;
+  try {
+    const rep = await getJSON("/api/point?" + qs({ ...q, drive: driveText() }));
+    const text = rep.stable ? `<b style="color:#1a7f37">${rep.verdict}</b>` : `<b style="color:#b42318">${rep.verdict.split(" (")[0]}</b>` +
+      (rep.nearest_zone >= 0 ? ` · nearest zone ${rep.nearest_zone}` : "");
+    $("hover").dataset.verdict = text;
+    const hv = $("hover-verdict"); if (hv) hv.innerHTML = text;
+  } catch (e) { $("hover").dataset.verdict = ""; }
+  hoverBusy = false;
+  if (hoverNext) setTimeout(hoverVerdict, 30);
+}
+
+$("reset-view").onclick = () => { S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g)[S.plane]; drawChart(); requestChart(0); saveURL(); };
+$("zoom-point").onclick = () => {
+  if (!S.point) return;
+  const v = view(), { eps, mu } = toArnold(S.point.T, S.point.A, S.l, S.g);
+  const cx = S.plane === "arnold" ? eps : S.point.T, cy = S.plane === "arnold" ? mu : S.point.A;
+  const hx = (v.x1 - v.x0) / 20;
+  v.x0 = cx - hx; v.x1 = cx + hx;
+  if (S.plane === "arnold") { const hy = (v.y1 - v.y0) / 20; v.y0 = cy - hy; v.y1 = cy + hy; }
+  else { const r = Math.pow(v.y1 / v.y0, 0.05); v.y0 = cy / r; v.y1 = cy * r; }
+  clampView(); drawChart(); requestChart(0); saveURL();
+};
+for (const b of document.querySelectorAll(".planes button")) {
+  b.onclick = () => {
+    S.plane = b.dataset.plane;
+    document.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x === b));
+    chart.data = null; chart.overlay = null; drawChart(); requestChart(0); saveURL();
+  };
+}
+$("share").onclick = async () => {
+  saveURL();
+  try { await navigator.clipboard.writeText(location.href); $("share").textContent = "link copied"; }
+  catch (e) { $("share").textContent = "link in the address bar"; }
+  setTimeout(() => ($("share").textContent = "copy link"), 1800);
+};
+
+// ------------------------------------------------------------------ inputs
+function setInputs() {
+  $("l").value = S.l; $("l-s").value = Math.log10(S.l); $("g").value = S.g;
+  $("drive").value = S.drive; $("duty").value = S.duty; $("duty-l").style.display = S.drive === "rectangular" ? "" : "none";
+  $("zeta").value = S.zeta; $("overlay").value = S.overlay; $("theta0").value = S.theta0; $("theta0-s").value = S.theta0;
+  $("speed").value = String(S.speed);
+  document.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x.dataset.plane === S.plane));
+  setPointInputs();
+}
+function setPointInputs(except) {
+  const P = S.point;
+  const put = (id, v, d = 10) => { if (id !== except) $(id).value = P ? Number(v.toPrecision(d)) : ""; };
+  if (!P) { ["T", "freq", "A", "eps", "mu"].forEach((id) => ($(id).value = "")); return; }
+  const { eps, mu } = toArnold(P.T, P.A, S.l, S.g);
+  put("T", P.T); put("freq", 1 / (2 * P.T)); put("A", P.A); put("eps", eps); put("mu", mu);
+  if (except !== "T-s") $("T-s").value = Math.log10(P.T);
+  if (except !== "A-s") $("A-s").value = Math.log10(P.A);
+  if (except !== "eps-s") $("eps-s").value = eps;
+  if (except !== "mu-s") $("mu-s").value = mu;
+}
+function pointFrom(id, value) {
+  const P = S.point || { T: 0.15, A: 100 };
+  if (!(isFinite(value) && value > 0)) return null;
+  const { eps, mu } = toArnold(P.T, P.A, S.l, S.g);
+  switch (id) {
+    case "T": case "T-s": return { T: value, A: P.A };
+    case "freq": return { T: 1 / (2 * value), A: P.A };
+    case "A": case "A-s": return { T: P.T, A: value };
+    case "eps": case "eps-s": return toPhysical(value, mu, S.l, S.g);
+    case "mu": case "mu-s": return toPhysical(eps, value, S.l, S.g);
+  }
+  return null;
+}
+let pointTimer = null;
+for (const id of ["T", "freq", "A", "eps", "mu", "T-s", "A-s", "eps-s", "mu-s"]) {
+  $(id).addEventListener("input", () => {
+    let v = parseFloat($(id).value);
+    if (id === "T-s" || id === "A-s") v = Math.pow(10, v);
+    const P = pointFrom(id, v);
+    if (!P) return;
+    S.point = P; setPointInputs(id); drawChart(); saveURL();
+    clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point, id), 180);
+  });
+}
+function onRig() {
+  S.l = parseFloat($("l").value) > 0 ? parseFloat($("l").value) : S.l;
+  S.g = parseFloat($("g").value) > 0 ? parseFloat($("g").value) : S.g;
+  S.drive = $("drive").value; S.duty = parseFloat($("duty").value) || 0.3;
+  S.zeta = Math.max(0, parseFloat($("zeta").value) || 0); S.overlay = $("overlay").value;
+  $("duty-l").style.display = S.drive === "rectangular" ? "" : "none";
+  $("l-s").value = Math.log10(S.l);
+  saveURL(); requestChart(100);
+  if (S.point) { setPointInputs(); clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point), 200); }
+}
+for (const id of ["l", "g", "drive", "duty", "zeta", "overlay"]) $(id).addEventListener("change", onRig);
+$("l-s").addEventListener("input", () => { $("l").value = Number(Math.pow(10, parseFloat($("l-s").value)).toPrecision(4)); onRig(); });
+$("theta0").addEventListener("change", () => { S.theta0 = parseFloat($("theta0").value) || 0; $("theta0-s").value = S.theta0; saveURL(); fetchMotion(); });
+$("theta0-s").addEventListener("input", () => {
+  S.theta0 = parseFloat($("theta0-s").value); $("theta0").value = S.theta0; saveURL();
+  clearTimeout(pointTimer); pointTimer = setTimeout(fetchMotion, 150);
+});
+$("speed").addEventListener("change", () => { const t = anim.simTime(); S.speed = parseFloat($("speed").value); anim.seek(t); saveURL(); });
+$("play").onclick = () => anim.toggle();
+$("restart").onclick = () => anim.seek(0);
+
+// ------------------------------------------------------------------ the point: report and motion
+async function choosePoint(P, from) {
+  S.point = { T: P.T, A: P.A };
+  setPointInputs(from); drawChart(); saveURL(); updateExports();
+  const q = { T: S.point.T, A: S.point.A, l: S.l, g: S.g, drive: driveText(), zeta: S.zeta };
+  try {
+    const rep = await getJSON("/api/point?" + qs(q));
+    if (S.point.T !== q.T || S.point.A !== q.A) return;
+    showReport(rep);
+  } catch (e) { showError(e); }
+  fetchMotion();
+}
+function showReport(rep) {
+  const el = $("verdict");
+  el.className = "verdict " + (rep.stable ? "stable" : "unstable");
+  const m = rep.margin !== null && rep.nearest_zone >= 0 ? `margin ${(100 * rep.margin).toPrecision(3)} % of T to the nearest edge of zone ${rep.nearest_zone}` : "";
+  el.innerHTML = `${rep.verdict}<small>ε = ${fmt(rep.eps, 8)}, μ = ${fmt(rep.mu, 8)} · growth ${fmt(rep.growth, 4)} per period 2T${m ? " · " + m : ""}</small>`;
+  $("report").innerHTML = rep.lines.map(([k, v]) => `<tr><th>${esc(k)}</th><td>${esc(v)}</td></tr>`).join("");
+}
+function showError(e) {
+  const el = $("verdict"); el.className = "verdict none"; el.textContent = String(e.message || e);
+}
+const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]);
+
+function motionParams() {
+  const P = S.point, periods = Math.max(20, Math.min(200, Math.round(8 / (2 * P.T))));
+  return { T: P.T, A: P.A, l: S.l, g: S.g, drive: driveText(), zeta: S.zeta, theta0: S.theta0, periods, points_per_period: 60 };
+}
+let motionSeq = 0;
+async function fetchMotion() {
+  if (!S.point) return;
+  const seq = ++motionSeq;
+  try {
+    const m = await getJSON("/api/motion?" + qs(motionParams()));
+    if (seq !== motionSeq) return;
+    anim.load(m);
+  } catch (e) { if (seq === motionSeq) { anim.clear(String(e.message || e)); } }
+  updateExports();
+}
+
+// ------------------------------------------------------------------ the animation
+const wrap = (th) => th - 2 * Math.PI * Math.round(th / (2 * Math.PI));
+const anim = {
+  m: null, t0: performance.now(), offset: 0, playing: true, frames: 0, fps: 0, fpsT: performance.now(), fpsN: 0,
+  last: -1, note: "",
+  load(m) {
+    this.m = m; this.note = "";
+    const n = m.t.length;
+    m.thw = m.theta.map(wrap);
+    m.pmax = Math.max(...m.pivot.map(Math.abs), 1e-9);
+    const lim = (arr) => { let a = 0; for (const x of arr) if (isFinite(x)) a = Math.max(a, Math.abs(x)); return a; };
+    m.thMax = Math.max(lim(m.theta), 0.05) * 1.1;
+    m.omMax = Math.max(lim(m.dtheta), 0.05) * 1.1;
+    m.n = n; this.prepare(); this.seek(0);
+  },
+  clear(note) { this.m = null; this.note = note; this.prepare(); },
+  simTime() { return this.playing ? ((performance.now() - this.t0) / 1000) * S.speed + this.offset : this.offset; },
+  seek(t) { this.offset = t; this.t0 = performance.now(); this.last = -1; for (const p of plots) p.reset(); },
+  toggle() {
+    this.offset = this.simTime(); this.t0 = performance.now(); this.playing = !this.playing;
+    $("play").textContent = this.playing ? "pause" : "play";
+  },
+  prepare() { for (const p of plots) p.prepare(this.m); },
+};
+function index(m, t) {
+  // samples are evenly spaced
+  const dt = m.t[1] - m.t[0], f = Math.min(Math.max(t / dt, 0), m.n - 1), i = Math.min(Math.floor(f), m.n - 2);
+  return { i, f: f - i };
+}
+const lerp = (a, k) => a[k.i] + (a[k.i + 1] - a[k.i]) * k.f;
+
+function drawStage(t) {
+  const { ctx, w, h } = fit($("stage")), m = anim.m;
+  ctx.clearRect(0, 0, w, h);
+  if (!m) { ctx.fillStyle = "#6b7685"; ctx.font = "15px DejaVu Sans, sans-serif"; ctx.textAlign = "center";
+    ctx.fillText(anim.note || "choose a point on the chart", w / 2, h / 2); return; }
+  const k = index(m, t), piv = lerp(m.pivot, k);
+  const th = lerp(m.theta, k), thl = m.theta_linear ? lerp(m.theta_linear, k) : null;
+  const L = m.l, s = Math.min((w / 2) * 0.4 / L, (h - 40) / (2.15 * L + 2 * m.pmax));
+  const baseY = 28 + (L + m.pmax) * s;
+  const scene = (cx, theta, title, color, note, linear) => {
+    // rail of the shaker and the pivot's travel
+    ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 6; ctx.lineCap = "round";
+    ctx.beginPath(); ctx.moveTo(cx, baseY - m.pmax * s - 14); ctx.lineTo(cx, baseY + m.pmax * s + 14); ctx.stroke();
+    const py = baseY - piv * s;
+    ctx.setLineDash([4, 4]); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1;
+    ctx.beginPath(); ctx.moveTo(cx, py); ctx.lineTo(cx, py - L * s * 1.08); ctx.stroke(); ctx.setLineDash([]);
+    if (theta === null) { ctx.fillStyle = "#6b7685"; ctx.font = "13px DejaVu Sans"; ctx.textAlign = "center"; ctx.fillText(note, cx, h / 2); return; }
+    // The linear model's angle may grow without bound: drawn at most lying flat (|theta| <= pi/2 shown
+    // as it is, beyond that the rod lies on the side it went).
+    const shown = linear ? Math.max(-Math.PI / 2, Math.min(Math.PI / 2, theta)) : theta;
+    const bx = cx + Math.sin(shown) * L * s, by = py - Math.cos(shown) * L * s;
+    ctx.strokeStyle = "#2d3540"; ctx.lineWidth = 4; ctx.beginPath(); ctx.moveTo(cx, py); ctx.lineTo(bx, by); ctx.stroke();
+    ctx.fillStyle = color; ctx.beginPath(); ctx.arc(bx, by, Math.max(7, 0.07 * L * s), 0, 2 * Math.PI); ctx.fill();
+    ctx.fillStyle = "#16263d"; ctx.fillRect(cx - 16, py - 6, 32, 12);
+    ctx.fillStyle = "#fff"; ctx.beginPath(); ctx.arc(cx, py, 3, 0, 2 * Math.PI); ctx.fill();
+    ctx.fillStyle = "#16263d"; ctx.font = "600 14px DejaVu Sans, sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "top";
+    ctx.fillText(title, cx, 6);
+    ctx.font = "12.5px DejaVu Sans, sans-serif"; ctx.textBaseline = "bottom";
+    const big = Math.abs(theta) > (linear ? Math.PI / 2 : Math.PI);
+    ctx.fillText(`θ = ${fmt(theta, 4)} rad${big && !linear ? " (turned over)" : ""}`, cx, h - 6);
+    if (big && linear) { ctx.fillStyle = "#b42318"; ctx.fillText("beyond small angles: the linear model runs away", cx, h - 24); }
+  };
+  scene(w * 0.27, thl, "linear model (2.3)", COLORS.linear, m.summary && typeof m.summary.linear === "string" ? m.summary.linear : "", true);
+  scene(w * 0.73, th, "nonlinear (the real pendulum)", COLORS.nonlinear, "", false);
+  ctx.strokeStyle = "#e4e8ee"; ctx.lineWidth = 1; ctx.beginPath(); ctx.moveTo(w / 2, 30); ctx.lineTo(w / 2, h - 26); ctx.stroke();
+}
+
+// Plots drawn incrementally: a base (axes and the faint whole run) and the run so far on top.
+function makePlot(id, kind) {
+  const p = { canvas: $(id), base: document.createElement("canvas"), prog: document.createElement("canvas"), upto: 0, m: null };
+  const pad = { l: 44, r: 8, t: 8, b: 20 };
+  p.frame = () => {
+    const r = p.canvas.getBoundingClientRect(), dpr = window.devicePixelRatio || 1;
+    return { w: r.width, h: r.height, dpr };
+  };
+  p.xy = (m, j, which) => {
+    if (kind === "series") return [m.t[j], which === "lin" ? m.theta_linear[j] : m.theta[j]];
+    if (kind === "phase") return which === "lin" ? [m.theta_linear[j], m.dtheta_linear[j]] : [m.thw[j], m.dtheta[j]];
+    return null;
+  };
+  p.map = (x, y) => {
+    const { w, h } = p.size, R = p.range;
+    return [pad.l + ((x - R.x0) / (R.x1 - R.x0)) * (w - pad.l - pad.r), h - pad.b - ((y - R.y0) / (R.y1 - R.y0)) * (h - pad.t - pad.b)];
+  };
+  p.prepare = (m) => {
+    p.m = m;
+    const { w, h, dpr } = p.frame();
+    p.size = { w, h };
+    for (const c of [p.base, p.prog]) { c.width = Math.max(1, Math.round(w * dpr)); c.height = Math.max(1, Math.round(h * dpr)); c.getContext("2d").setTransform(dpr, 0, 0, dpr, 0, 0); }
+    const ctx = p.base.getContext("2d");
+    ctx.clearRect(0, 0, w, h);
+    if (!m) return;
+    if (kind === "series") p.range = { x0: 0, x1: m.t[m.n - 1], y0: -m.thMax, y1: m.thMax };
+    else { const a = Math.min(Math.PI, m.thMax), b = m.omMax; p.range = { x0: -a, x1: a, y0: -b, y1: b }; }
+    // axes
+    ctx.strokeStyle = "#d7dde5"; ctx.lineWidth = 1;
+    const [zx, zy] = p.map(kind === "series" ? 0 : 0, 0);
+    ctx.beginPath(); ctx.moveTo(pad.l, zy); ctx.lineTo(w - pad.r, zy); ctx.stroke();
+    if (kind !== "series") { ctx.beginPath(); ctx.moveTo(zx, pad.t); ctx.lineTo(zx, h - pad.b); ctx.stroke(); }
+    ctx.strokeStyle = "#34404f"; ctx.strokeRect(pad.l, pad.t, w - pad.l - pad.r, h - pad.t - pad.b);
+    ctx.fillStyle = "#34404f"; ctx.font = "10.5px DejaVu Sans, sans-serif"; ctx.textAlign = "right"; ctx.textBaseline = "middle";
+    const R = p.range;
+    ctx.fillText(short(R.y1), pad.l - 3, pad.t + 4); ctx.fillText(short(R.y0), pad.l - 3, h - pad.b - 4);
+    ctx.textAlign = "center"; ctx.textBaseline = "top";
+    ctx.fillText(kind === "series" ? "0" : short(R.x0), pad.l + 8, h - pad.b + 3);
+    ctx.fillText(kind === "series" ? `${short(R.x1)} s` : short(R.x1), w - pad.r - 14, h - pad.b + 3);
+    ctx.fillText(kind === "series" ? "t" : "θ (mod 2π)", (pad.l + w - pad.r) / 2, h - pad.b + 3);
+    ctx.save(); ctx.translate(10, (pad.t + h - pad.b) / 2); ctx.rotate(-Math.PI / 2); ctx.textBaseline = "middle";
+    ctx.fillText(kind === "series" ? "θ [rad]" : "θ′ [rad/s]", 0, 0); ctx.restore();
+    // the whole run, faint
+    ctx.save(); ctx.beginPath(); ctx.rect(pad.l, pad.t, w - pad.l - pad.r, h - pad.t - pad.b); ctx.clip();
+    if (kind !== "strobe") {
+      for (const which of m.theta_linear ? ["lin", "nl"] : ["nl"]) {
+        ctx.strokeStyle = which === "lin" ? "rgba(138,148,163,0.25)" : "rgba(31,78,156,0.18)"; ctx.lineWidth = 1;
+        p.path(ctx, m, 0, m.n - 1, which); ctx.stroke();
+      }
+    }
+    ctx.restore();
+    p.reset();
+  };
+  p.path = (ctx, m, a, b, which) => {
+    ctx.beginPath();
+    let prev = null;
+    for (let j = a; j <= b; j++) {
+      const [x, y] = p.xy(m, j, which);
+      const [X, Y] = p.map(x, y), Yc = Math.max(-1e4, Math.min(1e4, Y));
+      if (prev !== null && (kind !== "phase" || Math.abs(x - prev) < Math.PI)) ctx.lineTo(X, Yc); else ctx.moveTo(X, Yc);
+      prev = x;
+    }
+  };
+  p.reset = () => { p.upto = 0; const { w, h } = p.size || p.frame(); p.prog.getContext("2d").clearRect(0, 0, w, h); };
+  p.advance = (t) => {
+    const m = p.m;
+    if (!m) return;
+    const ctx = p.prog.getContext("2d"), { w, h } = p.size;
+    ctx.save(); ctx.beginPath(); ctx.rect(pad.l, pad.t, w - pad.l - pad.r, h - pad.t - pad.b); ctx.clip();
+    if (kind === "strobe") {
+      const st = m.strobe;
+      while (p.upto < st.t.length && st.t[p.upto] <= t) {
+        const k = p.upto++;
+        if (st.theta_linear) { const [X, Y] = p.map(wrap(st.theta_linear[k]), st.dtheta_linear[k]); ctx.strokeStyle = COLORS.linear; ctx.lineWidth = 1.2; ctx.beginPath(); ctx.arc(X, Y, 3.2, 0, 2 * Math.PI); ctx.stroke(); }
+        const [X, Y] = p.map(wrap(st.theta[k]), st.dtheta[k]); ctx.fillStyle = COLORS.nonlinear; ctx.beginPath(); ctx.arc(X, Y, 3, 0, 2 * Math.PI); ctx.fill();
+      }
+    } else {
+      const j = Math.min(m.n - 1, Math.floor(t / (m.t[1] - m.t[0])));
+      if (j > p.upto) {
+        for (const which of m.theta_linear ? ["lin", "nl"] : ["nl"]) {
+          ctx.strokeStyle = which === "lin" ? COLORS.linear : COLORS.nonlinear; ctx.lineWidth = which === "lin" ? 1.4 : 1.8;
+          p.path(ctx, m, Math.max(0, p.upto - 1), j, which); ctx.stroke();
+        }
+        p.upto = j;
+      }
+    }
+    ctx.restore();
+  };
+  p.draw = (t) => {
+    const { ctx, w, h } = fit(p.canvas);
+    ctx.clearRect(0, 0, w, h);
+    if (!p.m) return;
+    ctx.drawImage(p.base, 0, 0, w, h);
+    ctx.drawImage(p.prog, 0, 0, w, h);
+    const m = p.m, k = index(m, t);
+    if (kind === "series") { const [X] = p.map(t, 0); ctx.strokeStyle = COLORS.point; ctx.lineWidth = 2; ctx.beginPath(); ctx.moveTo(X, pad.t); ctx.lineTo(X, h - pad.b); ctx.stroke(); }
+    if (kind === "phase") { const [X, Y] = p.map(wrap(lerp(m.theta, k)), lerp(m.dtheta, k)); ctx.fillStyle = COLORS.point; ctx.strokeStyle = "#000"; ctx.beginPath(); ctx.arc(X, Y, 5, 0, 2 * Math.PI); ctx.fill(); ctx.stroke(); }
+    if (kind === "series") {
+      ctx.font = "10.5px DejaVu Sans, sans-serif"; ctx.textAlign = "left"; ctx.textBaseline = "top";
+      ctx.textAlign = "right";
+      ctx.fillStyle = COLORS.nonlinear; ctx.fillText("— nonlinear", w - pad.r - 4, pad.t + 3);
+      if (m.theta_linear) { ctx.fillStyle = COLORS.linear; ctx.fillText("— linear", w - pad.r - 4, pad.t + 16); }
+    }
+  };
+  return p;
+}
+const plots = [makePlot("series", "series"), makePlot("phase", "phase"), makePlot("strobe", "strobe")];
+
+function frame(now) {
+  let t = anim.simTime();
+  const m = anim.m;
+  if (m) {
+    const end = m.t[m.n - 1];
+    if (t > end + 1.5 * S.speed) { anim.seek(0); t = 0; }  // loop after a short pause at the end
+    t = Math.min(t, end);
+    for (const p of plots) { if (t < anim.last) p.reset(); p.advance(t); p.draw(t); }
+    anim.last = t;
+  }
+  drawStage(Math.max(0, t));
+  anim.frames++; anim.fpsN++;
+  if (now - anim.fpsT >= 1000) { anim.fps = (anim.fpsN * 1000) / (now - anim.fpsT); anim.fpsN = 0; anim.fpsT = now; }
+  const P = m ? 2 * m.T : 1;
+  $("clock").textContent = m ? `t = ${t.toFixed(3)} s · period ${Math.floor(t / P)} of ${Math.round(m.t[m.n - 1] / P)} · ${S.speed === 1 ? "real time" : "slowed " + Math.round(1 / S.speed) + "×"} · ${anim.fps.toFixed(0)} fps` : "";
+  $("clock").dataset.t = String(t); $("clock").dataset.frames = String(anim.frames); $("clock").dataset.fps = anim.fps.toFixed(1);
+  requestAnimationFrame(frame);
+}
+
+// ------------------------------------------------------------------ exports
+function updateExports() {
+  const c = qs({ ...chartParams(driveText()), ...(S.point ? { T: S.point.T, A: S.point.A } : {}) });
+  for (const f of ["png", "svg", "csv"]) { const a = $(`x-chart-${f}`); a.href = `/api/export/chart.${f}?${c}`; a.download = `kapitza-chart.${f}`; }
+  const ok = !!S.point;
+  for (const f of ["png", "svg", "csv", "json"]) {
+    const a = $(`x-motion-${f}`);
+    if (ok) { a.href = `/api/export/motion.${f}?${qs(motionParams())}`; a.download = `kapitza-motion.${f}`; a.style.opacity = 1; }
+    else { a.removeAttribute("href"); a.style.opacity = 0.45; }
+  }
+  const r = $("x-report-json");
+  if (ok) { r.href = "/api/point?" + qs({ T: S.point.T, A: S.point.A, l: S.l, g: S.g, drive: driveText(), zeta: S.zeta }); r.download = "kapitza-report.json"; r.style.opacity = 1; }
+  else { r.removeAttribute("href"); r.style.opacity = 0.45; }
+}
+
+// ------------------------------------------------------------------ start
+loadURL();
+clampView();
+setInputs();
+updateExports();
+drawChart();
+fetchChart();
+if (S.point) choosePoint(S.point);
+window.addEventListener("resize", () => { drawChart(); anim.prepare(); });
+requestAnimationFrame(frame);
+// For tests and the console: where a point of the chart is on screen.
+window.kapitza = { S, anim, chart, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+  return { x: r.left + ax.X(x), y: r.top + ax.Y(y) }; } };

@@ -1,0 +1,48 @@
+"""Start ``kapitza serve`` as a real process on a free loopback port, for the web tests."""
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import time
+import urllib.request
+from contextlib import contextmanager
+
+
+@contextmanager
+def running_server(*args, timeout=30.0):
+    """Yield ``(base_url, seconds_to_first_response, process)`` of ``kapitza serve --port 0``."""
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    t0 = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, "-m", "kapitza", "serve", "--port", "0", *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        line = proc.stdout.readline()
+        m = re.search(r"(http://\S+/)", line)
+        if not m:
+            proc.kill()
+            raise RuntimeError(f"kapitza serve printed {line!r}; stderr: {proc.stderr.read()}")
+        base = m.group(1)
+        first = None
+        while time.perf_counter() - t0 < timeout:
+            try:
+                with urllib.request.urlopen(base + "openapi.json", timeout=5) as r:
+                    r.read()
+                first = time.perf_counter() - t0
+                break
+            except OSError:
+                time.sleep(0.02)
+        if first is None:
+            raise RuntimeError("kapitza serve did not answer")
+        yield base, first, proc
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        proc.stderr_text = proc.stderr.read()
+        for stream in (proc.stdout, proc.stderr):
+            stream.close()
