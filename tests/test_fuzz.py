@@ -400,6 +400,7 @@ BASE_ARGV = {
                  "--strobe-periods", "2"],
     "animate": ["--T", "0.15", "--A", "100", "--periods", "0.1", "--dpi", "30", "--quiet", "--out", "a.gif"],
     "basin": ["--T", "0.15", "--A", "100", "--resolution", "4", "--periods", "2", "--quiet", "--out", "b"],
+    "paper": ["--quick", "--quiet", "--out", "p"],
 }
 #: Commands whose base run takes minutes: fuzzed in the long profile only.
 SLOW_COMMANDS = {"paper"}
@@ -496,7 +497,7 @@ def test_cli_under_hostile_options_short(argv):
 
 
 @pytest.mark.slow
-@settings(max_examples=_examples(800), **_FUZZ)
+@settings(max_examples=_examples(150), **_FUZZ)
 @given(cli_case(slow=True))
 def test_cli_under_hostile_options_long(argv):
     check_cli(argv)
@@ -525,7 +526,7 @@ def test_cli_as_a_process_under_w_error(argv):
 
 
 @pytest.mark.slow
-@settings(max_examples=_examples(60), **_FUZZ)
+@settings(max_examples=_examples(30), **_FUZZ)
 @given(cli_case(slow=True))
 def test_cli_as_a_process_long(argv):
     _subprocess_cli(argv)

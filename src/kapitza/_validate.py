@@ -340,6 +340,18 @@ def workers(value, tasks: int) -> int:
     return max(1, min(n, cpus, int(tasks)))
 
 
+def finite_rate(A, l, g) -> None:
+    """Refuse ``A``, ``l``, ``g`` whose ``(g + A)/l``, the hyperbolic phase's ``w_h^2``, is not a double."""
+    with np.errstate(over="ignore"):
+        s = (g + A) / l
+    bad = ~np.isfinite(s)
+    if bad.any():
+        A_, l_ = np.broadcast_to(A, s.shape), np.broadcast_to(l, s.shape)
+        raise KapitzaValueError(
+            f"A, g and l must give a finite (g + A)/l, the hyperbolic phase's w_h^2; got l = "
+            f"{float(l_[bad].flat[0])!r} with A = {float(A_[bad].flat[0])!r}")
+
+
 # ------------------------------------------------------------------ results
 def scalars(*values):
     """Each 0-d array among ``values`` as a numpy scalar (``np.float64``, ``np.int64``, ``np.bool_``):

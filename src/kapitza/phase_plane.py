@@ -32,6 +32,14 @@ PI = np.pi
 QPI = 0.25 * np.pi
 
 
+
+def _ratio(name, value):
+    """A frequency ratio ``0 < value <= 1e150`` (its square must be a double)."""
+    v = _v.positive(name, value)
+    if np.any(v > 1e150):
+        raise _v.KapitzaValueError(f"{name} must be <= 1e150 (its square enters f and h); got {float(v.max())!r}")
+    return v
+
 @_v.shapes_named
 def f(phi, d):
     """Radial factor of the stretch ``(x, y) -> (x, d y)``: ``f(phi; d) = sqrt(1 + (d^2 - 1) sin^2 phi)``.
@@ -53,7 +61,7 @@ def f(phi, d):
     Section 2 of the paper, definition of ``rho`` and ``f``.
     """
     phi = _v.finite("phi", phi)
-    d = _v.positive("d", d)
+    d = _ratio("d", d)
     return _f(phi, d)
 
 
@@ -90,7 +98,7 @@ def angle_map(phi, d):
     ``angle_map(angle_map(phi; d); 1/d) = phi``.
     """
     phi = _v.finite("phi", phi)
-    d = _v.positive("d", d)
+    d = _ratio("d", d)
     return _angle_map(phi, d)
 
 
@@ -171,7 +179,7 @@ def h(phi, D):
     of period ``pi/2``; that holds only for ``D = 1`` (``h(0) = 1``, ``h(pi/2) = 1/D^2``).
     """
     phi = _v.finite("phi", phi)
-    D = _v.positive("D", D)
+    D = _ratio("D", D)
     # 1 + (D^2 - 1) sin^2 phi = f(phi; D)^2, formed without cancellation (D < 1, phi near pi/2)
     return np.abs(np.cos(2.0 * phi)) / _f(phi, D) ** 2
 
@@ -280,6 +288,7 @@ def notable_points(phi0, T, A, r0=1.0, l=1.0, g=G_EARTH):
     if np.any(A <= g):
         raise _v.KapitzaValueError("A must exceed g (A > g) for the elliptic phase to exist")
     phi0, T, A, r0, l, g = np.broadcast_arrays(phi0, T, A, r0, l, g)
+    _v.finite_rate(A, l, g)
     w_h = np.sqrt((A + g) / l)
     w_e = np.sqrt((A - g) / l)
     D = w_h / w_e

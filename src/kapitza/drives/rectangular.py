@@ -1,8 +1,6 @@
 """A rectangular wave of any duty cycle, with zero mean acceleration."""
 from __future__ import annotations
 
-import numpy as np
-
 from .. import _validate as _v
 from ._piecewise import PiecewiseConstant
 
@@ -22,8 +20,6 @@ class RectangularWave(PiecewiseConstant):
     name = "rectangular"
 
     def __init__(self, duty):
-        if np.ndim(duty) != 0:
-            raise _v.KapitzaValueError(f"duty must be a single number in (0, 1); got {duty!r}")
         d = _v.one("duty", _v.in_range("duty", duty, 0.0, 1.0))
         self.duty = d
         super().__init__((1.0, -d / (1.0 - d)), (d, 1.0 - d))

@@ -73,14 +73,7 @@ def _method(method, c, model="nonlinear"):
 
 def _physical(T, A, l, g, eps=None, mu=None):
     T, A, l, g = _v.physical_parameters(T, A, l, g, eps, mu)
-    with np.errstate(over="ignore"):
-        s = (g + A) / l
-    if not np.all(np.isfinite(s)):
-        bad = ~np.isfinite(np.broadcast_to(s, np.broadcast_shapes(s.shape, l.shape)))
-        raise _v.KapitzaValueError(
-            f"A, g and l must give a finite (g + A)/l, the hyperbolic phase's w_h^2; got l = "
-            f"{float(np.broadcast_to(l, bad.shape)[bad].flat[0])!r} with A = "
-            f"{float(np.broadcast_to(A, bad.shape)[bad].flat[0])!r}")
+    _v.finite_rate(A, l, g)
     return T, A, l, g
 
 
