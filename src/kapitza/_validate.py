@@ -225,17 +225,6 @@ def general_drive(drive, zeta, name="zeta", *, g=None, l=None):
     return d, z
 
 
-def bounded_int(name: str, value, lo: int, hi: int) -> int:
-    """Return ``value`` as one int with ``lo <= value <= hi``."""
-    arr = nonnegative_int(name, value, minimum=lo)
-    if arr.size != 1:
-        raise KapitzaValueError(f"{name} must be a single integer; got shape {arr.shape}")
-    v = int(arr.flat[0])
-    if v > hi:
-        raise KapitzaValueError(f"{name} must be an integer in [{lo}, {hi}]; got {v}")
-    return v
-
-
 def choices(name: str, values, allowed) -> tuple:
     """Return ``values`` (one name or several) as a tuple of members of ``allowed``, without repeats."""
     vals = (values,) if isinstance(values, str) else tuple(values)

@@ -136,7 +136,7 @@ def _run_dask(spec, todo, finished, workers, scheduler, client):
             if scheduler is not None:
                 client = own_client = Client(scheduler)
             else:
-                n = _v.bounded_int("workers", workers if workers is not None else (os.cpu_count() or 1), 1, 1024)
+                n = _v.workers(workers if workers is not None else (os.cpu_count() or 1), len(todo))
                 own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                            dashboard_address=":0", silence_logs=40)
                 client = own_client = Client(own_cluster)

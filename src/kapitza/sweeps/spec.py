@@ -87,14 +87,14 @@ class SweepSpec:
             raise _v.KapitzaValueError(f"drive must be piecewise constant for a sweep (square, rectangular, steps); "
                                        f"got {d.describe()}")
         s(self, "drive", _drive_text(d))
-        s(self, "periods", _v.bounded_int("periods", self.periods, 1, 1_000_000))
+        s(self, "periods", _v.bounded_count("periods", self.periods, 1_000_000, minimum=1))
         s(self, "tol", float(_v.in_range("tol", self.tol, 0.0, np.pi)))
         s(self, "quantities", _v.choices("quantities", self.quantities, tuple(QUANTITIES)))
-        s(self, "directions", _v.bounded_int("directions", self.directions, 1, 256))
-        s(self, "basin_resolution", _v.bounded_int("basin_resolution", self.basin_resolution, 2, 401))
+        s(self, "directions", _v.bounded_count("directions", self.directions, 256, minimum=1))
+        s(self, "basin_resolution", _v.bounded_count("basin_resolution", self.basin_resolution, 401, minimum=2))
         s(self, "accuracy", float(_v.in_range("accuracy", self.accuracy, 1e-6, 1.0, lo_open=False)))
         s(self, "floor", float(_v.in_range("floor", self.floor, 0.0, self.tol)))
-        s(self, "chunk", _v.bounded_int("chunk", self.chunk, 1, 1024))
+        s(self, "chunk", _v.bounded_count("chunk", self.chunk, 1024, minimum=1))
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -102,8 +102,8 @@ class SweepSpec:
         """A regular grid: ``resolution = (nx, ny)`` (or one int for both) points over each range."""
         nx, ny = (resolution, resolution) if np.ndim(resolution) == 0 else resolution
         names = PLANES.get(plane, (("x", ""), ("y", "")))
-        nx = _v.bounded_int(f"resolution ({names[0][0]})", nx, 1, MAX_SIDE)
-        ny = _v.bounded_int(f"resolution ({names[1][0]})", ny, 1, MAX_SIDE)
+        nx = _v.bounded_count(f"resolution ({names[0][0]})", nx, MAX_SIDE, minimum=1)
+        ny = _v.bounded_count(f"resolution ({names[1][0]})", ny, MAX_SIDE, minimum=1)
         for (name, _), r in zip(names, (x_range, y_range)):
             lo, hi = (float(v) for v in _v.positive(f"{name} range", r))
             if not lo <= hi:
