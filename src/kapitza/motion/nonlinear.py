@@ -105,7 +105,7 @@ def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
     """Refuse spans whose work is not bounded: ``t_end / (2T)`` periods, and for DOP853 the
     angle ``(w_h + |dtheta0| + c) t_end`` it must resolve (large ``c`` makes the equation stiff)."""
     T, A, l, g, c = (np.asarray(v, float) for v in (T, A, l, g, c))
-    _v.bounded_work("duration / (2 T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
+    _v.bounded_work("the duration t / (2 T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
                     what="drive periods, each followed phase by phase")
     if method == "dop853":
         w = float(np.max(np.sqrt((g + peak * A) / l))) + float(np.max(np.abs(dtheta0)))
