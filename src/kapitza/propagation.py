@@ -296,6 +296,7 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
+    _v.finite_rate(A, l, g)
     drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.monodromy(T, A, l, g, drive, c)
@@ -364,6 +365,7 @@ def linear_motion(t, theta0, dtheta0, T, A, l=1.0, g=G_EARTH, drive=None, dampin
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
+    _v.finite_rate(A, l, g)
     drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)

@@ -435,6 +435,9 @@ def phase_energy(t, theta, dtheta, T, A, l=1.0, g=G_EARTH):
     theta = _v.finite("theta", theta)
     dtheta = _v.finite("dtheta", dtheta)
     T, A, l, g = _physical(T, A, l, g)
+    if np.any(np.abs(dtheta) > _SPEED_LIMIT):
+        raise _v.KapitzaValueError(f"dtheta must satisfy |dtheta| <= 1e150 (the energy dtheta^2 / 2 must be a "
+                                   f"double); got {float(np.max(np.abs(dtheta)))!r}")
     s = (g + _acceleration(t, T, A)) / l
     return 0.5 * dtheta * dtheta + s * np.cos(theta)
 
