@@ -44,7 +44,7 @@ def _refused(fn, *needles):
     (lambda: stroboscopic_map(0.1, 0.0, 0.15, 100.0, periods=10**12), "periods"),
     (lambda: survival(0.1, 0.0, 0.15, 100.0, periods=10**9), "periods"),
     (lambda: K.basin(0.15, 100.0, n_theta=10**12, n_dtheta=2), "n_theta"),
-    (lambda: nonlinear_motion(1e300, 0.1, 0.0, 0.15, 100.0), "duration / (2 T)"),
+    (lambda: nonlinear_motion(1e300, 0.1, 0.0, 0.15, 100.0), "t / (2 T)"),
     (lambda: simulate(0.1, 0.0, 0.15, 100.0, periods=1e9), "periods * points_per_period"),
     (lambda: simulate(0.1, 0.0, 0.15, 100.0, c=1e6), "stiff"),
     (lambda: mathieu.characteristic_a(10**6, 1.0), "rows of the truncated matrix"),

@@ -331,14 +331,22 @@ def workers(value, tasks: int) -> int:
 
 def finite_rate(A, l, g) -> None:
     """Refuse ``A``, ``l``, ``g`` whose ``(g + A)/l``, the hyperbolic phase's ``w_h^2``, is not a double."""
+    A, l, g = np.asarray(A, float), np.asarray(l, float), np.asarray(g, float)
     with np.errstate(over="ignore"):
-        s = (g + A) / l
+        s = np.asarray((g + A) / l)
     bad = ~np.isfinite(s)
     if bad.any():
         A_, l_ = np.broadcast_to(A, s.shape), np.broadcast_to(l, s.shape)
         raise KapitzaValueError(
             f"A, g and l must give a finite (g + A)/l, the hyperbolic phase's w_h^2; got l = "
             f"{float(l_[bad].flat[0])!r} with A = {float(A_[bad].flat[0])!r}")
+
+
+def flag(name: str, value) -> bool:
+    """A yes/no option: ``True``/``False`` (numpy's too), nothing else."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise KapitzaValueError(f"{name} must be True or False; got {_short(value)}")
+    return bool(value)
 
 
 # ------------------------------------------------------------------ results

@@ -316,9 +316,13 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     """
     for name, v in (("eps", eps), ("mu", mu), ("T", T), ("A", A), ("l", l), ("g", g), ("damping", damping),
                     ("zeta", zeta)):
-        if v is not None and np.ndim(v) != 0:
+        try:
+            shape = np.shape(v)
+        except ValueError:  # a ragged nesting of lists
+            shape = "ragged"
+        if v is not None and shape != ():
             raise _v.KapitzaValueError(
-                f"analyze takes single values; got {name} of shape {np.shape(v)} (for arrays use "
+                f"analyze takes single values; got {name} of shape {shape} (for arrays use "
                 "kapitza.floquet, is_stable, zone_index or stability_margin)")
     arnold = _v.parameter_set(eps, mu, T, A) == "arnold"
     physical = not arnold

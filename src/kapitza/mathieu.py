@@ -255,7 +255,9 @@ def _edge_q(kind, parity, k, mu):
     N = (8 * np.ceil((k + 8 + _decay_rows(2.0 * q_est)) / 8.0)).astype(np.int64)
     if np.any(N > 16384):
         bad = int(np.argmax(N > 16384))
-        raise _v.KapitzaValueError(f"mu is too close to 1 for the sine drive's zone edges; got mu={float(mu[bad])!r}")
+        raise _v.KapitzaValueError(
+            f"mu and n need more than 16384 rows for the sine drive's zone edges (mu too close to 1 or the zone n "
+            f"too high); got mu={float(mu[bad])!r} with n ~ {2 * int(k[bad]) + parity}")
     res = np.empty(mu.size)
     for Nv in np.unique(N):
         grp = np.flatnonzero(N == Nv)

@@ -138,6 +138,7 @@ def frequencies(A, l=1.0, g=G_EARTH):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
+    _v.finite_rate(A, l, g)
     w_h = np.sqrt((A + g) / l)
     w_e = np.sqrt(np.maximum(A - g, 0.0) / l)
     with np.errstate(divide="ignore"):

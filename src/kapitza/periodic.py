@@ -47,6 +47,7 @@ def _check_A(A, g):
 def _xD(T, A, l, g):
     """``(x, u, D)`` of validated physical parameters with ``A > g``."""
     T, A, l, g = (_v.positive(n, v) for n, v in zip("TAlg", (T, A, l, g)))
+    _v.finite_rate(A, l, g)
     _check_A(A, g)
     w_h = np.sqrt((A + g) / l)
     w_e = np.sqrt((A - g) / l)
@@ -126,6 +127,7 @@ def boundary_periods(A, count, l=1.0, g=G_EARTH):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
+    _v.finite_rate(A, l, g)
     count = _v.bounded_count("count", count, MAX_COUNT, minimum=1)
     _check_A(A, g)
     A, l, g = np.broadcast_arrays(A, l, g)
@@ -221,6 +223,7 @@ def boundary_table(A, count, l=1.0, g=G_EARTH):
     A = _v.one("A", _v.positive("A", A))
     l = _v.one("l", _v.positive("l", l))
     g = _v.one("g", _v.positive("g", g))
+    _v.finite_rate(A, l, g)
     count = _v.bounded_count("count", count, MAX_COUNT, minimum=1)
     _check_A(A, g)
     mu = np.sqrt(g / A)
@@ -327,16 +330,21 @@ def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
     ``phi0 = -atan((e^{w_h T} + 1) / (e^{w_h T} - 1))`` (3.22) is periodic.
     """
     index = _v.bounded_count("index", index, MAX_COUNT, minimum=1)
+    tilde = _v.flag("tilde", tilde)
     table = boundary_table(A, index, l, g)
     entry = next(b for b in table if b.index == index and b.tilde == bool(tilde))
     A, l, g = float(A), float(l), float(g)
-    x = np.sqrt(A + g) / np.sqrt(l) * entry.T
+    with np.errstate(over="ignore", invalid="ignore"):
+        x = np.sqrt((A + g) / l) * entry.T
+    x = x if np.isfinite(x) else np.sqrt(A + g) / np.sqrt(l) * entry.T
     t = np.tanh(0.5 * x)
     if entry.equation in ("3.10", "3.12"):
         phi0 = -np.arctan(t)  # (3.19): atan((1 - e^x)/(1 + e^x)) = -atan(tanh(x/2))
     else:
         phi0 = -np.arctan2(1.0, t)  # (3.22): -atan((e^x + 1)/(e^x - 1)) = -atan(coth(x/2))
-    w_h = np.sqrt((A + g) / l)
+    with np.errstate(over="ignore"):  # (A + g)/l may overflow where w_h does not
+        w_h = np.sqrt((A + g) / l)
+    w_h = w_h if np.isfinite(w_h) else np.sqrt(A + g) / np.sqrt(l)
     return PeriodicSolution(
         boundary=entry,
         A=A,

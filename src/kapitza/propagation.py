@@ -319,6 +319,7 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     A = _v.positive("A", A)
     l = _v.positive("l", l)
     g = _v.positive("g", g)
+    _v.finite_rate(A, l, g)
     drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.monodromy(T, A, l, g, drive, c)
@@ -389,6 +390,7 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     T, A, l, g = _v.physical_parameters(T, A, l, g, eps, mu)
+    _v.finite_rate(A, l, g)
     drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)

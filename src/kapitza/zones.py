@@ -360,6 +360,7 @@ def zone_width(mu, n, log=False):
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     n = _v.nonnegative_int("n", n)
+    log = _v.flag("log", log)
     ulo, q = _edge_u(mu, n, upper=False)
     uhi, _ = _edge_u(mu, n, upper=True)
     mu_b = np.broadcast_to(mu, ulo.shape)

@@ -315,6 +315,9 @@ def _check_steps(levels, fractions):
         raise _v.KapitzaValueError(f"a step drive needs at least 2 steps; got {lev.size}")
     if lev.size > 64:
         raise _v.KapitzaValueError(f"a step drive may have at most 64 steps; got {lev.size}")
+    if np.any(np.abs(lev) > 1e6):  # multiples of A: beyond this A itself should carry the scale
+        raise _v.KapitzaValueError(f"levels must satisfy |level| <= 1e6 (multiples of A; scale A instead); got "
+                                   f"{float(lev[np.argmax(np.abs(lev))])!r}")
     bad = ~(frac > 0)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])

@@ -106,7 +106,7 @@ def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
     """Refuse spans whose work is not bounded: ``t_end / (2T)`` periods, and for DOP853 the
     angle ``(w_h + |dtheta0| + c) t_end`` it must resolve (large ``c`` makes the equation stiff)."""
     T, A, l, g, c = (np.asarray(v, float) for v in (T, A, l, g, c))
-    _v.bounded_work("duration / (2 T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
+    _v.bounded_work("the duration t / (2 T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
                     what="drive periods, each followed phase by phase")
     if method == "dop853":
         w = float(np.max(np.sqrt((g + peak * A) / l))) + float(np.max(np.abs(dtheta0)))
@@ -440,6 +440,9 @@ def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None
     theta = _v.finite("theta", theta)
     dtheta = _v.finite("dtheta", dtheta)
     T, A, l, g = _physical(T, A, l, g, eps, mu)
+    if np.any(np.abs(dtheta) > _SPEED_LIMIT):
+        raise _v.KapitzaValueError(f"dtheta must satisfy |dtheta| <= 1e150 (the energy dtheta^2 / 2 must be a "
+                                   f"double); got {float(np.max(np.abs(dtheta)))!r}")
     s = (g + _acceleration(t, T, A)) / l
     return 0.5 * dtheta * dtheta + s * np.cos(theta)
 
