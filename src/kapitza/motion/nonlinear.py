@@ -19,7 +19,7 @@ from .. import _validate as _v
 from ..parameters import G_EARTH
 from ..propagation import linear_motion
 from ._elliptic import _phase_step
-from .pivot import _acceleration, _displacement, _phase_index
+from .pivot import _acceleration, _checked, _displacement, _phase_index
 
 __all__ = [
     "phase_flow",
@@ -435,6 +435,7 @@ def phase_energy(t, theta, dtheta, T, A, l=1.0, g=G_EARTH):
     theta = _v.finite("theta", theta)
     dtheta = _v.finite("dtheta", dtheta)
     T, A, l, g = _physical(T, A, l, g)
+    _checked(t, T, A)  # t / T must resolve the phase
     if np.any(np.abs(dtheta) > _SPEED_LIMIT):
         raise _v.KapitzaValueError(f"dtheta must satisfy |dtheta| <= 1e150 (the energy dtheta^2 / 2 must be a "
                                    f"double); got {float(np.max(np.abs(dtheta)))!r}")
