@@ -274,6 +274,9 @@ def _edge_q(kind, parity, k, mu):
 def _sine_edges(mu, n):
     """``(eps_lo, eps_hi)`` of the sine drive's zone n (trusted 0 < mu < 1)."""
     mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
+    if np.any(mu < 1e-150):  # the pencil divides by mu^2
+        raise _v.KapitzaValueError(f"mu must be >= 1e-150 for the sine drive's zones (mu^2 must be a double); "
+                                   f"got {float(np.min(mu))!r}")
     shape = mu.shape
     mu, n = mu.ravel(), n.ravel()
     q_lo = np.empty(mu.size)

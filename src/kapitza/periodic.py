@@ -333,7 +333,7 @@ def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
     tilde = _v.flag("tilde", tilde)
     table = boundary_table(A, index, l, g)
     entry = next(b for b in table if b.index == index and b.tilde == bool(tilde))
-    A, l, g = float(A), float(l), float(g)
+    A, l, g = (_v.one(n, _v.positive(n, v)) for n, v in zip("Alg", (A, l, g)))
     with np.errstate(over="ignore", invalid="ignore"):
         x = np.sqrt((A + g) / l) * entry.T
     x = x if np.isfinite(x) else np.sqrt(A + g) / np.sqrt(l) * entry.T

@@ -320,6 +320,10 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     _v.finite_rate(A, l, g)
+    with np.errstate(over="ignore"):
+        x = np.sqrt((A + g) / l) * T
+    if not np.all(np.isfinite(x)):
+        raise _v.KapitzaValueError(f"T and A must give a finite phase w_h T; got T = {float(np.max(T))!r}")
     drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
     if drive is not None:
         return _drv.monodromy(T, A, l, g, drive, c)

@@ -20,7 +20,7 @@ from .._display import Summary, num
 from ..parameters import G_EARTH
 from ..propagation import linear_motion
 from ._elliptic import _phase_step
-from .pivot import _acceleration, _displacement, _phase_index
+from .pivot import _acceleration, _checked, _displacement, _phase_index
 
 __all__ = [
     "phase_flow",
@@ -440,6 +440,7 @@ def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None
     theta = _v.finite("theta", theta)
     dtheta = _v.finite("dtheta", dtheta)
     T, A, l, g = _physical(T, A, l, g, eps, mu)
+    _checked(t, T, A)  # t / T must resolve the phase
     if np.any(np.abs(dtheta) > _SPEED_LIMIT):
         raise _v.KapitzaValueError(f"dtheta must satisfy |dtheta| <= 1e150 (the energy dtheta^2 / 2 must be a "
                                    f"double); got {float(np.max(np.abs(dtheta)))!r}")
