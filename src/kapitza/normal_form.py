@@ -198,6 +198,9 @@ class TaylorMap:
     linear: np.ndarray
     cubic: np.ndarray
 
+    def __post_init__(self):
+        _v.scalar_fields(self)  # scalar in, numpy scalars out
+
     def __call__(self, q, p):
         """``M v + C(v)`` at ``v = (q, p)`` (arrays broadcast against the map's shape)."""
         q, p = np.asarray(q, float), np.asarray(p, float)
@@ -276,6 +279,9 @@ class BirkhoffNormalForm:
     resonant_4: np.ndarray
     area_defect: np.ndarray
     m12: np.ndarray
+
+    def __post_init__(self):
+        _v.scalar_fields(self)  # scalar in, numpy scalars out
 
 
 def _w_of(theta, n):
@@ -531,6 +537,9 @@ class NonlinearVerdict:
     trace: np.ndarray
     twist: np.ndarray
     resonant_4: np.ndarray
+
+    def __post_init__(self):
+        _v.scalar_fields(self)  # scalar in, numpy scalars out
 
     def sentences(self) -> list[str]:
         """One sentence per point (flattened order): the verdict, the theorem and its numbers."""

@@ -55,6 +55,9 @@ class RotationRun:
     twist: np.ndarray
     periods: int
 
+    def __post_init__(self):
+        _v.scalar_fields(self)  # scalar in, numpy scalars out
+
 
 def _window(n):
     t = (np.arange(n) + 0.5) / n
