@@ -192,3 +192,12 @@ def test_ctrl_c_while_the_command_starts_is_one_line_and_130(tmp_path):
     err = [ln for ln in (seen + rest.splitlines(True)) if "import time:" not in ln]
     assert "Traceback" not in "".join(err)
     assert code == 130 and [ln.strip() for ln in err] == ["kapitza: interrupted"], (code, err)
+
+
+@pytest.mark.parametrize("drive", [None, K.RectangularWave(0.3), "sine"])
+def test_linear_motion_refuses_times_beyond_the_phase_resolution(drive):
+    # t / T = 1e323 overflowed in the phase index and leaked a RuntimeWarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"t / T must be below 2\*\*52"):
+            K.linear_motion(0.5, 0.1, 0.0, T=5e-324, A=100.0, drive=drive)

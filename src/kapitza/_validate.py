@@ -415,3 +415,15 @@ def broadcast(**arrays):
     """``np.broadcast_arrays`` of the named arrays; a mismatch names the parameters and their shapes."""
     shape_check(**arrays)
     return np.broadcast_arrays(*arrays.values())
+
+
+def phase_resolved(t, T) -> None:
+    """Refuse times with ``|t / T| >= 2**52``: beyond it the time within a half-period, which
+    decides the phase of the drive, is lost (``t``, ``T``: validated arrays that broadcast)."""
+    t, T = np.broadcast_arrays(t, T)
+    with np.errstate(over="ignore"):
+        bad = ~(np.abs(t / T) < 2.0**52)
+    if bad.any():
+        raise KapitzaValueError(
+            f"t / T must be below 2**52 (beyond it the time within a half-period is lost); got t = "
+            f"{float(t[bad].flat[0])!r} with T = {float(T[bad].flat[0])!r}")

@@ -396,6 +396,7 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
     T, A, l, g = _v.physical_parameters(T, A, l, g, eps, mu)
     _v.finite_rate(A, l, g)
     drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
+    _v.phase_resolved(t, T)
     if drive is not None:
         return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
     t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)

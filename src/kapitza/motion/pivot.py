@@ -57,12 +57,7 @@ def _checked(t, T, A):
     A = _v.positive("A", A)
     t, T, A = _v.broadcast(t=t, T=T, A=A)
     _stroke_checked(T, A)
-    with np.errstate(over="ignore"):
-        bad = ~(np.abs(t / T) < 2.0**52)
-    if bad.any():
-        raise _v.KapitzaValueError(
-            f"t / T must be below 2**52 (beyond it the time within a half-period is lost); got t = "
-            f"{float(t[bad].flat[0])!r} with T = {float(T[bad].flat[0])!r}")
+    _v.phase_resolved(t, T)
     return t, T, A
 
 
