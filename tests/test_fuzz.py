@@ -409,8 +409,11 @@ BASE_ARGV = {
     "basin": ["--T", "0.15", "--A", "100", "--resolution", "4", "--periods", "2", "--quiet", "--out", "b"],
     "paper": ["--quick", "--quiet", "--out", "p"],
 }
-#: Commands whose base run takes minutes: fuzzed in the long profile only.
-SLOW_COMMANDS = {"paper"}
+#: Commands whose base run takes minutes (or starts a Dask cluster): fuzzed in the long profile only.
+SLOW_COMMANDS = {"paper", "sweep"}
+#: Commands that run until stopped: ``serve``'s inputs are fuzzed through its HTTP API instead
+#: (tests/test_web_fuzz.py) and its options tested in tests/test_web_api.py.
+SERVERS = {"serve"}
 CLI_HOSTILE = ["nan", "inf", "-inf", "-0.0", "0", "-1", "1e-300", "1e300", "5e-324", "1000000000000", "1" + "0" * 400,
                "abc", "", "1,2", "0x10", "1e9", "2.5", "-1e308", "/dev/full", "/proc/x/y.csv", "square:", "steps:1:1"]
 
@@ -430,7 +433,7 @@ COMMANDS = _commands()
 
 @st.composite
 def cli_case(draw, slow=False):
-    names = sorted(n for n in COMMANDS if slow or n not in SLOW_COMMANDS)
+    names = sorted(n for n in COMMANDS if (slow or n not in SLOW_COMMANDS) and n not in SERVERS)
     cmd = draw(st.sampled_from(names))
     argv = [cmd] + list(BASE_ARGV.get(cmd, []))
     opts = COMMANDS[cmd]
