@@ -217,6 +217,7 @@ def _taylor(eps, mu):
     return _compose(L1, C1, L2, C2)
 
 
+@_v.shapes_named
 def period_map_taylor(eps, mu):
     """The period map of the full equation to third order at the upright, in closed form.
 
@@ -416,6 +417,7 @@ def _stable_arnold(eps, mu):
     return eps, mu
 
 
+@_v.shapes_named
 def birkhoff_normal_form(eps, mu):
     """The Birkhoff normal form of the period map at the upright, to third order.
 
@@ -431,6 +433,7 @@ def birkhoff_normal_form(eps, mu):
     return _normal_form(eps, mu)[0]
 
 
+@_v.shapes_named
 def twist_coefficient(eps, mu):
     """The twist ``tau``: ``rho(r) = w/(2 pi) + tau r^2 + O(r^4)``.
 
@@ -463,6 +466,7 @@ def twist_coefficient(eps, mu):
 
 
 # ---------------------------------------------------------------- the Kapitza limit
+@_v.shapes_named
 def averaged_twist(eps, mu):
     """The twist predicted by Kapitza's averaged (effective) potential, valid as ``eps -> 0``.
 
@@ -590,6 +594,7 @@ def _verdict_kinds(w, beta, coef, tol, on4=None, on3=None):
     return code
 
 
+@_v.shapes_named
 def nonlinear_stability(eps, mu, *, tol=1e-15):
     """Lyapunov stability of the upright of the full equation (square wave, undamped).
 

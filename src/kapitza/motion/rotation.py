@@ -65,6 +65,7 @@ def _window(n):
     return g / g.sum()
 
 
+@_v.shapes_named
 def measured_rotation_number(eps, mu, r, *, periods=4000):
     """Rotation numbers of the exact nonlinear period map on orbits through ``max|theta| = r``.
 
