@@ -201,3 +201,12 @@ def test_linear_motion_refuses_times_beyond_the_phase_resolution(drive):
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match=r"t / T must be below 2\*\*52"):
             K.linear_motion(0.5, 0.1, 0.0, T=5e-324, A=100.0, drive=drive)
+
+
+@pytest.mark.parametrize("eps", [1e6, 2.0**63, 1e300])
+def test_period_map_taylor_refuses_eps_beyond_a_double_by_name(eps):
+    # the cubic terms grow like exp(3 w_h T): cosh overflowed and leaked a RuntimeWarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match="eps must keep w_h T"):
+            K.period_map_taylor(eps, 0.3)

@@ -239,6 +239,13 @@ def period_map_taylor(eps, mu):
     eps = _v.positive("eps", eps)
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     eps, mu = np.broadcast_arrays(eps, mu)
+    # The cubic terms grow like exp(3 w_h T): beyond w_h T = 200 they leave a double.
+    x = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 + mu * mu)
+    if np.any(x > 200.0):
+        bad = x > 200.0
+        raise _v.KapitzaValueError(
+            f"eps must keep w_h T = 2 sqrt(2) eps sqrt(1 + mu^2) <= 200 (the cubic terms grow like "
+            f"exp(3 w_h T)); got eps = {float(eps[bad].flat[0])!r} with mu = {float(mu[bad].flat[0])!r}")
     M, C = _taylor(eps, mu)
     return TaylorMap(linear=M, cubic=C)
 
