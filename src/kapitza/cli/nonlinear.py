@@ -58,6 +58,13 @@ def cmd_nonlinear(args):
         raise CLIError("give a point (--T and --A, or --eps and --mu), or --chart")
     if args.rotation and not _given(args):
         raise CLIError("--rotation needs a point (--T and --A, or --eps and --mu)")
+    if args.chart:  # refuse bad chart options before anything is printed
+        if not (1 <= args.zones <= 6):
+            raise CLIError(f"--zones must lie in [1, 6]; got {args.zones!r}")
+        if not (2 <= args.points <= 2000):
+            raise CLIError(f"--points must lie in [2, 2000]; got {args.points!r}")
+        if not (0 <= args.scan <= 2000):
+            raise CLIError(f"--scan must lie in [0, 2000]; got {args.scan!r}")
     formats = ("png", "svg", "pdf") if args.pdf else ("png", "svg")
     stem = out_stem(args.out)
     record, written = {}, []
@@ -125,12 +132,6 @@ def _linearly_unstable(args, eps, mu):
 def _chart(args, stem, formats, record):
     from ..resonances import CSV_HEADER, nonlinear_chart
 
-    if not (1 <= args.zones <= 6):
-        raise CLIError(f"--zones must lie in [1, 6]; got {args.zones!r}")
-    if not (2 <= args.points <= 2000):
-        raise CLIError(f"--points must lie in [2, 2000]; got {args.points!r}")
-    if not (0 <= args.scan <= 2000):
-        raise CLIError(f"--scan must lie in [0, 2000]; got {args.scan!r}")
     chart = nonlinear_chart(np.linspace(0.01, 0.95, args.points), tuple(range(args.zones)), scan=args.scan)
     import matplotlib.pyplot as plt
 
