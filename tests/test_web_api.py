@@ -226,3 +226,30 @@ def test_serve_warns_beyond_loopback_and_needs_the_extra():
     assert res.returncode == 2
     err = res.stderr.strip().splitlines()
     assert len(err) == 1 and "pip install" in err[0] and "web" in err[0]
+
+
+def test_served_connections_send_small_answers_at_once():
+    """Connections accepted on the explorer's socket have TCP_NODELAY (else a small answer
+    waits for the client's delayed ACK, about 40 ms a request)."""
+    import asyncio
+    import socket
+
+    from kapitza.web.server import bind
+
+    async def accepted_nodelay():
+        sock = bind("127.0.0.1", 0)
+        seen = asyncio.get_running_loop().create_future()
+
+        def connected(reader, writer):
+            s = writer.get_extra_info("socket")
+            seen.set_result(s.getsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY))
+            writer.close()
+
+        server = await asyncio.start_server(connected, sock=sock)
+        async with server:
+            _, w = await asyncio.open_connection(*sock.getsockname()[:2])
+            value = await asyncio.wait_for(seen, 10)
+            w.close()
+        return value
+
+    assert asyncio.run(accepted_nodelay()) != 0
