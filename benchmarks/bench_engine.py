@@ -11,7 +11,8 @@ same run:
   numerical Floquet analysis (solve_ivp, DOP853, per point, timed on a sample and
   extrapolated);
 * ``zone_edges`` for 10 zones x 10,000 mu values;
-* ``is_stable`` and ``zone_index`` on 10^7 random points (eps in (0, 4], mu in (0, 1)) against
+* ``is_stable`` (with its blocks on every CPU, and on one thread) and ``zone_index`` on 10^7
+  random points (eps in (0, 4], mu in (0, 1)) against
   the plain numpy trace formula on the same points and against the closed forms with
   arctangents (``zones._verdict_careful``, the earlier path, now kept for the points inside the
   rounding bound); min and median over repeats (the machine may be shared);
@@ -32,10 +33,12 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _timing import machine, median_time  # noqa: E402
 
 import kapitza as K
+from kapitza import zones as Z
 
 GRID_TARGET_S = 0.050
 EDGES_TARGET_S = 0.050
 BASELINE_MIN_RATIO = 10.0
+POINTS_MIN_RATIO = 5.0  # is_stable on random points against the plain numpy trace formula
 
 
 
@@ -83,6 +86,16 @@ def trace_points(eps, mu):
     u = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 - mu * mu)
     D = x / u
     return np.abs(2.0 * np.cosh(x) * np.cos(u) + (D - 1.0 / D) * np.sinh(x) * np.sin(u)) < 2.0
+
+
+def one_thread(fn, *args):
+    """``fn(*args)`` with the fast verdict's blocks on one thread."""
+    saved = Z._threads
+    Z._threads = lambda blocks: 1
+    try:
+        return fn(*args)
+    finally:
+        Z._threads = saved
 
 
 def fresh_pages(nbytes):
@@ -172,7 +185,6 @@ def main(argv=None):
           f"  = {t_edges[0] / (2 * 10 * mu_e.size) * 1e9:.0f} ns per edge")
 
     # ------------------------------------------------------------ pointwise verdicts
-    from kapitza import zones as Z
 
     n_pts = 20_000 if tiny else 10_000_000
     pt_repeats = 3 if tiny else 7
@@ -185,6 +197,7 @@ def main(argv=None):
     per = {}
     for name, fn in (("baseline: numpy trace formula", lambda: trace_points(pe, pm)),
                      ("closed forms with arctangents (earlier path)", lambda: Z._verdict_careful(pe, pm)),
+                     ("is_stable, one thread", lambda: one_thread(K.is_stable, pe, pm)),
                      ("is_stable", lambda: K.is_stable(pe, pm)),
                      ("zone_index", lambda: K.zone_index(pe, pm))):
         med, lo, _ = median_time(fn, pt_repeats)
@@ -197,6 +210,9 @@ def main(argv=None):
     c_min, c_med = per["closed forms with arctangents (earlier path)"]
     print(f"  ratio baseline / is_stable: {b_min / s_min:.2f}x (min), {b_med / s_med:.2f}x (median); "
           f"earlier path / is_stable: {c_min / s_min:.2f}x (min), {c_med / s_med:.2f}x (median)")
+    o_min, o_med = per["is_stable, one thread"]
+    print(f"  ratio baseline / is_stable with one thread: {b_min / o_min:.2f}x (min), {b_med / o_med:.2f}x (median); "
+          f"is_stable uses {Z._threads(-(-n_pts // Z._CHUNK))} threads here")
     print(f"  against the 357 ns per point recorded before the tan form: {357.0 / s_min:.1f}x (min)")
 
     # ------------------------------------------------------------ analyze
@@ -219,6 +235,8 @@ def main(argv=None):
         (f"speed-up over the numpy trace baseline >= {BASELINE_MIN_RATIO:.0f}x (default call)",
          r_def >= BASELINE_MIN_RATIO),
         (f"zone_edges 10 x 10,000 <= {EDGES_TARGET_S * 1e3:.0f} ms", t_edges[0] <= EDGES_TARGET_S),
+        (f"is_stable >= {POINTS_MIN_RATIO:.0f}x faster than the numpy trace baseline (min)",
+         b_min / s_min >= POINTS_MIN_RATIO),
     ]
     for text, ok in checks:
         print(f"  [{'met' if ok else 'NOT MET'}] {text}")

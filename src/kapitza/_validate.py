@@ -319,14 +319,18 @@ def bounded_work(name: str, amount: float, limit: float, *, what: str) -> None:
 def workers(value, tasks: int) -> int:
     """Worker processes to start: ``value`` (an integer >= 1, at most 1024) capped at the machine's
     CPUs and at the number of ``tasks`` (40 asked for 2 chunks start 2)."""
+    n = bounded_count("workers", value, 1024, minimum=1)
+    return max(1, min(n, cpus(), int(tasks)))
+
+
+def cpus() -> int:
+    """The CPUs this process may run on."""
     import os
 
-    n = bounded_count("workers", value, 1024, minimum=1)
     try:
-        cpus = len(os.sched_getaffinity(0))  # the CPUs this process may run on
+        return len(os.sched_getaffinity(0))
     except AttributeError:  # not on every platform
-        cpus = os.cpu_count() or 1
-    return max(1, min(n, cpus, int(tasks)))
+        return os.cpu_count() or 1
 
 
 def finite_rate(A, l, g) -> None:

@@ -138,6 +138,7 @@ def _edges_eps(mu, n, q=None):
 
 
 _CHUNK = 1 << 14  # points per block of the fast verdict: its temporaries stay in cache
+_BLOCKS_PER_THREAD = 8
 _EPS = np.finfo(float).eps
 
 
@@ -161,7 +162,8 @@ def _verdict(eps, mu, want_n=True):
     to :func:`_verdict_careful` -- the closed forms with their own bound, then mpmath. That is a
     band of a few ulp about each edge (wider, ``~eps / mu^2`` relative, along zone 0's lower edge
     at small ``mu``, where ``s`` and ``D t`` nearly cancel). The blocks of ``_CHUNK`` points are
-    computed in place, so a call costs a few passes over memory, not dozens.
+    computed in place, so a call costs a few passes over memory, not dozens; a large call shares
+    its blocks out among threads, one per CPU (the ufuncs release the GIL).
     """
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     shape = eps.shape
@@ -171,11 +173,42 @@ def _verdict(eps, mu, want_n=True):
     stable = np.empty(N, bool)
     unsure = np.empty(N, bool)
     n_out = np.empty(N) if want_n else None
+    blocks = range(0, N, _CHUNK)
+    threads = _threads(len(blocks))
+    if threads == 1:
+        _verdict_blocks(e_all, m_all, stable, unsure, n_out, blocks)
+    else:  # numpy's ufuncs release the GIL: the blocks are shared out among the CPUs
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(threads) as pool:
+            for f in [pool.submit(_verdict_blocks, e_all, m_all, stable, unsure, n_out, blocks[k::threads])
+                      for k in range(threads)]:
+                f.result()
+    idx = np.flatnonzero(unsure)
+    if idx.size:
+        st, nn = _verdict_careful(e_all[idx], m_all[idx])
+        stable[idx] = st
+        if want_n:
+            n_out[idx] = nn
+    return stable.reshape(shape), (n_out.reshape(shape) if want_n else None)
+
+
+def _threads(blocks: int) -> int:
+    """Threads for ``blocks`` blocks of the fast verdict: one per CPU this process may use, each
+    given at least ``_BLOCKS_PER_THREAD`` blocks (below that starting threads costs more than it saves)."""
+    if blocks < 2 * _BLOCKS_PER_THREAD:
+        return 1
+    return _v.workers(_v.cpus(), blocks // _BLOCKS_PER_THREAD)
+
+
+def _verdict_blocks(e_all, m_all, stable, unsure, n_out, blocks):
+    """The fast verdict (:func:`_verdict`) of the blocks starting at ``blocks``, in place."""
+    N = e_all.size
     k = max(1, min(_CHUNK, N))
     p, q, y, t, u, n, s, r, g = (np.empty(k) for _ in range(9))
     ok = np.empty(k, bool)
     with np.errstate(all="ignore"):  # mu >= 1 gives NaN (or D = inf): never stable, never unsure
-        for i in range(0, N, _CHUNK):
+        for i in blocks:
             j = min(i + _CHUNK, N)
             if j - i < k:
                 p, q, y, t, u, n, s, r, g = (a[:j - i] for a in (p, q, y, t, u, n, s, r, g))
@@ -187,7 +220,7 @@ def _verdict(eps, mu, want_n=True):
             np.divide(p, q, out=p)                                                 # D
             np.tanh(y, out=t)
             np.multiply(u, 1.0 / PI, out=n); np.floor(n, out=n)
-            if want_n:
+            if n_out is not None:
                 n_out[i:j] = n
             np.multiply(n, -PI, out=s); s += u; s *= 0.5; np.tan(s, out=s)         # tan(w/2)
             u += n; u *= 4.0 * _EPS; np.multiply(s, s, out=r); r += 1.0; u *= r
@@ -197,13 +230,6 @@ def _verdict(eps, mu, want_n=True):
             np.greater(r, 0.0, out=stable[i:j]); np.greater(g, 0.0, out=ok); stable[i:j] &= ok
             np.abs(r, out=r); np.abs(g, out=g); np.minimum(r, g, out=r)
             np.less_equal(r, u, out=unsure[i:j])
-    idx = np.flatnonzero(unsure)
-    if idx.size:
-        st, nn = _verdict_careful(e_all[idx], m_all[idx])
-        stable[idx] = st
-        if want_n:
-            n_out[idx] = nn
-    return stable.reshape(shape), (n_out.reshape(shape) if want_n else None)
 
 
 def _verdict_careful(eps, mu):
