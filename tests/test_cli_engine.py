@@ -189,6 +189,32 @@ def test_chart_pdf_and_window(tmp_path, capsys):
     assert stem.with_suffix(".png").stat().st_size > 0
 
 
+def test_chart_physical_plane_of_another_drive_is_its_period_edges(tmp_path, capsys):
+    """The T-A chart of a damped rectangular wave draws that drive's edges (kapitza.period_edges),
+    with the marked point's verdict for that drive."""
+    from kapitza.drives import parse_drive
+    from kapitza.drives._api import damping_of
+
+    stem = tmp_path / "rect"
+    code, _, err = run(["chart", "--plane", "physical", "--duty", "0.3", "--zeta", "0.05", "--points", "30",
+                        "--A-min", "20", "--A-max", "300", "--T-max", "0.5", "--mark-T", "0.1", "--mark-A", "150",
+                        "--out", str(stem)], capsys)
+    assert code == 0, err
+    header, rows = read_csv(stem.with_suffix(".csv"))
+    assert header == ["n", "A", "T_lo", "T_hi"]
+    drive, c = parse_drive("rectangular:0.3"), damping_of(0.05, 1.0, 9.81)
+    for r in rows[::7]:
+        n, A, lo, hi = int(r[0]), float(r[1]), float(r[2]), float(r[3])
+        want = K.period_edges(A, n, drive=drive, damping=c)
+        for got, ref in zip((lo, hi), want):
+            if np.isfinite(ref) and got < 1e300:
+                assert got == pytest.approx(float(ref), rel=1e-9)
+    assert {int(r[0]) for r in rows} >= {0, 1}
+    code, _, err = run(["chart", "--plane", "physical", "--drive", "sine", "--T-max", "1e6", "--A-max", "1e6",
+                        "--out", str(tmp_path / "far")], capsys)
+    assert code == 2 and "largest eps" in err
+
+
 # ---------------------------------------------------------------- as a process
 def test_module_entry_point_in_a_subprocess():
     proc = subprocess.run([sys.executable, "-m", "kapitza.cli", "stability", "--T", "0.15", "--A", "100"],

@@ -219,12 +219,14 @@ def cmd_chart(args):
         raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
     general = drive.name != "square" or args.zeta > 0
     if general and mark is not None:
-        rep = mark[0]
-        rep = analyze(eps=rep.eps, mu=rep.mu, drive=drive, zeta=args.zeta)
+        from ..drives._api import damping_of
+
+        if args.mark_T is None:
+            rep = analyze(eps=args.mark_eps, mu=args.mark_mu, drive=drive, zeta=args.zeta)
+        else:  # l and g were checked by the square wave's report above
+            rep = analyze(T=args.mark_T, A=args.mark_A, l=args.l, g=args.g, drive=drive,
+                          damping=damping_of(args.zeta, args.l, args.g))
         mark = (rep, mark[1])
-    if general and args.plane != "arnold":
-        raise CLIError("--plane physical draws the square wave without damping; use --plane arnold for other "
-                       "drives and damping")
     if args.plane == "arnold":
         if not (0.0 <= args.eps_min < args.eps_max <= (50.0 if general else np.inf)):
             raise CLIError(f"need 0 <= eps-min < eps-max{' <= 50' if general else ''}; got {args.eps_min:g}, "
@@ -233,6 +235,13 @@ def cmd_chart(args):
             raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
     elif args.l <= 0 or args.g <= 0:
         raise CLIError(f"--l and --g must be > 0; got l={args.l:g}, g={args.g:g}")
+    elif general:  # each edge of another drive is a root solve: bound the largest eps in view, as above
+        T_max = 2.5 * np.sqrt(args.l / args.g) if args.T_max is None else args.T_max
+        A_max = 50.0 * args.g if args.A_max is None else args.A_max
+        eps_max = T_max * np.sqrt(max(A_max, 0.0) / (8.0 * args.l))
+        if not eps_max <= 50.0:
+            raise CLIError(f"need T-max sqrt(A-max / (8 l)) <= 50 (the largest eps in view) for another drive or "
+                           f"damping; got {eps_max:g}")
     stem = out_stem(args.out)
     fig, curves, header = chart_figure(
         args.plane, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), (args.T_min, args.T_max),

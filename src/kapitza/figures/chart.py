@@ -273,7 +273,7 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
 
 
 def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, points=1200, label_zones=True,
-                        legend="outside"):
+                        legend="outside", drive=None, zeta=0.0):
     """Draw the exact stability zones in the physical ``T``-``A`` plane of a rod ``l`` under ``g``.
 
     Parameters
@@ -292,6 +292,9 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
         Write the zone index beside each tongue.
     legend : {"outside", "inside", None}
         Legend just right of the axes, inside them, or none.
+    drive, zeta : optional
+        The pivot's motion and the damping ratio ``c / (2 sqrt(g/l))``
+        (:func:`kapitza.curves.physical_zone_curves`); the paper's undamped square wave by default.
 
     Returns
     -------
@@ -306,7 +309,7 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
     """
     import matplotlib.pyplot as plt
 
-    res = physical_zone_curves(T_range, A_range, l, g, points)
+    res = physical_zone_curves(T_range, A_range, l, g, points, drive, zeta)
     if ax is None:
         _, ax = plt.subplots(layout="constrained")
     T0, T1 = (0.0, 2.5 * np.sqrt(res.l / res.g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
@@ -330,8 +333,7 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     Parameters
     ----------
     plane : {"arnold", "physical"}
-        Arnold's ``eps``-``mu`` plane, or ``T``-``A`` for the rod ``l`` under ``g`` (the square
-        wave without damping).
+        Arnold's ``eps``-``mu`` plane, or ``T``-``A`` for the rod ``l`` under ``g``.
     eps_range, mu_range : (float, float)
         The window of the arnold plane.
     T_range, A_range : (float or None, float or None)
@@ -358,9 +360,6 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
 
     general, _ = _v.general_drive(drive, zeta)
     zeta = float(zeta)
-    if general is not None and plane != "arnold":
-        raise _v.KapitzaValueError("the physical plane is drawn for the square wave without damping; use the "
-                                   "arnold plane for other drives and damping")
     if plane not in ("arnold", "physical"):
         raise _v.KapitzaValueError(f"plane must be 'arnold' or 'physical'; got {plane!r}")
     if plane == "arnold":
@@ -385,7 +384,11 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     ax, zooms = zone_chart_axes(fig, len(magnify))
     for zax, n in zip(zooms, magnify):
         plot_tongue(n, zax, mu_range, points=min(points, 600), physical=physical)
-    if general is not None:
+    if general is not None and plane == "physical":
+        curves = plot_zones_physical(ax, T_range, A_range, l=l, g=g, points=points, drive=general, zeta=zeta).data
+        header = ["n", "A", "T_lo", "T_hi"]
+        ax.set_title(title or f"Exact stability zones: {general.label}" + (f", damping ratio {zeta:g}" if zeta > 0 else ""))
+    elif general is not None:
         from .drives import drive_curves, plot_drive_comparison
 
         mu_s = np.linspace(max(mu_range[0], 1e-3), min(mu_range[1], 0.999), min(points, 4000))
@@ -422,7 +425,12 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
         ax.plot([x], [y], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
                 label=f"{label}: {rep.verdict.split(':')[0].split(' (')[0]}")
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    if general is not None:
+    if general is not None and plane == "physical":
+        caption(fig, f"Shaded: the upright position is stable ({general.describe()}"
+                     + (f", damping ratio {zeta:g}" if zeta > 0 else "")
+                     + rf") for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$. Solid: edges with a 2T-periodic motion; "
+                       r"dashed: with a 4T-periodic one.")
+    elif general is not None:
         caption(fig, f"Shaded: the upright position is stable ({general.describe()}"
                      + (f", damping ratio {zeta:g}" if zeta > 0 else "")
                      + r"); lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$.")
