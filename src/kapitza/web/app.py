@@ -7,6 +7,7 @@ a view) are bounded here, with the same kind of message, so no request computes 
 """
 from __future__ import annotations
 
+import contextlib
 import functools
 import json
 import threading
@@ -134,7 +135,16 @@ class _BoundedRequests:
 # ------------------------------------------------------------------ the app
 def create_app() -> FastAPI:
     """The explorer: the page at ``/``, the JSON API under ``/api``, its schema at ``/openapi.json``."""
-    app = FastAPI(title="kapitza explorer", version=__version__,
+    @contextlib.asynccontextmanager
+    async def lifespan(app):
+        # The routes compute with numpy: more threads than CPUs only take turns at the GIL, and
+        # ten requests at once then all finish late. One thread per CPU keeps them in a queue.
+        import anyio.to_thread
+
+        anyio.to_thread.current_default_thread_limiter().total_tokens = max(2, _v.cpus())
+        yield
+
+    app = FastAPI(title="kapitza explorer", version=__version__, lifespan=lifespan,
                   description="Exact stability zones and motions of the inverted pendulum on a vibrating pivot. "
                               "Parameters use the library's names: eps, mu (Arnold), T [s], A [m/s^2], l [m], "
                               "g [m/s^2], drive ('square', 'sine', 'rectangular:DUTY'), zeta (damping ratio).")
