@@ -125,6 +125,7 @@ def main():
     ap.add_argument("--seconds", type=float, default=30.0, help="time budget per level (default 30 s)")
     ap.add_argument("--levels", default="1,10,50", help="concurrent clients (default 1,10,50)")
     ap.add_argument("--starts", type=int, default=3, help="starts of kapitza serve timed (default 3)")
+    ap.add_argument("--workers", type=int, default=1, help="server processes (kapitza serve --workers; default 1)")
     ap.add_argument("--tiny", action="store_true", help="a smoke run: few requests, 1 and 2 clients")
     args = ap.parse_args()
     if args.tiny:
@@ -143,7 +144,8 @@ def main():
     print(f"kapitza serve: first request answered {statistics.median(wall):.3f} s after start "
           f"(median of {len(firsts)}; all: {', '.join(f'{t:.3f}' for t in wall)}); CPU time the server "
           f"process used until then: {', '.join(f'{c:.2f}' for _, c in firsts)} s")
-    with running_server() as (base, _, _proc):
+    print(f"server: kapitza serve --workers {args.workers}")
+    with running_server(*(["--workers", str(args.workers)] if args.workers > 1 else [])) as (base, _, _proc):
         for name, (path, params) in QUERIES.items():
             med, lo, hi = median_time(baseline(name), repeats=5 if args.tiny else 21, warmup=1)
             size = len(httpx.get(base + path.lstrip("/"), params=params() if callable(params) else params,

@@ -15,11 +15,15 @@ def register(sub):
         "pendulum moving on its vibrating pivot, linear and nonlinear side by side. Prints its address;\n"
         "binds to this machine only (127.0.0.1) unless --host says otherwise. Needs the 'web' extra.",
         epilog="examples:\n  kapitza serve                 # a free port on 127.0.0.1\n"
-        "  kapitza serve --port 8000 --open",
+        "  kapitza serve --port 8000 --open\n"
+        "  kapitza serve --workers 1     # one process",
     )
     p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1: this machine only)")
     p.add_argument("--port", type=int, default=0, help="port (default 0: a free one)")
     p.add_argument("--open", action="store_true", help="open the page in the web browser")
+    p.add_argument("--workers", type=int, default=None,
+                   help="server processes sharing the port (default: one per CPU, at most 4), so a class's "
+                        "requests are answered side by side")
     p.set_defaults(func=cmd_serve)
 
 
@@ -35,6 +39,12 @@ def cmd_serve(args):
 
     if not (0 <= args.port <= 65535):
         raise CLIError(f"--port must be between 0 and 65535; got {args.port}")
+    if args.workers is None:
+        from .._validate import cpus
+
+        args.workers = min(4, cpus())
+    if not (1 <= args.workers <= 64):
+        raise CLIError(f"--workers must be between 1 and 64; got {args.workers}")
     try:
         sock = bind(args.host, args.port)
     except OSError as exc:
@@ -48,7 +58,7 @@ def cmd_serve(args):
 
         webbrowser.open(url)
     try:
-        serve(sock)
+        serve(sock, workers=args.workers)
     finally:
         sock.close()
     return 0

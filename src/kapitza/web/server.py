@@ -36,12 +36,21 @@ def address(sock: socket.socket) -> str:
     return f"http://[{host}]:{port}/" if ":" in host else f"http://{host}:{port}/"
 
 
-def serve(sock: socket.socket, log_level: str = "warning") -> None:
-    """Serve the explorer on ``sock`` until interrupted."""
+def serve(sock: socket.socket, log_level: str = "warning", workers: int = 1) -> None:
+    """Serve the explorer on ``sock`` until interrupted, in ``workers`` processes sharing it."""
     import uvicorn
 
-    from .app import create_app
+    config = uvicorn.Config("kapitza.web.app:create_app", factory=True, log_level=log_level, limit_concurrency=256,
+                            timeout_keep_alive=5, h11_max_incomplete_event_size=16384, workers=workers)
+    if workers == 1:
+        uvicorn.Server(config).run(sockets=[sock])
+        return
+    import inspect
 
-    config = uvicorn.Config(create_app(), log_level=log_level, limit_concurrency=256,
-                            timeout_keep_alive=5, h11_max_incomplete_event_size=16384)
-    uvicorn.Server(config).run(sockets=[sock])
+    from uvicorn.supervisors import Multiprocess
+
+    server = uvicorn.Server(config)
+    if "target" in inspect.signature(Multiprocess).parameters:  # uvicorn < 0.36 names the target
+        Multiprocess(config, target=server.run, sockets=[sock]).run()
+    else:
+        Multiprocess(config, sockets=[sock]).run()
