@@ -210,3 +210,19 @@ def test_period_map_taylor_refuses_eps_beyond_a_double_by_name(eps):
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match="eps must keep w_h T"):
             K.period_map_taylor(eps, 0.3)
+
+
+def test_a_list_where_one_number_is_meant_is_refused_by_name():
+    # float() of a two-element array said "only 0-dimensional arrays can be converted", naming nothing
+    with pytest.raises(ValueError, match=r"tol must be a single number"):
+        K.nonlinear_stability(0.5, 0.3, tol=[0.5, 0.5])
+    with pytest.raises(ValueError, match=r"mu must be a single number"):
+        from kapitza.resonances import twist_zeros
+
+        twist_zeros([0.2, 0.3], 0)
+
+
+def test_one_trajectory_followed_through_the_exact_flows_is_bounded():
+    # t = 194,577 s at T = 0.15 (648,590 periods, each followed phase by phase) ran for minutes
+    with pytest.raises(ValueError, match=r"t / \(2 T\).*200,000.*KAPITZA_ALLOW_LARGE"):
+        simulate(0.1, 0.0, 0.15, 100.0, t=[0.0, 194576.95867068227])

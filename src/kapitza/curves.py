@@ -133,7 +133,7 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     crosses a narrow window); any other drive or damping takes :func:`drive_curves` at
     ``points`` values of ``mu`` spread over the window, each edge exact (``docs/drives.md``).
     """
-    zeta = float(_v.nonnegative("zeta", zeta))
+    zeta = _v.one("zeta", _v.nonnegative("zeta", zeta))
     general, _ = _v.general_drive(drive, zeta)
     if general is None:
         return zone_curves(eps_range, mu_range, points, max_zones)
@@ -202,8 +202,8 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
     The edges of :func:`zone_curves`, mapped by ``A = g / mu^2`` and ``T = eps sqrt(8 l / A)``:
     at each ``A`` zone ``n`` is ``T_lo < T < T_hi`` (:func:`kapitza.period_edges`).
     """
-    l = float(_v.positive("l", l))
-    g = float(_v.positive("g", g))
+    l = _v.one("l", _v.positive("l", l))
+    g = _v.one("g", _v.positive("g", g))
     T0, T1 = (0.0, 2.5 * np.sqrt(l / g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
     A0, A1 = (g, 50.0 * g) if A_range is None else (float(A_range[0]), float(A_range[1]))
     if not (np.isfinite(T1) and 0.0 <= T0 < T1):

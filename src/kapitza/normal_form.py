@@ -634,7 +634,7 @@ def nonlinear_stability(eps, mu, *, tol=1e-15):
     (Markeev 1978; Bardin & Markeev 1995). Points exactly on a curve have measure zero; near
     1:4 the stable region around the upright shrinks with the distance to it.
     """
-    tol = float(_v.in_range("tol", tol, 0.0, 1.0, lo_open=False))
+    tol = _v.one("tol", _v.in_range("tol", tol, 0.0, 1.0, lo_open=False))
     eps, mu = _stable_arnold(eps, mu)
     nf, _ = _normal_form(eps, mu)
     on4 = _on_curve(eps, mu, nf.w, 0.5 * PI, tol)

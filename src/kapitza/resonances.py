@@ -95,7 +95,7 @@ def twist_zeros(mu, n, samples=400):
     """
     from scipy.optimize import brentq
 
-    mu = float(_v.in_range("mu", mu, 0.0, 1.0))
+    mu = _v.one("mu", _v.in_range("mu", mu, 0.0, 1.0))
     n = int(_v.nonnegative_int("n", n))
     samples = int(_v.nonnegative_int("samples", samples, minimum=8))
     lo, hi = (float(v) for v in _edges_eps(np.array(mu), n))

@@ -240,7 +240,7 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     out = Drawn(ax, data=t)
     x_lo, x_hi, y, exponent = t.lo, t.hi, t.mu, t.exponent
     if physical is not None:
-        l, g = (float(_v.positive(k, v)) for k, v in zip(("l", "g"), physical))
+        l, g = (_v.one(k, _v.positive(k, v)) for k, v in zip(("l", "g"), physical))
         y = g / t.mu**2
         s = np.sqrt(8.0 * l / y)
         half = 0.5 * (t.eps_hi - t.eps_lo) * s
@@ -366,8 +366,8 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
         window_range(eps_range, mu_range)
     physical = None
     if plane == "physical":
-        l = float(_v.positive("l", l))
-        g = float(_v.positive("g", g))
+        l = _v.one("l", _v.positive("l", l))
+        g = _v.one("g", _v.positive("g", g))
         T_range = (T_range[0], T_range[1] if T_range[1] is not None else 2.5 * (l / g) ** 0.5)
         A_range = (A_range[0] if A_range[0] is not None else g, A_range[1] if A_range[1] is not None else 50.0 * g)
     if general is not None or not magnify:

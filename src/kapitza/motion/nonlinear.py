@@ -86,6 +86,9 @@ def _times(t):
 
 #: Drive periods a call may follow one by one (``KAPITZA_ALLOW_LARGE=1`` lifts it).
 MAX_PERIODS = 1_000_000
+#: Drive periods one trajectory may be followed through by the exact flows, phase by phase in
+#: Python (about 0.2 ms a period: some 40 s; ``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_TRAJECTORY_PERIODS = 200_000
 #: Samples a trajectory may hold (``KAPITZA_ALLOW_LARGE=1`` lifts it).
 MAX_SAMPLES = 20_000_000
 #: Largest ``(w_h + |dtheta0| + c) * duration`` [rad] handed to DOP853: about 20 steps per radian, so
@@ -106,7 +109,8 @@ def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
     """Refuse spans whose work is not bounded: ``t_end / (2T)`` periods, and for DOP853 the
     angle ``(w_h + |dtheta0| + c) t_end`` it must resolve (large ``c`` makes the equation stiff)."""
     T, A, l, g, c = (np.asarray(v, float) for v in (T, A, l, g, c))
-    _v.bounded_work("the duration t / (2 T)", float(t_end / (2.0 * np.min(T))), MAX_PERIODS,
+    limit = MAX_TRAJECTORY_PERIODS if method == "exact" else MAX_PERIODS
+    _v.bounded_work("the duration t / (2 T)", float(t_end / (2.0 * np.min(T))), limit,
                     what="drive periods, each followed phase by phase")
     if method == "dop853":
         w = float(np.max(np.sqrt((g + peak * A) / l))) + float(np.max(np.abs(dtheta0)))

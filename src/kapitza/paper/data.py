@@ -200,9 +200,9 @@ class FigureData:
 
 
 def _physical(A, l, g):
-    A = float(_v.positive("A", A))
-    l = float(_v.positive("l", l))
-    g = float(_v.positive("g", g))
+    A = _v.one("A", _v.positive("A", A))
+    l = _v.one("l", _v.positive("l", l))
+    g = _v.one("g", _v.positive("g", g))
     if A <= g:
         raise _v.KapitzaValueError(f"A must exceed g (A > g) for the elliptic phase to exist; got A={A!r}, g={g!r}")
     return A, l, g
@@ -237,7 +237,7 @@ def figure1_data(levels=(0.3, 0.6, 0.9, 1.2), extent=1.6, samples=241) -> Figure
     Equations (2.6)-(2.7), (2.11) and (2.12)-(2.13) of the paper.
     """
     levels = _v.positive("levels", levels).ravel()
-    extent = float(_v.positive("extent", extent))
+    extent = _v.one("extent", _v.positive("extent", extent))
     samples = int(_v.nonnegative_int("samples", samples, minimum=3))
     series, points = [], []
     R = extent * np.sqrt(2.0)
@@ -657,7 +657,7 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
     and the series in ``mu`` tend to the exact lower edge (3.10, ``k = 0``) as
     ``mu -> 0``, with relative errors ``(4/7) mu^4`` and ``(8424/13475) mu^8``.
     """
-    eps_max = float(_v.positive("eps_max", eps_max))
+    eps_max = _v.one("eps_max", _v.positive("eps_max", eps_max))
     points = int(_v.nonnegative_int("points", points, minimum=3))
     m0, m1 = (float(v) for v in error_mu)
     if not (0.0 < m0 < m1 < 1.0):

@@ -80,20 +80,20 @@ class SweepSpec:
             s(self, attr, tuple(float(v) for v in arr))
         if len(self.x) * len(self.y) > MAX_POINTS:
             raise _v.KapitzaValueError(f"the grid must have at most {MAX_POINTS} points; got {len(self.x) * len(self.y)}")
-        s(self, "l", float(_v.positive("l", self.l)))
-        s(self, "g", float(_v.positive("g", self.g)))
+        s(self, "l", _v.one("l", _v.positive("l", self.l)))
+        s(self, "g", _v.one("g", _v.positive("g", self.g)))
         d = parse_drive(self.drive) if isinstance(self.drive, str) else as_drive(self.drive)
         if not hasattr(d, "levels"):
             raise _v.KapitzaValueError(f"drive must be piecewise constant for a sweep (square, rectangular, steps); "
                                        f"got {d.describe()}")
         s(self, "drive", _drive_text(d))
         s(self, "periods", _v.bounded_count("periods", self.periods, 1_000_000, minimum=1))
-        s(self, "tol", float(_v.in_range("tol", self.tol, 0.0, np.pi)))
+        s(self, "tol", _v.one("tol", _v.in_range("tol", self.tol, 0.0, np.pi)))
         s(self, "quantities", _v.choices("quantities", self.quantities, tuple(QUANTITIES)))
         s(self, "directions", _v.bounded_count("directions", self.directions, 256, minimum=1))
         s(self, "basin_resolution", _v.bounded_count("basin_resolution", self.basin_resolution, 401, minimum=2))
-        s(self, "accuracy", float(_v.in_range("accuracy", self.accuracy, 1e-6, 1.0, lo_open=False)))
-        s(self, "floor", float(_v.in_range("floor", self.floor, 0.0, self.tol)))
+        s(self, "accuracy", _v.one("accuracy", _v.in_range("accuracy", self.accuracy, 1e-6, 1.0, lo_open=False)))
+        s(self, "floor", _v.one("floor", _v.in_range("floor", self.floor, 0.0, self.tol)))
         s(self, "chunk", _v.bounded_count("chunk", self.chunk, 1024, minimum=1))
 
     # ------------------------------------------------------------------ construction

@@ -96,7 +96,7 @@ def _bounded(name, value, hi, lo=None):
 
 def _zeta(zeta):
     """The damping ratio, >= 0 (the library's check) and at most ``LIMITS['zeta']``."""
-    return _bounded("zeta", float(_v.nonnegative("zeta", zeta)), LIMITS["zeta"])
+    return _bounded("zeta", _v.one("zeta", _v.nonnegative("zeta", zeta)), LIMITS["zeta"])
 
 
 def _physical_point(T, A, eps, mu, l, g):
@@ -104,10 +104,10 @@ def _physical_point(T, A, eps, mu, l, g):
     if (T is None) != (A is None) or (eps is None) != (mu is None) or (T is None) == (eps is None):
         raise _v.KapitzaValueError("give either T and A, or eps and mu (with l and g), not both or neither")
     if T is None:
-        eps = float(_v.positive("eps", eps))
-        mu = float(_v.positive("mu", mu))
-        l = float(_v.positive("l", l))
-        g = float(_v.positive("g", g))
+        eps = _v.one("eps", _v.positive("eps", eps))
+        mu = _v.one("mu", _v.positive("mu", mu))
+        l = _v.one("l", _v.positive("l", l))
+        g = _v.one("g", _v.positive("g", g))
         T, A = (float(v) for v in to_physical(eps, mu, l, g))
     return T, A
 
@@ -198,7 +198,7 @@ def create_app() -> FastAPI:
         if T is not None or A is not None:
             if eps is not None or mu is not None:
                 raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
-            c = damping_of(_zeta(zeta), float(_v.positive("l", l)), float(_v.positive("g", g)))
+            c = damping_of(_zeta(zeta), _v.one("l", _v.positive("l", l)), _v.one("g", _v.positive("g", g)))
             rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=c)
         else:
             rep = analyze(eps=eps, mu=mu, drive=d, zeta=_zeta(zeta))
@@ -234,8 +234,8 @@ def create_app() -> FastAPI:
         _bounded("eps_max", eps_max, LIMITS["eps_max" if general is None else "general_eps_max"])
         mark = None
         if T is not None or A is not None:
-            rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=damping_of(zeta, float(_v.positive("l", l)),
-                                                                          float(_v.positive("g", g))))
+            rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=damping_of(zeta, _v.one("l", _v.positive("l", l)),
+                                                                          _v.one("g", _v.positive("g", g))))
             mark = (rep, f"T = {T:g} s, A = {A:g} m/s$^2$")
         with _FIGURES:
             import matplotlib.pyplot as plt
@@ -309,8 +309,8 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
         y, lo, hi = c.mu, c.eps_lo, c.eps_hi
         view = dict(eps_min=eps_min, eps_max=eps_max, mu_min=mu_min, mu_max=mu_max)
     else:
-        l = float(_v.positive("l", l))
-        g = float(_v.positive("g", g))
+        l = _v.one("l", _v.positive("l", l))
+        g = _v.one("g", _v.positive("g", g))
         T_max = 2.5 * np.sqrt(l / g) if T_max is None else T_max
         A_min = g if A_min is None else A_min
         A_max = 50.0 * g if A_max is None else A_max
@@ -338,6 +338,6 @@ def _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_p
     _bounded("|theta0|", abs(theta0), LIMITS["theta0"])
     _bounded("periods * points_per_period", periods * points_per_period, LIMITS["motion_samples"])
     d = _drive(drive)
-    c = damping_of(_zeta(zeta), float(_v.positive("l", l)), float(_v.positive("g", g)))
+    c = damping_of(_zeta(zeta), _v.one("l", _v.positive("l", l)), _v.one("g", _v.positive("g", g)))
     pair = motion_pair(theta0, dtheta0, T, A, l, g, periods=periods, points_per_period=points_per_period, c=c, drive=d)
     return pair, d
