@@ -226,3 +226,16 @@ def test_one_trajectory_followed_through_the_exact_flows_is_bounded():
     # t = 194,577 s at T = 0.15 (648,590 periods, each followed phase by phase) ran for minutes
     with pytest.raises(ValueError, match=r"t / \(2 T\).*200,000.*KAPITZA_ALLOW_LARGE"):
         simulate(0.1, 0.0, 0.15, 100.0, t=[0.0, 194576.95867068227])
+
+
+def test_paper_build_starts_no_more_processes_than_cpus(tmp_path, monkeypatch):
+    # --workers was not capped: 1000 asked forked one process per task (36)
+    from kapitza.paper import build as B
+
+    seen = []
+    real = B._pool
+    monkeypatch.setattr(B, "_pool", lambda workers: seen.append(workers) or real(workers))
+    B.build_paper(tmp_path, quick=True, workers=1000, figures=(1,), checks=(0, 1, 2))
+    assert all(w <= V.cpus() for w in seen) and (seen or V.cpus() == 1)
+    with pytest.raises(ValueError, match="workers"):
+        B.build_paper(tmp_path, workers=10**6)

@@ -4,7 +4,6 @@ from __future__ import annotations
 import datetime
 import functools
 import multiprocessing
-import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -154,7 +153,7 @@ def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(ran
     PaperBuild
     """
     say = progress or (lambda msg: None)
-    workers = min(2, os.cpu_count() or 1) if workers is None else int(_v.nonnegative_int("workers", workers, minimum=1))
+    workers = 2 if workers is None else _v.bounded_count("workers", workers, 1024, minimum=1)
     figures = [int(n) for n in figures]
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -168,6 +167,7 @@ def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(ran
     tasks = ([(name(i), _check_task, (i, quick)) for i in slow]
              + [(f"Figure {n} (PNG, SVG, JSON, CSV)", _figure_task, (n, out)) for n in figures]
              + [(name(i), _check_task, (i, quick)) for i in checks if i not in slow])
+    workers = _v.workers(workers, len(tasks))  # no more processes than CPUs or tasks
     say(f"rendering {len(figures)} figures and running {len(checks)} checks"
         + (f" in {workers} processes" if workers > 1 else ""))
     done = dict(zip((t[0] for t in tasks), _run_tasks(tasks, workers, say)))
