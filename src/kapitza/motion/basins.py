@@ -346,7 +346,7 @@ INTEGRATED_CHUNK = 1024
 INTEGRATED_STEP_COST = 200
 #: Integrated path: work one call may do, in state-periods at ``(w_h + c) 2T <= 3`` (about a minute;
 #: ``KAPITZA_ALLOW_LARGE=1`` lifts it).
-MAX_INTEGRATED_STATE_PERIODS = 5_000_000
+MAX_INTEGRATED_STATE_PERIODS = 3_000_000
 
 
 def integrated_work(periods, states, T, A, l, g, c, drive):
