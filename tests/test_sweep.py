@@ -66,6 +66,15 @@ def test_dask_equals_serial_bit_for_bit(client, serial_small, tmp_path):
     assert_identical(arrays(tmp_path / "d.zarr", spec), ref)
 
 
+def test_integrated_path_dask_equals_serial_bit_for_bit(client, tmp_path):
+    """The DOP853 path is deterministic too: the same chunks give the same numbers on Dask and serially."""
+    spec = SweepSpec.window((0.3, 0.6), (0.1, 0.3), (3, 2), drive="sine", c=0.4, periods=5,
+                            quantities=("tilt", "radius", "basin"), directions=2, basin_resolution=5, chunk=2)
+    sweep(spec, tmp_path / "s.zarr", serial=True, progress=False)
+    sweep(spec, tmp_path / "d.zarr", client=client, progress=False)
+    assert_identical(arrays(tmp_path / "d.zarr", spec), arrays(tmp_path / "s.zarr", spec))
+
+
 def test_cli_on_an_existing_scheduler(client, serial_small, tmp_path, capsys):
     """--scheduler ADDRESS: the sweep runs on that cluster and gives the serial numbers."""
     spec, ref = serial_small

@@ -57,7 +57,10 @@ def _attrs(spec: SweepSpec) -> dict:
                      f"{acc} above it does not, so v is the edge of the safe starts from the upright to {acc} "
                      f"where they form one segment (near zone edges they can be ragged at that scale); 0 means "
                      f"below floor {spec.floor:g} rad; capped at tol. basin_area: exact fraction of a "
-                     f"{spec.basin_resolution} x {spec.basin_resolution} start grid. Linear quantities: exact."),
+                     f"{spec.basin_resolution} x {spec.basin_resolution} start grid. Linear quantities: exact"
+                     + (" (with the damping)." if spec.c else ".")
+                     + ("" if spec.exact else " 'Stays' is the sampled test of survival_test (DOP853), not the "
+                        "exact one.")),
         "radius_directions": spec.directions,
         "radius_scale": "start (theta0, dtheta0) = r (cos phi, (2/T) sin phi)",
         "basin_window": "|theta0| <= tol, |dtheta0| <= 2 tol / T",
