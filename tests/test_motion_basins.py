@@ -137,7 +137,7 @@ def test_integrated_path_without_damping_agrees_with_the_exact_one(drive):
     th = np.array([K.simulate(a, b, T, A, L, G, periods=periods, points_per_period=1000, drive=d).theta
                    for a, b in zip(th0, om0)]).T
     gap = np.abs(np.max(np.abs(th), axis=0) - tol)
-    agree = (exact == integrated) | (gap < 1e-3)
+    agree = (exact == integrated) | (gap < 2e-5)  # the sampled test errs by < 5e-6 of the swing
     assert agree.all(), np.flatnonzero(~agree)
     assert (exact < periods).sum() > 10 and (exact == periods).sum() > 10  # both outcomes are exercised
 
@@ -153,7 +153,7 @@ def test_damped_survival_agrees_with_an_independent_integration(drive):
     got = survival(th0, om0, T, A, L, G, periods=periods, tol=tol, c=c, drive=drive)
     ref = [survived_periods(a, b, T, A, periods, tol, c=c, drive=drive, l=L, g=G) for a, b in zip(th0, om0)]
     for n, (m, gap) in zip(got, ref):
-        assert n == m or gap < 1e-4, (n, m, gap)
+        assert n == m or gap < 2e-5, (n, m, gap)
     assert 0 < np.count_nonzero(got == periods) < got.size
 
 

@@ -107,7 +107,7 @@ class SweepSpec:
         s(self, "chunk", _v.bounded_count("chunk", self.chunk, 1024, minimum=1))
         if not self.exact:
             _v.bounded_work("the sweep's estimated DOP853 work (sine drive or damping): points * periods * "
-                            "(6 directions + basin_resolution^2 / 2) * max(1, (w_h + c) 2T / 3)",
+                            "(6 * searched directions + basin_resolution^2 / 2) * max(1, (w_h + c) 2T / 3)",
                             self.integrated_work(), MAX_INTEGRATED_SWEEP,
                             what="state-periods integrated by DOP853, about an hour on one core; the exact path "
                                  "(an undamped square, rectangular or steps drive) is far cheaper")
