@@ -33,6 +33,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _timing import machine  # noqa: E402
 
 import kapitza  # noqa: E402
+import kapitza.motion.basins as B  # noqa: E402
 import kapitza.sweeps.kernel as K  # noqa: E402
 from kapitza.sweeps import SweepSpec, sweep  # noqa: E402
 
@@ -46,18 +47,18 @@ class Counter:
 
     def __init__(self):
         self.state_periods = 0
-        self._orig = K._one_period
+        self._orig = B._one_period
 
     def __enter__(self):
         def counted(th, *args, **kw):
             self.state_periods += th.size
             return self._orig(th, *args, **kw)
 
-        K._one_period = counted
+        B._one_period = counted
         return self
 
     def __exit__(self, *exc):
-        K._one_period = self._orig
+        B._one_period = self._orig
 
 
 def kernel_tilt(eps, mu, periods, chunk):

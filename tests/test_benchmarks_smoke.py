@@ -74,3 +74,10 @@ def test_bench_web_tiny_runs():
                    "point (stability report)", "baseline: the library call in-process", "p50 / baseline"):
         assert needle in out, needle
     assert "never cached" in out and out.count("errors 0") == 8
+
+
+def test_bench_sweep_integrated_tiny_runs():
+    out = run_tiny("bench_sweep_integrated.py")
+    for needle in ("exact path (square, undamped) -- baseline", "integrated path (square, zeta = 0.05)",
+                   "integrated path (sine, undamped)", "ratio (this / exact)", "integrated vs exact"):
+        assert needle in out, needle

@@ -6,7 +6,9 @@ import pytest
 
 import kapitza as K
 from kapitza import KapitzaValueError
+from kapitza.drives import as_drive
 from kapitza.motion import basin, nonlinear_motion, survival
+from kapitza.motion.basins import _IntegratedPeriod, _hermite_peak, _survival_chunk
 
 A, L, G = 100.0, 1.0, 9.81
 
@@ -105,6 +107,9 @@ def test_basin_workers_agree():
     (dict(tol=0.0), "tol must lie in"),
     (dict(periods=0), "periods must be an integer >= 1"),
     (dict(model="averaged"), "model must be one of"),
+    (dict(c=-0.5), "c must be"),
+    (dict(c=float("nan")), "c must be"),
+    (dict(c=[0.1, 0.2]), "c must be a single"),
 ])
 def test_survival_validates(kwargs, needle):
     with pytest.raises(KapitzaValueError, match=needle):
@@ -116,3 +121,60 @@ def test_basin_validates():
         basin(0.15, A, n_theta=1)
     with pytest.raises(KapitzaValueError, match="single value"):
         basin([0.15, 0.2], A)
+
+
+@pytest.mark.parametrize("drive", ["square", "rectangular"])
+def test_integrated_path_without_damping_agrees_with_the_exact_one(drive):
+    """Twins: the integrated path (DOP853, sampled window) and the exact one (step flows, window
+    on the continuous motion) give the same counts wherever the motion does not graze the window."""
+    d = as_drive(None) if drive == "square" else K.RectangularWave(0.4)
+    T, tol, periods = 0.15, 0.3, 6
+    rng = np.random.default_rng(8)
+    th0 = rng.uniform(-0.3, 0.3, 150)
+    om0 = -8.0 * th0 + rng.uniform(-1.5, 1.5, 150)
+    exact = survival(th0, om0, T, A, L, G, periods=periods, tol=tol, drive=d)
+    integrated = _survival_chunk(th0, om0, _IntegratedPeriod(T, A, L, G, 0.0, d, tol), periods, tol)
+    th = np.array([K.simulate(a, b, T, A, L, G, periods=periods, points_per_period=1000, drive=d).theta
+                   for a, b in zip(th0, om0)]).T
+    gap = np.abs(np.max(np.abs(th), axis=0) - tol)
+    agree = (exact == integrated) | (gap < 2e-5)  # the sampled test errs by < 5e-6 of the swing
+    assert agree.all(), np.flatnonzero(~agree)
+    assert (exact < periods).sum() > 10 and (exact == periods).sum() > 10  # both outcomes are exercised
+
+
+@pytest.mark.parametrize("drive", ["square", "sine"])
+def test_damped_survival_agrees_with_an_independent_integration(drive):
+    from ivp_ref import survived_periods
+
+    T, c, tol, periods = 0.15, 1.5, 0.3, 8
+    rng = np.random.default_rng(3)
+    th0 = rng.uniform(-0.3, 0.3, 12)
+    om0 = -8.0 * th0 + rng.uniform(-1.5, 1.5, 12)
+    got = survival(th0, om0, T, A, L, G, periods=periods, tol=tol, c=c, drive=drive)
+    ref = [survived_periods(a, b, T, A, periods, tol, c=c, drive=drive, l=L, g=G) for a, b in zip(th0, om0)]
+    for n, (m, gap) in zip(got, ref):
+        assert n == m or gap < 2e-5, (n, m, gap)
+    assert 0 < np.count_nonzero(got == periods) < got.size
+
+
+def test_damping_keeps_more_of_the_basin():
+    """Inside zone 0 viscous damping only drains energy from the small motions: the damped basin
+    holds the undamped one's core and more."""
+    b0 = basin(0.15, A, L, G, periods=10, tol=0.5, n_theta=15, n_dtheta=15)
+    b1 = basin(0.15, A, L, G, periods=10, tol=0.5, n_theta=15, n_dtheta=15, c=3.0)
+    assert b1.c == 3.0 and b1.summary()["c"] == 3.0 and "damping c = 3 1/s" in str(b1)
+    assert b1.fraction >= b0.fraction
+
+
+def test_hermite_peak_finds_the_turning_point():
+    x = np.linspace(0, 1, 1001)
+    for p0, p1, m0, m1 in [(0.1, 0.1, 0.4, -0.4), (0.0, -0.2, -0.5, 0.3), (0.3, 0.5, 0.2, 0.2), (0.0, 0.0, 0.0, 0.0)]:
+        p = ((2 * x**3 - 3 * x**2 + 1) * p0 + (x**3 - 2 * x**2 + x) * m0 + (-2 * x**3 + 3 * x**2) * p1
+             + (x**3 - x**2) * m1)
+        assert _hermite_peak(np.array(p0), np.array(p1), np.array(m0), np.array(m1)) == pytest.approx(
+            np.max(np.abs(p)), abs=1e-6)
+
+
+def test_integrated_work_is_bounded():
+    with pytest.raises(KapitzaValueError, match="KAPITZA_ALLOW_LARGE"):
+        survival(np.zeros(10**6), 0.0, 0.15, A, periods=100, c=0.1)

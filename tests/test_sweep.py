@@ -15,7 +15,7 @@ pytest.importorskip("xarray")
 
 import kapitza
 from kapitza.sweeps import SweepSpec, done_chunks, open_store, open_sweep, sweep, to_netcdf
-from kapitza.sweeps.kernel import block_quantities
+from kapitza.sweeps.kernel import block_quantities, period_step, ray_radii
 
 from cli_util import assert_one_line_error, run
 
@@ -64,6 +64,15 @@ def test_dask_equals_serial_bit_for_bit(client, serial_small, tmp_path):
     got = sweep(spec, tmp_path / "d.zarr", client=client, progress=False)
     assert (got.total, got.computed, got.skipped) == (6, 6, 0)
     assert_identical(arrays(tmp_path / "d.zarr", spec), ref)
+
+
+def test_integrated_path_dask_equals_serial_bit_for_bit(client, tmp_path):
+    """The DOP853 path is deterministic too: the same chunks give the same numbers on Dask and serially."""
+    spec = SweepSpec.window((0.3, 0.6), (0.1, 0.3), (3, 2), drive="sine", c=0.4, periods=5,
+                            quantities=("tilt", "radius", "basin"), directions=2, basin_resolution=5, chunk=2)
+    sweep(spec, tmp_path / "s.zarr", serial=True, progress=False)
+    sweep(spec, tmp_path / "d.zarr", client=client, progress=False)
+    assert_identical(arrays(tmp_path / "d.zarr", spec), arrays(tmp_path / "s.zarr", spec))
 
 
 def test_cli_on_an_existing_scheduler(client, serial_small, tmp_path, capsys):
@@ -264,7 +273,9 @@ def test_resume_refuses_other_settings_and_skips_finished(serial_small, tmp_path
 
 @pytest.mark.parametrize("kw, needle", [
     (dict(periods=0), "periods"), (dict(tol=4.0), "tol"), (dict(quantities=("tilt", "speed")), "quantities"),
-    (dict(chunk=0), "chunk"), (dict(drive="sine"), "piecewise constant"), (dict(accuracy=0.0), "accuracy"),
+    (dict(chunk=0), "chunk"), (dict(accuracy=0.0), "accuracy"),
+    (dict(c=-0.5), "c must be"), (dict(c=float("nan")), "c must be"), (dict(c="strong"), "c must be"),
+    (dict(drive="sine", periods=10**6), "KAPITZA_ALLOW_LARGE"), (dict(c=0.3, periods=10**6), "KAPITZA_ALLOW_LARGE"),
 ])
 def test_spec_validates(kw, needle):
     with pytest.raises(ValueError, match=needle):
@@ -293,6 +304,15 @@ def test_cli_sweep_writes_store_figures_and_netcdf(tmp_path, capsys):
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--periods", "-3"], "periods"),
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--serial", "--workers", "2"], "--serial"),
     ([], "give the window"),
+    (["--T", "0.1", "0.2", "--A", "50", "100", "--damping", "-1"], "--damping must be >= 0"),
+    (["--T", "0.1", "0.2", "--A", "50", "100", "--damping", "nan"], "--damping"),
+    (["--T", "0.1", "0.2", "--A", "50", "100", "--zeta", "0.1"], "--damping"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--damping", "0.5"], "--zeta"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "-0.1"], "--zeta must be >= 0"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "inf"], "--zeta"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "1e308"], "--zeta"),
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--drive", "sine", "--resolution", "64", "--periods", "5000"],
+     "KAPITZA_ALLOW_LARGE=1"),
 ])
 def test_cli_sweep_bad_input_is_one_line(argv, needle, tmp_path, capsys):
     code, _, err = run(["sweep", *argv, "--out", str(tmp_path / "x.zarr")], capsys)
@@ -303,3 +323,92 @@ def test_import_kapitza_stays_light():
     code = ("import sys, kapitza; bad = [m for m in ('dask', 'distributed', 'zarr', 'xarray', 'tqdm') "
             "if m in sys.modules]; print(bad); sys.exit(1 if bad else 0)")
     assert subprocess.run([sys.executable, "-c", code], capture_output=True).returncode == 0
+
+
+# ------------------------------------------------------------------ the integrated path (sine drive, damping)
+G = kapitza.parameters.G_EARTH
+
+
+@pytest.mark.parametrize("drive", ["square", "rectangular:0.4"])
+def test_integrated_search_without_damping_agrees_with_the_exact_one(drive):
+    """The same in-flight bisection driven by the exact period step and by the DOP853 one (c = 0)."""
+    from kapitza.drives import parse_drive
+    from kapitza.motion.basins import _IntegratedPeriod
+
+    eps, mu = np.meshgrid([0.3, 0.55], [0.1, 0.3])
+    T, A = (np.asarray(v, float).ravel() for v in kapitza.to_physical(eps, mu))
+    d = parse_drive(drive)
+    periods, tol, acc = 20, 0.5, 0.01
+    phis = np.array([0.0, np.pi / 2])
+    exact = ray_radii(T, period_step(T, A, 1.0, G, 0.0, d, tol), phis, periods, tol, acc, 1e-4)
+    integrated = ray_radii(T, _IntegratedPeriod(T, A, 1.0, G, 0.0, d, tol), phis, periods, tol, acc, 1e-4)
+    assert np.count_nonzero(exact > 0.01) >= 5
+    assert np.all(np.abs(integrated - exact) <= acc * exact), (exact, integrated)
+
+
+@pytest.mark.parametrize("drive, zeta, eps, mu", [("square", 0.1, 0.5, 0.2), ("sine", 0.05, 0.5, 0.2)])
+def test_damped_tilt_against_independent_trajectories(drive, zeta, eps, mu):
+    """The bisected tilt stays, and a start 1 % above it falls, in a solve_ivp of the single trajectory."""
+    from ivp_ref import survived_periods
+
+    periods, tol, acc = 20, 0.5, 0.01
+    c = 2.0 * zeta * np.sqrt(G)
+    got = block_quantities([eps], [mu], plane="arnold", l=1.0, g=G, drive=drive, c=c, periods=periods, tol=tol,
+                           quantities=("tilt",), directions=1, basin_resolution=5, accuracy=acc,
+                           floor=1e-4)["max_safe_tilt"][0, 0]
+    T, A = (float(v) for v in kapitza.to_physical(eps, mu))
+    assert 0 < got < tol
+    n, gap = survived_periods(got, 0.0, T, A, periods, tol, c=c, drive=drive, g=G)
+    assert n == periods or gap < 1e-5
+    n, gap = survived_periods(got * (1 + acc) * (1 + 1e-3), 0.0, T, A, periods, tol, c=c, drive=drive, g=G)
+    assert n < periods
+
+
+@pytest.mark.parametrize("eps, mu", [(0.4, 0.15), (0.7, 0.3)])
+def test_sine_tilt_agrees_with_brute_force(eps, mu):
+    periods, tol, acc = 30, 0.5, 0.01
+    got = block_quantities([eps], [mu], plane="arnold", l=1.0, g=G, drive="sine", periods=periods, tol=tol,
+                           quantities=("tilt",), directions=1, basin_resolution=5, accuracy=acc,
+                           floor=1e-4)["max_safe_tilt"][0, 0]
+    T, A = (float(v) for v in kapitza.to_physical(eps, mu))
+    th = np.linspace(0.0, tol, 401)
+    ok = kapitza.survival(th, 0.0, T, A, periods=periods, tol=tol, drive="sine") >= periods
+    first_fail = np.argmin(ok) if not ok.all() else th.size
+    brute, step = (th[first_fail - 1] if first_fail > 0 else 0.0), th[1] - th[0]
+    assert got > 0
+    assert got <= brute + step
+    assert brute < got * (1 + acc) + step
+
+
+def test_damped_sine_sweep_records_its_path(tmp_path):
+    spec = SweepSpec.window((0.3, 0.6), (0.1, 0.3), (2, 2), drive="sine", c=0.5, periods=6,
+                            quantities=("tilt", "basin", "linear"), basin_resolution=5, chunk=2)
+    assert not spec.exact and spec.integrated_work() > 0
+    sweep(spec, tmp_path / "d.zarr", serial=True, progress=False)
+    ds = open_sweep(tmp_path / "d.zarr")
+    assert ds.attrs["path"].startswith("integrated: DOP853")
+    assert "c = 0.5 1/s" in ds.attrs["damping"] and ds.attrs["damping_c_per_s"] == 0.5
+    assert "sampled" in ds.attrs["survival_test"]
+    assert SweepSpec.from_json(ds.attrs["sweep_spec"]) == spec
+    assert np.all(np.isfinite(ds.max_safe_tilt.values)) and np.all(ds.max_safe_tilt.values > 0)
+    undamped = small_spec()
+    assert undamped.exact and undamped.integrated_work() == 0.0
+
+
+def test_integrated_work_bound_is_lifted_on_purpose(monkeypatch):
+    with pytest.raises(ValueError, match="about an hour"):
+        small_spec(drive="sine", periods=10**6)
+    monkeypatch.setenv("KAPITZA_ALLOW_LARGE", "1")
+    assert small_spec(drive="sine", periods=10**6).integrated_work() > 3e8
+
+
+def test_cli_sweep_takes_the_sine_drive_and_zeta(tmp_path, capsys):
+    out = tmp_path / "z.zarr"
+    code, stdout, err = run(["sweep", "--eps", "0.3", "0.6", "--mu", "0.1", "0.3", "--resolution", "2", "2",
+                             "--periods", "5", "--drive", "sine", "--zeta", "0.05", "--serial", "--quiet",
+                             "--out", str(out), "--json"], capsys)
+    assert code == 0, err
+    ds = open_sweep(out)
+    assert SweepSpec.from_json(ds.attrs["sweep_spec"]).c == pytest.approx(0.1 * np.sqrt(G))
+    assert ds.attrs["damping"].endswith("= 0.05)") and ds.attrs["path"].startswith("integrated")
+    assert (tmp_path / "z.png").exists()

@@ -9,7 +9,7 @@ from pathlib import Path
 from .._io import to_jsonable
 from ..parameters import G_EARTH
 
-__all__ = ["CLIError", "Parser", "add_parameters", "parameters_from", "print_json", "finite_float", "positive_float",
+__all__ = ["CLIError", "Parser", "add_parameters", "add_damping", "parameters_from", "print_json", "finite_float", "positive_float",
            "format_table", "count"]
 
 
@@ -71,10 +71,7 @@ def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
     if rig:
         r = p.add_argument_group("the rig (drive, damping, measured units)")
         add_drive(r)
-        r.add_argument("--damping", type=finite_float, default=0.0, metavar="1/S",
-                       help="viscous damping c in theta'' + c theta' = ... (default 0)")
-        r.add_argument("--zeta", type=finite_float, default=None,
-                       help="damping ratio c / (2 sqrt(g/l)), with --eps/--mu")
+        add_damping(r)
         r.add_argument("--frequency", type=finite_float, metavar="HZ", help="drive frequency, instead of --T")
         r.add_argument("--stroke", type=finite_float, metavar="M",
                        help="peak-to-peak travel of the pivot, with --frequency, instead of --A")
@@ -83,6 +80,15 @@ def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
         r.add_argument("--rod", type=finite_float, metavar="M",
                        help="a uniform rod of this length pivoted at one end (equivalent length 2/3 of it), "
                             "instead of --l")
+
+
+def add_damping(g, physical="with physical parameters", arnold="with --eps/--mu"):
+    """--damping C [1/s] and --zeta (the damping ratio); which goes with which parameters is said in
+    the help and enforced where they are read."""
+    g.add_argument("--damping", type=finite_float, default=0.0, metavar="1/S",
+                   help=f"viscous damping c in theta'' + c theta' = ..., {physical} (default 0)")
+    g.add_argument("--zeta", type=finite_float, default=None,
+                   help=f"damping ratio c / (2 sqrt(g/l)), {arnold}")
 
 
 def add_drive(g):

@@ -89,6 +89,9 @@ def register(sub):
                    help="grid half-width in theta' (default 2 tol / T)")
     p.add_argument("--resolution", type=int, default=121, help="grid points per axis (default 121)")
     p.add_argument("--model", choices=["nonlinear", "linear", "both"], default="both")
+    p.add_argument("--damping", type=finite_float, default=0.0, metavar="C",
+                   help="linear damping c [1/s] (default 0; c > 0 follows the motion by DOP853, the window checked "
+                        "at sampled instants)")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--out", default="kapitza-basin", metavar="STEM", help="output stem (default kapitza-basin)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -252,10 +255,10 @@ def cmd_basin(args):
         bar = ProgressBar(f"basin ({m})", enabled=not args.quiet)
         basins.append(basin(T, A, l, g, periods=args.periods, tol=args.tol, theta_max=args.theta_max,
                             dtheta_max=args.dtheta_max, n_theta=args.resolution, n_dtheta=args.resolution, model=m,
-                            workers=args.workers, progress=bar, drive=args.drive_obj))
+                            c=args.damping, workers=args.workers, progress=bar, drive=args.drive_obj))
     # The demonstration: a small tilt from rest, a tenth of the window.
     probe = 0.1 * args.tol
-    demo = {m: int(survival(probe, 0.0, T, A, l, g, periods=args.periods, tol=args.tol, model=m,
+    demo = {m: int(survival(probe, 0.0, T, A, l, g, periods=args.periods, tol=args.tol, model=m, c=args.damping,
                             drive=args.drive_obj)) for m in models}
     stem = out_stem(args.out)
     fig = basin_figure(basins)
@@ -265,7 +268,8 @@ def cmd_basin(args):
     cols = [np.concatenate([np.full(b.periods_survived.size, b.model) for b in basins])] + \
         [np.concatenate(c) for c in zip(*(b.columns() for b in basins))]
     paths.append(_io.write_csv(stem.with_suffix(".csv"), header, columns=cols, comments=[
-        f"kapitza basin: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2; window |theta| <= {args.tol!r} rad "
+        f"kapitza basin: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2, damping c = {args.damping!r} 1/s; "
+        f"window |theta| <= {args.tol!r} rad "
         f"for {args.periods} periods 2T (survived = 1)"]))
     summary = dict(parameters=parameters_summary(T, A, l, g, rep), tol=args.tol, periods=args.periods,
                    basins=[b.summary() for b in basins],

@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ._common import CLIError, add_drive, drive_from, finite_float, print_json
+from ._common import CLIError, add_damping, add_drive, drive_from, finite_float, print_json
 from ..parameters import G_EARTH
 
 #: Figures drawn, in order: variable -> (file suffix, colour-bar label, what).
@@ -27,11 +27,15 @@ def register(sub):
         "core) or on --scheduler ADDRESS; each finished chunk is written to the Zarr store --out at once, so\n"
         "an interrupted sweep continues with --resume and recomputes only unfinished chunks. Writes a figure\n"
         "of the map with the exact zone edges (STEM.png/.svg, STEM = --out without .zarr); --netcdf exports.\n"
-        "Radii are bisected to --accuracy (relative). See docs/sweeps.md.",
+        "Radii are bisected to --accuracy (relative). An undamped square, rectangular or steps drive is followed\n"
+        "by exact step flows, the window checked on the continuous motion; --drive sine, --damping or --zeta by\n"
+        "DOP853 (rtol 1e-9), the window checked at sampled instants: far slower, and refused beyond about an\n"
+        "hour of work unless KAPITZA_ALLOW_LARGE=1. See docs/sweeps.md.",
         epilog="examples:\n"
         "  kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --resolution 40 30 --periods 100 --out small.zarr\n"
         "  kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --resolution 40 30 --periods 100 --out small.zarr --resume\n"
         "  kapitza sweep --T 0.05 0.4 --A 20 200 --l 0.5 --quantities tilt,basin,linear --netcdf map.nc\n"
+        "  kapitza sweep --eps 0.1 1.2 --mu 0.05 0.8 --resolution 12 10 --periods 50 --drive sine --zeta 0.05\n"
         "  kapitza sweep --eps 0.1 3 --mu 0.01 0.99 --resolution 512 --periods 1000 --scheduler tcp://head:8786",
     )
     w = p.add_argument_group("window (give --eps and --mu, or --T and --A)")
@@ -42,7 +46,10 @@ def register(sub):
     w.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"gravity (default {G_EARTH})")
     w.add_argument("--resolution", nargs="+", type=int, default=[32, 24], metavar="N",
                    help="grid points along x (eps or T) and y (mu or A); one number for both (default 32 24)")
-    add_drive(p.add_argument_group("the pivot's motion (piecewise constant)"))
+    rig = p.add_argument_group("the pivot's motion and the damping (an undamped square, rectangular or steps drive\n"
+                               "is followed exactly; the sine drive or damping by DOP853, far slower)")
+    add_drive(rig)
+    add_damping(rig, physical="with --T/--A", arnold="with --eps/--mu (c = 2 zeta sqrt(g/l))")
     q = p.add_argument_group("what is computed")
     q.add_argument("--quantities", default="tilt,linear",
                    help="comma-separated: tilt, radius, basin, linear (default tilt,linear)")
@@ -84,6 +91,32 @@ def _window(args):
     raise CLIError("give the window: --eps LO HI --mu LO HI (Arnold) or --T LO HI --A LO HI (physical)")
 
 
+def _damping_from(args, plane):
+    """``c`` [1/s] of --damping (with --T/--A) or --zeta (with --eps/--mu), as the other commands take them."""
+    for flag, v in (("--damping", args.damping), ("--zeta", args.zeta)):
+        if v is not None and v < 0:
+            raise CLIError(f"{flag} must be >= 0; got {v!r}")
+    if plane == "physical":
+        if args.zeta is not None:
+            raise CLIError("with physical parameters give the damping as --damping C (1/s), not --zeta")
+        return args.damping
+    if args.damping:
+        raise CLIError("with --eps/--mu give the damping as --zeta (ratio c / (2 sqrt(g/l))), not --damping")
+    if args.zeta is None:
+        return 0.0
+    from ..drives._api import damping_of
+    from .._validate import positive
+
+    import numpy as np
+
+    positive("l", args.l), positive("g", args.g)
+    with np.errstate(over="ignore"):
+        c = float(damping_of(args.zeta, args.l, args.g))
+    if not np.isfinite(c):
+        raise CLIError(f"--zeta must give a finite c = 2 zeta sqrt(g/l); got --zeta {args.zeta!r}")
+    return c
+
+
 def spec_from(args):
     """The :class:`kapitza.sweeps.SweepSpec` of the parsed options."""
     from ..sweeps import SweepSpec
@@ -93,7 +126,8 @@ def spec_from(args):
         raise CLIError(f"--resolution takes one or two numbers; got {len(args.resolution)}")
     res = args.resolution * 2 if len(args.resolution) == 1 else args.resolution
     drive = drive_from(args)
-    return SweepSpec.window(xr, yr, res, plane=plane, l=args.l, g=args.g, drive=drive,
+    c = _damping_from(args, plane)
+    return SweepSpec.window(xr, yr, res, plane=plane, l=args.l, g=args.g, drive=drive, c=c,
                             periods=args.periods, tol=args.tol,
                             quantities=tuple(s.strip() for s in args.quantities.split(",") if s.strip()),
                             directions=args.directions, basin_resolution=args.basin_resolution,
@@ -156,7 +190,7 @@ def _draw(ds, spec, stem):
             continue
         fig = sweep_figure(ds[xn].values, ds[yn].values, ds[name].values, plane=spec.plane, label=label, what=what,
                            periods=spec.periods, tol=spec.tol, l=spec.l, g=spec.g,
-                           drive=None if drive.name == "square" else drive)
+                           drive=None if drive.name == "square" else drive, c=spec.c, exact=spec.exact)
         paths += save(fig, f"{stem}{suffix}")
         plt.close(fig)
     return paths

@@ -413,8 +413,12 @@ def basin_figure(basins, *, title=None):
     fig.suptitle(title or f"Which starts keep the pendulum within {b.tol:g} rad of the upright for "
                  f"{b.periods} periods?", fontsize=10)
     drive = getattr(b, "drive", None)
-    checked = ("checked on the continuous motion, not only at t = 2kT" if drive is None or hasattr(drive, "levels")
-               else "checked at 64 instants per period of a DOP853 solution")
-    caption(fig, parameter_label(b.T, b.A, b.l, b.g, drive) + f". Light blue: |θ(t)| ≤ window for the whole time "
+    c = getattr(b, "c", 0.0)
+    checked = ("checked on the continuous motion, not only at t = 2kT"
+               if (drive is None or hasattr(drive, "levels")) and not c
+               else "a DOP853 solution checked at 64 or more instants per period and on the Hermite interpolant "
+                    "between them")
+    damped = f", damping c = {c:g} 1/s" if c else ""
+    caption(fig, parameter_label(b.T, b.A, b.l, b.g, drive) + damped + f". Light blue: |θ(t)| ≤ window for the whole time "
             f"({checked}); darker: whole periods completed before leaving. Black line: the basin's edge.")
     return fig

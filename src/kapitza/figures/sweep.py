@@ -13,8 +13,8 @@ _AXES = {"arnold": (r"$\varepsilon = T\sqrt{A/(8l)}$", r"$\mu = \sqrt{g/A}$"),
          "physical": ("half-period $T$ [s]", "acceleration amplitude $A$ [m/s$^2$]")}
 
 
-def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60):
-    """``[(n, y, x_lo, x_hi)]`` of the zones that reach into ``x <= x_max``."""
+def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60, c=0.0):
+    """``[(n, y, x_lo, x_hi)]`` of the zones that reach into ``x <= x_max`` (damping ``c`` [1/s])."""
     out = []
     if plane == "arnold":
         y = np.linspace(max(y_range[0], 1e-3), min(y_range[1], 0.999), points)
@@ -23,7 +23,8 @@ def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60):
     if y.size == 0 or y[0] >= y[-1]:
         return out
     for n in range(max_zones):
-        lo, hi = zone_edges(y, n, drive=drive) if plane == "arnold" else period_edges(y, n, l, g, drive=drive)
+        lo, hi = (zone_edges(y, n, drive=drive, zeta=0.5 * c * np.sqrt(l / g)) if plane == "arnold"
+                  else period_edges(y, n, l, g, drive=drive, damping=c))
         if not np.any(np.isfinite(lo)) or np.nanmin(lo) > x_max:
             break
         out.append((n, y, lo, hi))
@@ -31,7 +32,7 @@ def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60):
 
 
 def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, drive=None, label=None,
-                   cmap="viridis", colorbar=True, edges=True):
+                   cmap="viridis", colorbar=True, edges=True, c=0.0):
     """Draw a sweep's map ``values[y, x]`` with the exact zone edges on top.
 
     Parameters
@@ -41,9 +42,9 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
     values : array_like, shape ``(y.size, x.size)``
     plane : {'arnold', 'physical'}
     ax : matplotlib Axes, optional
-    l, g, drive :
-        The pendulum and drive of the sweep (for the edges, :func:`kapitza.zone_edges` /
-        :func:`kapitza.period_edges`).
+    l, g, drive, c :
+        The pendulum, drive and viscous damping [1/s] of the sweep (for the edges,
+        :func:`kapitza.zone_edges` / :func:`kapitza.period_edges`).
     label : str, optional
         Colour-bar label.
     edges : bool
@@ -65,7 +66,7 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
         drawn["colorbar"] = ax.figure.colorbar(mesh, ax=ax, label=label)
     if edges:
         square = drive is None or getattr(drive, "name", drive) == "square"
-        for n, yy, lo, hi in _edges(plane, (y.min(), y.max()), x.max(), l, g, drive):
+        for n, yy, lo, hi in _edges(plane, (y.min(), y.max()), x.max(), l, g, drive, c=c):
             lo_style, hi_style = (EDGE_2T, EDGE_4T) if (n % 2 == 0 or not square) else (EDGE_4T, EDGE_2T)
             a = ax.plot(lo, yy, **lo_style, label="2T-periodic edge" if n == 0 else None)
             b = ax.plot(hi, yy, **hi_style, label="4T-periodic edge" if n == 0 else None)
@@ -80,16 +81,20 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
 
 
 def sweep_figure(x, y, values, *, plane="arnold", label, what, periods, tol, l=1.0, g=G_EARTH, drive=None,
-                 title=None):
-    """A captioned figure of one sweep variable (see :func:`plot_sweep_map`)."""
+                 title=None, c=0.0, exact=True):
+    """A captioned figure of one sweep variable (see :func:`plot_sweep_map`); ``exact``: whether the
+    sweep followed the motion exactly or by DOP853 (the caption says which)."""
     fig = new_figure(7.0, 5.0, caption_lines=3)
     ax = fig.add_subplot()
-    drawn = plot_sweep_map(x, y, values, plane=plane, ax=ax, l=l, g=g, drive=drive, label=label)
+    drawn = plot_sweep_map(x, y, values, plane=plane, ax=ax, l=l, g=g, drive=drive, label=label, c=c)
     if drawn["edges"]:
         place_legend(ax, inside=True, loc="upper right")
     ax.set_title(title or f"{what}: {periods} periods, window $|\\theta| \\leq$ {tol:g} rad", fontsize=10)
     caption(fig, f"Colour: {what} of the full (nonlinear) pendulum: starts that keep $|\\theta| \\leq$ {tol:g} rad "
-                 f"for {periods} drive periods $2T$, checked on the continuous motion. Lines: the exact edges of the "
+                 f"for {periods} drive periods $2T$"
+                 + (f", damping $c$ = {c:g} 1/s" if c else "")
+                 + (", checked on the continuous motion" if exact else
+                    ", followed by DOP853 and checked at sampled instants") + ". Lines: the exact edges of the "
                  "linear stability zones (solid: a 2T-periodic solution, dashed: a 4T-periodic one). Inside a zone the "
                  "upright is linearly stable; the colour shows how far it can be knocked and still stand.")
     return fig

@@ -18,6 +18,13 @@ of scaled length ``w dt <= 1``, and within a sub-step
 Inside a stability zone small motions stay up in both models; outside one the
 linear motion grows like ``exp(growth * k)`` and leaves any window, and so does the
 nonlinear one, apart from islands the linear model cannot see.
+
+All of this is the **exact path**, for undamped piecewise-constant drives. The sine
+drive and any damping ``c > 0`` (``theta'' = s sin(theta) - c theta'``) have no exact
+flow: they take the **integrated path** (:class:`_IntegratedPeriod`), DOP853 over each
+period with the window checked at sampled instants and between them on the cubic
+Hermite interpolant through ``(theta, theta')``. Both are one-period steps behind one
+survival loop (:func:`_survival_chunk`), which :mod:`kapitza.sweeps.kernel` drives too.
 """
 from __future__ import annotations
 
@@ -30,7 +37,7 @@ from .._display import Summary, num
 from ..drives import as_drive
 from ..parameters import G_EARTH
 from ._maps import AMPLITUDES, STEPS, bound_ensemble, chunk_results, phases
-from .nonlinear import MAX_PERIODS, MODELS, _check_speed, _choice, _physical
+from .nonlinear import MAX_PERIODS, MODELS, _budget, _check_speed, _choice, _damping, _peak, _physical, _solve
 
 __all__ = ["survival", "Basin", "basin"]
 
@@ -93,28 +100,144 @@ def _one_period(th, om, subs, tol, model):
     return th, om, left
 
 
-def _survival_chunk(theta, dtheta, plan, periods, tol, model, scaled=1.0):
+class _ExactPeriod:
+    """One period of exact step flows (undamped, piecewise-constant drive), the window checked on
+    the continuous motion (module notes).
+
+    ``plan``: the ``(s, duration)`` phases of one period, each a scalar or an array with one entry
+    per parameter set. ``scaled``: the longest sub-step in scaled time ``w h``; the test is exact
+    for any ``scaled < pi``. Calling it with ``(theta, dtheta, idx)`` advances the states by one
+    period (``idx``: the parameter set of each state; ignored for scalar parameters) and returns
+    ``(theta, dtheta, left)``, ``left`` true where the state left the window during the period.
+    """
+
+    def __init__(self, plan, tol, model="nonlinear", scaled=1.0):
+        self.subs = [_sub_steps(s, dur, scaled) for s, dur in plan]
+        self.per_state = any(np.ndim(c) > 0 for _, _, c in self.subs)
+        self.tol = tol
+        self.model = model
+
+    def __call__(self, th, om, idx):
+        subs = ([tuple(v[idx] if np.ndim(v) else v for v in sub) for sub in self.subs] if self.per_state
+                else self.subs)
+        return _one_period(th, om, subs, self.tol, self.model)
+
+
+#: Integrated path: DOP853 tolerances (per component: scaled by ``1/sqrt(2n)`` for ``n`` states
+#: solved together, as the RMS error norm of scipy is looser by that factor).
+INTEGRATED_RTOL = 1e-9
+INTEGRATED_ATOL = 1e-12
+#: Integrated path: the window is checked at instants evenly spaced over the period, at least
+#: this many per period, and dense enough that ``(w_h + c) dt <= SAMPLE_SPACING``.
+MIN_SAMPLES = 64
+SAMPLE_SPACING = 0.2
+
+
+def _hermite_peak(p0, p1, m0, m1):
+    """Largest ``|p(x)|`` on ``0 <= x <= 1`` of the cubic Hermite interpolant with values ``p0, p1``
+    and slopes ``m0, m1`` (per unit ``x``) at the ends; arrays broadcast together."""
+    a = 6.0 * (p0 - p1) + 3.0 * (m0 + m1)  # p'(x) = a x^2 + b x + m0
+    b = -6.0 * (p0 - p1) - 4.0 * m0 - 2.0 * m1
+    peak = np.maximum(np.abs(p0), np.abs(p1))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        disc = b * b - 4.0 * a * m0
+        sq = np.sqrt(np.maximum(disc, 0.0))
+        q = -0.5 * (b + np.where(b >= 0, sq, -sq))
+        lin = -m0 / b  # a = 0: one root of the linear p'
+        for x in (np.where(a != 0, q / a, lin), np.where(q != 0, m0 / q, lin)):
+            ok = (disc >= 0) & np.isfinite(x) & (x > 0) & (x < 1)
+            x = np.where(ok, x, 0.0)
+            x2, x3 = x * x, x * x * x
+            p = ((2 * x3 - 3 * x2 + 1) * p0 + (x3 - 2 * x2 + x) * m0 + (-2 * x3 + 3 * x2) * p1
+                 + (x3 - x2) * m1)
+            peak = np.where(ok, np.maximum(peak, np.abs(p)), peak)
+    return peak
+
+
+class _IntegratedPeriod:
+    """One period by DOP853, for any drive and damping ``c >= 0``; the window checked at samples.
+
+    All states advance in one ``solve_ivp`` call per segment of the drive (one for a smooth drive,
+    one per step of a piecewise-constant one: never across a jump), in the period's own time
+    ``x = t / (2T)``, so states with different ``T`` advance together:
+    ``theta_x = 2T theta'``, ``theta'_x = 2T (s(x) f(theta) - c theta')``, ``s = (g + a)/l``.
+    The tolerances ``rtol``, ``atol`` hold per component. ``|theta| <= tol`` is checked at the
+    instants ``x = j / m`` (``m >= MIN_SAMPLES``, ``(w_h + c) 2T / m <= SAMPLE_SPACING`` for every
+    parameter set, ``w_h = sqrt((g + peak A)/l)``) and between them on the cubic Hermite
+    interpolant through ``(theta, theta')``, whose error is about ``(w dt)^4 / 384`` of the swing
+    (``< 5e-6`` at the spacing 0.2): sampled, not exact.
+
+    ``T``, ``A``: scalars or arrays with one entry per parameter set (``idx`` of the call picks
+    them); ``l``, ``g``, ``c``: scalars. Calling it as :class:`_ExactPeriod`.
+    """
+
+    def __init__(self, T, A, l, g, c, drive, tol, model="nonlinear", rtol=INTEGRATED_RTOL, atol=INTEGRATED_ATOL):
+        T, A = np.broadcast_arrays(np.atleast_1d(np.asarray(T, float)), np.atleast_1d(np.asarray(A, float)))
+        self.T2, self.A = 2.0 * T, A
+        self.l, self.g, self.c = float(l), float(g), float(c)
+        self.drive, self.tol, self.model = drive, tol, model
+        self.rtol, self.atol = rtol, atol
+        if hasattr(drive, "levels"):
+            marks = np.concatenate([[0.0], np.cumsum(drive.fractions)])
+            marks[-1] = 1.0
+            self.segments = [(float(a), float(b), float(lev)) for a, b, lev in zip(marks[:-1], marks[1:], drive.levels)
+                             if b > a]
+        else:
+            self.segments = [(0.0, 1.0, None)]
+        w = np.sqrt((self.g + _peak(drive) * A) / self.l) + self.c
+        m = max(MIN_SAMPLES, int(np.ceil(float(np.max(w * self.T2)) / SAMPLE_SPACING)))
+        grid = np.linspace(0.0, 1.0, m + 1)
+        self.samples = m
+        self.evals = [np.unique(np.concatenate([grid[(grid > a) & (grid < b)], [b]])) for a, b, _ in self.segments]
+
+    def __call__(self, th, om, idx):
+        n = th.size
+        left = np.zeros(n, dtype=bool)
+        if n == 0:
+            return th, om, left
+        one = self.T2.size == 1
+        T2 = self.T2[0] if one else self.T2[idx]
+        A = self.A[0] if one else self.A[idx]
+        f = (lambda z: z) if self.model == "linear" else np.sin
+        g, l, c, drive = self.g, self.l, self.c, self.drive
+        scale = 1.0 / np.sqrt(2.0 * n)
+        rtol, atol = max(self.rtol * scale, 1e-13), self.atol * scale
+        y = np.concatenate([th, om])
+        for (a, b, lev), x_eval in zip(self.segments, self.evals):
+            if lev is not None:
+                k = T2 * (g + A * lev) / l
+
+                def rhs(_, z, k=k):
+                    return np.concatenate([T2 * z[n:], k * f(z[:n]) - (T2 * c) * z[n:]])
+            else:
+                def rhs(x, z):
+                    s = (g + A * drive._shape(np.mod(2.0 * x, 2.0))) / l
+                    return np.concatenate([T2 * z[n:], T2 * (s * f(z[:n]) - c * z[n:])])
+            sol = _solve(rhs, a, b, y, rtol, atol, t_eval=x_eval)
+            ths = np.concatenate([y[:n, None], sol.y[:n]], axis=1)
+            slopes = np.concatenate([y[n:, None], sol.y[n:]], axis=1) * np.reshape(T2, (-1, 1))
+            h = np.diff(np.concatenate([[a], x_eval]))
+            left |= np.max(_hermite_peak(ths[:, :-1], ths[:, 1:], h * slopes[:, :-1], h * slopes[:, 1:]), axis=1) > self.tol
+            y = sol.y[:, -1]
+        return y[:n], y[n:], left
+
+
+def _survival_chunk(theta, dtheta, period, periods, tol, idx=None):
     """Periods completed with ``|theta| <= tol`` throughout, for one chunk (trusted input).
 
-    ``plan``: the ``(s, duration)`` phases of one period, each a scalar or an array with one
-    entry per state (members with different parameters then advance together). States that
-    leave are dropped from the working arrays after the period they left in. ``scaled``: the
-    longest sub-step in scaled time ``w h``; the test is exact for any ``scaled < pi`` (module
-    notes: turning points are at least ``pi`` apart, and a return from beyond ``pi`` takes at
-    least ``pi``).
+    ``period``: a one-period step, :class:`_ExactPeriod` or :class:`_IntegratedPeriod`;
+    ``idx``: the parameter set of each state (``None``: one set for all). States that leave are
+    dropped from the working arrays after the period they left in.
     """
     n = theta.size
     survived = np.full(n, periods, dtype=np.int64)
     alive = np.flatnonzero(np.abs(theta) <= tol)
     survived[np.abs(theta) > tol] = 0
     th, om = theta[alive], dtheta[alive]
-    subs = [_sub_steps(s, dur, scaled) for s, dur in plan]
-    per_state = any(np.ndim(c) > 0 for _, _, c in subs)
     for k in range(periods):
         if alive.size == 0:
             break
-        subs_a = [tuple(v[alive] if np.ndim(v) else v for v in sub) for sub in subs] if per_state else subs
-        th, om, out = _one_period(th, om, subs_a, tol, model)
+        th, om, out = period(th, om, alive if idx is None else idx[alive])
         if out.any():
             survived[alive[out]] = k
             keep = ~out
@@ -122,58 +245,18 @@ def _survival_chunk(theta, dtheta, plan, periods, tol, model, scaled=1.0):
     return survived
 
 
-def _survival_integrated(theta, dtheta, T, A, l, g, drive, periods, tol, model, chunk, progress,
-                         samples=64, rtol=1e-9):
-    """Survival for a smooth drive (the sine): DOP853 over each half-period, the window
-    checked at ``samples`` evenly spaced instants per period and at every half-period."""
-    from scipy.integrate import solve_ivp
-
-    n_all = theta.size
-    survived = np.full(n_all, periods, dtype=np.int64)
-    survived[np.abs(theta) > tol] = 0
-    bounds = [(a, min(a + chunk, n_all)) for a in range(0, n_all, chunk)]
-    f = (lambda z: z) if model == "linear" else np.sin
-    for ci, (a, b) in enumerate(bounds):
-        alive = np.arange(a, b)[np.abs(theta[a:b]) <= tol]
-        th, om = theta[alive], dtheta[alive]
-        for k in range(periods):
-            if alive.size == 0:
-                break
-            for half in (0, 1):
-                t0 = (2 * k + half) * T
-                t_eval = t0 + np.linspace(0.0, T, samples // 2 + 1)[1:]
-                n = th.size
-
-                def rhs(t, z, n=n):
-                    s = (g + A * drive._shape(np.mod(t / T, 2.0))) / l
-                    return np.concatenate([z[n:], s * f(z[:n])])
-
-                sol = solve_ivp(rhs, (t0, t0 + T), np.concatenate([th, om]), method="DOP853", rtol=rtol,
-                                atol=1e-12, t_eval=t_eval)
-                out = np.any(np.abs(sol.y[:n]) > tol, axis=1)
-                survived[alive[out]] = k
-                keep = ~out
-                alive = alive[keep]
-                th, om = sol.y[:n, -1][keep], sol.y[n:, -1][keep]
-                if alive.size == 0:
-                    break
-        if progress is not None:
-            progress(ci + 1, len(bounds))
-    return survived
-
-
-def _run_chunks(theta, dtheta, plan, periods, tol, model, chunk, workers, progress):
+def _run_chunks(theta, dtheta, period, periods, tol, chunk, workers, progress):
     bounds = [(a, min(a + chunk, theta.size)) for a in range(0, theta.size, chunk)]
     out = np.empty(theta.size, dtype=np.int64)
     for a, b, res in chunk_results(_survival_chunk, bounds,
-                                   lambda a, b: (theta[a:b], dtheta[a:b], plan, periods, tol, model), workers, progress):
+                                   lambda a, b: (theta[a:b], dtheta[a:b], period, periods, tol), workers, progress):
         out[a:b] = res
     return out
 
 
 @_v.shapes_named
 def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5,
-             model="nonlinear", chunk=4096, workers=1, progress=None, drive=None):
+             model="nonlinear", c=0.0, chunk=4096, workers=1, progress=None, drive=None):
     """How many whole drive periods each motion stays within ``tol`` of the upright.
 
     Parameters
@@ -190,14 +273,14 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     tol : float, optional
         Half-width of the window about the upright [rad], ``0 < tol < pi``.
     model : {'nonlinear', 'linear'}
-        The full, undamped equation (exact phase flows) or its linearisation (2.3).
+        The full equation ``theta'' = s sin(theta) - c theta'`` or its linearisation (2.3).
+    c : float, optional
+        Viscous damping [1/s], ``>= 0`` (as in :func:`kapitza.motion.stroboscopic_map`); the
+        damping ratio is ``zeta = c / (2 sqrt(g/l))``.
     chunk, workers, progress
         As in :func:`kapitza.motion.stroboscopic_map`.
     drive : Drive or str, optional
-        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default. A
-        piecewise-constant drive is followed by exact step flows and the window checked on the
-        continuous motion; the sine drive by DOP853 (rtol 1e-9), the window checked at 64
-        instants per period.
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
 
     Returns
     -------
@@ -208,13 +291,23 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
 
     Notes
     -----
-    The window is checked on the continuous motion (see the module notes), not only
-    at sampled instants.
+    Two paths (:func:`exact_path` says which):
+
+    * **exact** (an undamped piecewise-constant drive: square, rectangular, steps): exact step
+      flows, the window checked on the continuous motion (module notes), not only at sampled
+      instants;
+    * **integrated** (the sine drive, or ``c > 0``): DOP853 with ``rtol = 1e-9``,
+      ``atol = 1e-12`` per component, restarted at every jump of the drive; the window checked at
+      instants evenly spaced over each period (at least 64, and ``(w_h + c) dt <= 0.2``) and
+      between them on the cubic Hermite interpolant through ``(theta, theta')`` (error about
+      ``(w dt)^4 / 384``, below ``5e-6`` of the swing). Sampled, so an excursion beyond ``tol`` by
+      less than that can be missed; far slower (bounded by :func:`bound_integrated`).
     """
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     theta0, dtheta0 = np.broadcast_arrays(theta0, dtheta0)
     T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
+    c = _v.one("c", _damping(c))
     periods = _v.bounded_count("periods", periods, MAX_PERIODS, minimum=1)
     tol = _tolerance(tol)
     _choice("model", model, MODELS)
@@ -223,19 +316,53 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     th = np.ascontiguousarray(theta0, dtype=float).ravel()
     om = np.ascontiguousarray(dtheta0, dtype=float).ravel()
     d = as_drive(drive)
-    # Sub-steps of scaled length <= 1 per phase: the work grows with w T as well.
-    per_period = sum(max(1.0, np.ceil(np.sqrt(abs(s_)) * dur)) for s_, dur in
-                     (phases(T, A, l, g) if not hasattr(d, "levels") or d.name == "square" else d.phases(T, A, l, g)))
-    bound_ensemble(periods * per_period, th.size,
-                   name="periods * (sub-steps w T per phase, from T, A, l, g) * (members + 1000)")
-    if model == "nonlinear" and hasattr(d, "levels"):
-        _check_speed(om, [s_ for s_, _ in (phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g))])
-    if not hasattr(d, "levels"):
-        out = _survival_integrated(th, om, T, A, l, g, d, periods, tol, model, min(chunk, 1024), progress)
-        return _v.scalars(out.reshape(theta0.shape))
-    plan = phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g)
-    out = _run_chunks(th, om, plan, periods, tol, model, chunk, workers, progress)
+    if exact_path(d, c):
+        plan = phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g)
+        # Sub-steps of scaled length <= 1 per phase: the work grows with w T as well.
+        per_period = sum(max(1.0, np.ceil(np.sqrt(abs(s_)) * dur)) for s_, dur in plan)
+        bound_ensemble(periods * per_period, th.size,
+                       name="periods * (sub-steps w T per phase, from T, A, l, g) * (members + 1000)")
+        if model == "nonlinear":
+            _check_speed(om, [s_ for s_, _ in plan])
+        period = _ExactPeriod(plan, tol, model)
+    else:
+        _budget(2.0 * T * periods, T, A, l, g, c, "dop853", _peak(d), om)
+        bound_integrated(periods, th.size, T, A, l, g, c, d)
+        period = _IntegratedPeriod(T, A, l, g, c, d, tol, model)
+        chunk = min(chunk, INTEGRATED_CHUNK)
+    out = _run_chunks(th, om, period, periods, tol, chunk, workers, progress)
     return _v.scalars(out.reshape(theta0.shape))
+
+
+def exact_path(drive, c) -> bool:
+    """Whether :func:`survival` follows the motion by exact step flows (an undamped piecewise-constant
+    drive) rather than by DOP853 (the sine drive, or any damping)."""
+    return hasattr(drive, "levels") and not np.any(np.asarray(c) > 0)
+
+
+#: States the integrated path solves together in one :func:`survival` chunk.
+INTEGRATED_CHUNK = 1024
+#: Integrated path: the cost of one period's Python work (solver set-up, steps, samples) in state units.
+INTEGRATED_STEP_COST = 200
+#: Integrated path: work one call may do, in state-periods at ``(w_h + c) 2T <= 3`` (about a minute;
+#: ``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_INTEGRATED_STATE_PERIODS = 3_000_000
+
+
+def integrated_work(periods, states, T, A, l, g, c, drive):
+    """Work of the integrated path in state-periods at ``(w_h + c) 2T <= 3``: ``periods * (states + 200)``,
+    scaled by ``(w_h + c) 2T / 3`` where the period is longer (DOP853's steps grow with it)."""
+    with np.errstate(over="ignore"):  # beyond a double: refused as infinite work
+        w = np.sqrt((np.asarray(g, float) + _peak(drive) * np.asarray(A, float)) / np.asarray(l, float)) + c
+        factor = np.maximum(1.0, w * 2.0 * np.asarray(T, float) / 3.0)
+        return float(np.sum(float(periods) * (np.asarray(states, float) + INTEGRATED_STEP_COST) * factor))
+
+
+def bound_integrated(periods, states, T, A, l, g, c, drive):
+    """Refuse integrated work (:func:`integrated_work`) beyond about a minute."""
+    _v.bounded_work("periods * (members + 200) * max(1, (w_h + c) 2T / 3) (DOP853: sine drive or damping)",
+                    integrated_work(periods, states, T, A, l, g, c, drive), MAX_INTEGRATED_STATE_PERIODS,
+                    what="state-periods integrated by DOP853, about a minute of work")
 
 
 @dataclass(frozen=True, repr=False)
@@ -258,6 +385,10 @@ class Basin(Summary):
         Window half-width [rad].
     model : str
     T, A, l, g : float
+    drive : Drive or None
+        ``None`` for the square wave.
+    c : float
+        Viscous damping [1/s].
     """
 
     theta0: np.ndarray
@@ -271,6 +402,7 @@ class Basin(Summary):
     l: float
     g: float
     drive: object = None
+    c: float = 0.0
 
     @property
     def survived(self) -> np.ndarray:
@@ -304,7 +436,8 @@ class Basin(Summary):
         from ..drives import as_drive
 
         eps, mu = self.T * np.sqrt(self.A / (8.0 * self.l)), np.sqrt(self.g / self.A)
-        return [("model", self.model), ("drive", as_drive(self.drive).describe()),
+        return [("model", self.model + (f", damping c = {num(self.c)} 1/s" if self.c else "")),
+                ("drive", as_drive(self.drive).describe()),
                 ("parameters", f"T = {num(self.T)} s, A = {num(self.A)} m/s^2, l = {num(self.l)} m, "
                                f"g = {num(self.g)} m/s^2 (eps = {num(eps)}, mu = {num(mu)})"),
                 ("grid", f"{self.theta0.size} theta0 in [{num(self.theta0[0])}, {num(self.theta0[-1])}] rad x "
@@ -315,7 +448,8 @@ class Basin(Summary):
 
     def summary(self) -> dict:
         """JSON-ready description (no grids)."""
-        return dict(model=self.model, T=self.T, A=self.A, l=self.l, g=self.g, periods=self.periods, tol=self.tol,
+        return dict(model=self.model, T=self.T, A=self.A, l=self.l, g=self.g, c=self.c, periods=self.periods,
+                    tol=self.tol,
                     theta0_range=[float(self.theta0[0]), float(self.theta0[-1])],
                     dtheta0_range=[float(self.dtheta0[0]), float(self.dtheta0[-1])],
                     shape=list(self.periods_survived.shape), fraction=self.fraction)
@@ -323,7 +457,7 @@ class Basin(Summary):
 
 @_v.shapes_named
 def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5, theta_max=None,
-          dtheta_max=None, n_theta=121, n_dtheta=121, model="nonlinear", chunk=4096, workers=1, progress=None,
+          dtheta_max=None, n_theta=121, n_dtheta=121, model="nonlinear", c=0.0, chunk=4096, workers=1, progress=None,
           drive=None) -> Basin:
     """The basin of the upright on a grid of initial states.
 
@@ -347,6 +481,8 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     n_theta, n_dtheta : int, optional
         Grid points (>= 2 each).
     model : {'nonlinear', 'linear'}
+    c : float, optional
+        Viscous damping [1/s], ``>= 0``; ``c > 0`` follows the motion by DOP853 (:func:`survival`).
     chunk, workers, progress, drive
         As in :func:`survival`.
 
@@ -363,8 +499,8 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     _v.bounded_work("n_theta * n_dtheta", n_theta * n_dtheta, 25_000_000, what="grid points held in memory")
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)
-    grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model,
+    grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model, c=c,
                     chunk=chunk, workers=workers, progress=progress, drive=drive)
     d = as_drive(drive)
     return Basin(theta0=th, dtheta0=om, periods_survived=grid, periods=int(periods), tol=tol, model=model,
-                 T=T, A=A, l=l, g=g, drive=None if d.name == "square" else d)
+                 T=T, A=A, l=l, g=g, drive=None if d.name == "square" else d, c=float(_v.one("c", _damping(c))))

@@ -1,11 +1,15 @@
 """Per-point quantities of a sweep, for a whole block of parameter points at once.
 
 Every quantity is a question about the survival test of :func:`kapitza.motion.survival`
-(``|theta(t)| <= tol`` on the whole of ``[0, 2NT]``, checked on the continuous motion,
-undamped flow exact in Jacobi elliptic functions, ``docs/theory.md`` section 6). The block's
-points and all their candidate starts are advanced together as one numpy array (the period
-map takes one ``(s, duration)`` per state), and a start is dropped from the working arrays as
-soon as it leaves the window, so a failed candidate costs only the periods it survived.
+(``|theta(t)| <= tol`` on the whole of ``[0, 2NT]``), on one of its two paths
+(:func:`period_step`): for an undamped piecewise-constant drive the **exact** path (flow exact
+in Jacobi elliptic functions, ``docs/theory.md`` section 6, window checked on the continuous
+motion); for the sine drive or damping ``c > 0`` the **integrated** path (DOP853, rtol 1e-9
+per component, window checked at sampled instants and on the Hermite interpolant between
+them). Either is a one-period step, and the searches below drive it through one loop. The
+block's points and all their candidate starts are advanced together as one numpy array (one
+parameter set per state), and a start is dropped from the working arrays as soon as it leaves
+the window, so a failed candidate costs only the periods it survived.
 
 * **max safe radius along a direction** ``phi`` of the phase plane: the start
   ``(theta0, dtheta0) = r (cos phi, Omega sin phi)`` with ``Omega = 2/T`` (the scale of
@@ -31,12 +35,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..drives import as_drive, parse_drive
-from ..motion.basins import _one_period, _sub_steps, _survival_chunk
+from ..drives._api import zeta_of
+from ..motion.basins import _ExactPeriod, _IntegratedPeriod, _survival_chunk, exact_path
 from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
 from ..zones import is_stable, stability_margin, zone_index
 
-__all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii"]
+__all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii", "period_step"]
 
 #: Quantities a sweep can compute, and the variables each one writes.
 QUANTITIES = {
@@ -59,38 +64,39 @@ VARIABLES = {
 }
 
 
-def _plans(T, A, l, g, drive):
-    """``(s, duration)`` of each phase, one entry per point (1-d arrays)."""
-    return [(np.asarray(s, float) * np.ones_like(T), np.asarray(d, float) * np.ones_like(T))
-            for s, d in drive.phases(T, A, l, g)]
-
-
-#: Longest sub-step of a phase in scaled time ``w h``: the window test of
+#: Longest sub-step of a phase in scaled time ``w h`` on the exact path: the window test of
 #: :mod:`kapitza.motion.basins` is exact for any value below ``pi``; 3 keeps one step per
 #: phase wherever ``w T <= 3`` (zone 0 and most of zone 1).
 SCALED_STEP = 3.0
 
 
-def _survives(theta0, dtheta0, point, plans, periods, tol):
-    """Periods survived by each start; ``point`` indexes the point whose parameters it uses."""
-    plan = [(s[point], d[point]) for s, d in plans]
-    return _survival_chunk(theta0, dtheta0, plan, periods, tol, "nonlinear", SCALED_STEP)
+def period_step(T, A, l, g, c, drive, tol):
+    """The one-period step of a block's points (arrays ``T``, ``A`` of shape ``(P,)``), called
+    ``(theta, dtheta, point) -> (theta, dtheta, left)``: exact step flows for an undamped
+    piecewise-constant drive, otherwise DOP853 (:mod:`kapitza.motion.basins`)."""
+    if exact_path(drive, c):
+        plan = [(np.asarray(s, float) * np.ones_like(T), np.asarray(d, float) * np.ones_like(T))
+                for s, d in drive.phases(T, A, l, g)]
+        return _ExactPeriod(plan, tol, "nonlinear", SCALED_STEP)
+    return _IntegratedPeriod(T, A, l, g, c, drive, tol, "nonlinear")
 
 
-def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
+def ray_radii(T, period, phis, periods, tol, accuracy, floor):
     """Largest safe radius along each direction of ``phis`` for every point.
 
     Every search (point x direction) always has exactly one candidate start in flight; all of
-    them advance together, one period per step, and as soon as a candidate leaves the window or
-    completes ``periods`` its search takes its next candidate, which starts from period 0 in the
-    same arrays. The arrays stay full, and a point's searches cost the sum of its candidates'
-    lives rather than a whole round of ``periods`` per candidate.
+    them advance together, one period per step of ``period`` (exact or integrated, the same
+    loop), and as soon as a candidate leaves the window or completes ``periods`` its search
+    takes its next candidate, which starts from period 0 in the same arrays. The arrays stay
+    full, and a point's searches cost the sum of its candidates' lives rather than a whole round
+    of ``periods`` per candidate.
 
     Parameters
     ----------
     T : ndarray, shape ``(P,)``
         Half-periods [s] of the points (they set ``Omega = 2/T``).
-    plans : list of ``(s, duration)`` arrays of shape ``(P,)``
+    period : callable
+        The points' one-period step, :func:`period_step`.
     phis : ndarray, shape ``(K,)``
         Directions [rad] in the plane ``(theta, dtheta / Omega)``.
     periods, tol, accuracy, floor :
@@ -106,7 +112,6 @@ def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
     point = np.repeat(np.arange(P), K)
     cos, sin = np.tile(np.cos(phis), P), np.tile(np.sin(phis), P)
     omega = 2.0 / T[point]
-    subs = [_sub_steps(s[point], d[point], SCALED_STEP) for s, d in plans]
     lo = np.zeros(M)
     hi = np.full(M, np.inf)
     scanning = np.ones(M, dtype=bool)  # 1. r = tol, tol/2, ... down to the first survivor, 2. bisection
@@ -116,7 +121,7 @@ def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
     th, om = r * cos, r * sin * omega
     k = np.zeros(M, dtype=np.int64)
     while act.size:
-        th, om, left = _one_period(th, om, [tuple(v[act] for v in sub) for sub in subs], tol, "nonlinear")
+        th, om, left = period(th, om, point[act])
         k += 1
         fail = left
         ok = ~left & (k >= periods)
@@ -145,7 +150,7 @@ def ray_radii(T, plans, phis, periods, tol, accuracy, floor):
     return lo.reshape(P, K)
 
 
-def _basin_grid(T, plans, n, periods, tol):
+def _basin_grid(T, period, n, periods, tol):
     """``(area, median escape)`` of each point over the ``n x n`` start grid of :func:`kapitza.basin`."""
     P = T.size
     th = np.linspace(-tol, tol, n)
@@ -156,7 +161,7 @@ def _basin_grid(T, plans, n, periods, tol):
     point = np.repeat(np.arange(P), half)
     theta0 = np.tile(th_q, P)
     dtheta0 = np.tile(om_unit, P) / T[point]
-    got = _survives(theta0, dtheta0, point, plans, periods, tol).reshape(P, half)
+    got = _survival_chunk(theta0, dtheta0, period, periods, tol, idx=point).reshape(P, half)
     full = np.concatenate([got, got[:, : n * n - half][:, ::-1]], axis=1)
     area = np.mean(full >= periods, axis=1)
     median = np.median(full, axis=1).astype(float)
@@ -164,8 +169,12 @@ def _basin_grid(T, plans, n, periods, tol):
 
 
 def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, directions, basin_resolution,
-                     accuracy, floor):
+                     accuracy, floor, c=0.0):
     """Every requested variable on the grid ``y x x`` (rows ``y``: mu or A; columns ``x``: eps or T).
+
+    ``c``: viscous damping [1/s] (trusted, ``>= 0``); the linear quantities take the damping ratio
+    ``zeta = c / (2 sqrt(g/l))``. An undamped piecewise-constant drive takes the exact path, the
+    sine drive or ``c > 0`` the integrated one (:func:`period_step`).
 
     Returns
     -------
@@ -185,18 +194,19 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
     d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
     dd = None if d.name == "square" else d
     if "linear" in quantities:
-        out["stable"] = is_stable(eps, mu, drive=dd).astype(np.int8)
-        out["zone"] = zone_index(eps, mu, drive=dd).astype(np.int16)
-        out["growth"] = np.asarray(growth_rate(eps, mu, drive=dd), float)
-        out["margin"] = np.asarray(stability_margin(eps, mu, drive=dd).margin, float)
-    plans = _plans(T, A, l, g, d)
+        z = float(zeta_of(c, l, g))
+        out["stable"] = is_stable(eps, mu, drive=dd, zeta=z).astype(np.int8)
+        out["zone"] = zone_index(eps, mu, drive=dd, zeta=z).astype(np.int16)
+        out["growth"] = np.asarray(growth_rate(eps, mu, drive=dd, zeta=z), float)
+        out["margin"] = np.asarray(stability_margin(eps, mu, drive=dd, zeta=z).margin, float)
+    period = period_step(T, A, l, g, c, d, tol)
     if "tilt" in quantities or "radius" in quantities:
         K = directions if "radius" in quantities else 1
-        radii = ray_radii(T, plans, np.pi * np.arange(K) / K, periods, tol, accuracy, floor)
+        radii = ray_radii(T, period, np.pi * np.arange(K) / K, periods, tol, accuracy, floor)
         if "tilt" in quantities:
             out["max_safe_tilt"] = radii[:, 0]
         if "radius" in quantities:
             out["max_safe_radius"] = radii.min(axis=1)
     if "basin" in quantities:
-        out["basin_area"], out["median_escape"] = _basin_grid(T, plans, basin_resolution, periods, tol)
+        out["basin_area"], out["median_escape"] = _basin_grid(T, period, basin_resolution, periods, tol)
     return {k: v.reshape(shape) for k, v in out.items()}

@@ -48,7 +48,7 @@ def compute_chunk(spec: SweepSpec, iy: int, ix: int) -> dict:
     return block_quantities(spec.x[xs], spec.y[ys], plane=spec.plane, l=spec.l, g=spec.g, drive=spec.drive,
                             periods=spec.periods, tol=spec.tol, quantities=spec.quantities,
                             directions=spec.directions, basin_resolution=spec.basin_resolution,
-                            accuracy=spec.accuracy, floor=spec.floor)
+                            accuracy=spec.accuracy, floor=spec.floor, c=spec.c)
 
 
 def _prepare(spec, store, resume):

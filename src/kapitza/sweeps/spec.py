@@ -9,15 +9,20 @@ import numpy as np
 from .. import _validate as _v
 from ..drives import as_drive, parse_drive
 from ..parameters import G_EARTH
+from ..motion.basins import INTEGRATED_STEP_COST, MAX_INTEGRATED_STATE_PERIODS, exact_path, integrated_work
+from ..motion.nonlinear import _damping
 from .kernel import QUANTITIES
 
-__all__ = ["SweepSpec", "PLANES", "MAX_POINTS"]
+__all__ = ["SweepSpec", "PLANES", "MAX_POINTS", "MAX_INTEGRATED_SWEEP"]
 
 #: ``plane -> ((x name, x units), (y name, y units))``: columns and rows of the map.
 PLANES = {"arnold": (("eps", "1"), ("mu", "1")), "physical": (("T", "s"), ("A", "m/s^2"))}
 #: Largest grid a sweep accepts (points), and largest side.
 MAX_POINTS = 4096 * 4096
 MAX_SIDE = 8192
+#: Largest estimated work of a sweep on the integrated path (state-periods, :meth:`SweepSpec.integrated_work`):
+#: about an hour on one core (``KAPITZA_ALLOW_LARGE=1`` lifts it, e.g. for a cluster).
+MAX_INTEGRATED_SWEEP = 60 * MAX_INTEGRATED_STATE_PERIODS
 
 
 @dataclass(frozen=True)
@@ -34,7 +39,13 @@ class SweepSpec:
         Rod length [m] and gravity [m/s^2]; on Arnold's plane the quantities do not depend on them
         (angles and ``dtheta T`` are scale-free).
     drive : str
-        A piecewise-constant drive in its text form (``square``, ``rectangular:D``, ``steps:...``).
+        The drive in its text form (``square``, ``sine``, ``rectangular:D``, ``steps:...``).
+    c : float
+        Viscous damping [1/s], ``>= 0``, in ``theta'' = s sin(theta) - c theta'`` (as
+        :func:`kapitza.motion.survival`); the damping ratio is ``zeta = c / (2 sqrt(g/l))``
+        (on Arnold's plane give ``c = 2 zeta sqrt(g/l)`` for a scale-free map). An undamped
+        piecewise-constant drive is followed exactly; the sine drive or ``c > 0`` by DOP853, far
+        slower and bounded (:meth:`integrated_work`, ``docs/sweeps.md``).
     periods : int
         ``N``, periods ``2T`` each start must stay within ``tol``.
     tol : float
@@ -59,6 +70,7 @@ class SweepSpec:
     l: float = 1.0
     g: float = G_EARTH
     drive: str = "square"
+    c: float = 0.0
     periods: int = 200
     tol: float = 0.5
     quantities: tuple = ("tilt", "linear")
@@ -83,10 +95,8 @@ class SweepSpec:
         s(self, "l", _v.one("l", _v.positive("l", self.l)))
         s(self, "g", _v.one("g", _v.positive("g", self.g)))
         d = parse_drive(self.drive) if isinstance(self.drive, str) else as_drive(self.drive)
-        if not hasattr(d, "levels"):
-            raise _v.KapitzaValueError(f"drive must be piecewise constant for a sweep (square, rectangular, steps); "
-                                       f"got {d.describe()}")
         s(self, "drive", _drive_text(d))
+        s(self, "c", float(_v.one("c", _damping(self.c))))
         s(self, "periods", _v.bounded_count("periods", self.periods, 1_000_000, minimum=1))
         s(self, "tol", _v.one("tol", _v.in_range("tol", self.tol, 0.0, np.pi)))
         s(self, "quantities", _v.choices("quantities", self.quantities, tuple(QUANTITIES)))
@@ -95,6 +105,12 @@ class SweepSpec:
         s(self, "accuracy", _v.one("accuracy", _v.in_range("accuracy", self.accuracy, 1e-6, 1.0, lo_open=False)))
         s(self, "floor", _v.one("floor", _v.in_range("floor", self.floor, 0.0, self.tol)))
         s(self, "chunk", _v.bounded_count("chunk", self.chunk, 1024, minimum=1))
+        if not self.exact:
+            _v.bounded_work("the sweep's estimated DOP853 work (sine drive or damping): points * periods * "
+                            "(6 * searched directions + basin_resolution^2 / 2) * max(1, (w_h + c) 2T / 3)",
+                            self.integrated_work(), MAX_INTEGRATED_SWEEP,
+                            what="state-periods integrated by DOP853, about an hour on one core; the exact path "
+                                 "(an undamped square, rectangular or steps drive) is far cheaper")
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -109,6 +125,32 @@ class SweepSpec:
             if not lo <= hi:
                 raise _v.KapitzaValueError(f"{name} range must be (low, high) with low <= high; got ({lo!r}, {hi!r})")
         return cls(plane=plane, x=tuple(np.linspace(*x_range, nx)), y=tuple(np.linspace(*y_range, ny)), **kw)
+
+    # ------------------------------------------------------------------ path and work
+    @property
+    def exact(self) -> bool:
+        """Whether the motion is followed exactly (an undamped piecewise-constant drive); otherwise
+        by DOP853 with the window checked at sampled instants (:func:`kapitza.motion.survival`)."""
+        return exact_path(parse_drive(self.drive), self.c)
+
+    def integrated_work(self) -> float:
+        """Estimated state-periods of the integrated path (0 on the exact path): per point about six
+        candidate lives of ``periods`` per searched direction (the scan's survivor, the bisection's,
+        the failures' short lives) and half the basin grid, each scaled by ``max(1, (w_h + c) 2T / 3)``
+        (DOP853's steps grow with the period), plus the per-period overhead of each chunk."""
+        if self.exact:
+            return 0.0
+        from ..parameters import to_physical
+
+        X, Y = np.meshgrid(np.asarray(self.x), np.asarray(self.y))
+        T, A = to_physical(X, Y, self.l, self.g) if self.plane == "arnold" else (X, Y)
+        searches = self.directions if "radius" in self.quantities else (1 if "tilt" in self.quantities else 0)
+        states = 6.0 * searches + (self.basin_resolution ** 2 / 2.0 if "basin" in self.quantities else 0.0)
+        d = parse_drive(self.drive)
+        per_point = integrated_work(self.periods, states, T, A, self.l, self.g, self.c, d) - \
+            integrated_work(self.periods, 0.0, T, A, self.l, self.g, self.c, d)
+        overhead = len(self.all_chunks()) * 10.0 * self.periods * INTEGRATED_STEP_COST
+        return float(per_point + overhead)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -140,7 +182,7 @@ class SweepSpec:
 
     def as_dict(self) -> dict:
         """Everything that fixes the result (stored with it; resuming demands the same)."""
-        return {k: getattr(self, k) for k in ("plane", "x", "y", "l", "g", "drive", "periods", "tol", "quantities",
+        return {k: getattr(self, k) for k in ("plane", "x", "y", "l", "g", "drive", "c", "periods", "tol", "quantities",
                                               "directions", "basin_resolution", "accuracy", "floor", "chunk")}
 
     def to_json(self) -> str:
@@ -154,8 +196,8 @@ class SweepSpec:
 
 def _drive_text(d) -> str:
     """The text form :func:`kapitza.parse_drive` reads back."""
-    if d.name == "square":
-        return "square"
+    if d.name in ("square", "sine"):
+        return d.name
     if d.name == "rectangular":
         return f"rectangular:{d.duty!r}"
     return "steps:" + ",".join(repr(float(v)) for v in d.levels) + ":" + ",".join(repr(float(v)) for v in d.fractions)

@@ -15,6 +15,8 @@ import numpy as np
 
 from .. import _validate as _v
 from .._io import atomic_path
+from ..drives._api import zeta_of
+from ..motion.basins import INTEGRATED_ATOL, INTEGRATED_RTOL, MIN_SAMPLES, SAMPLE_SPACING
 from .kernel import VARIABLES
 from .spec import PLANES, SweepSpec
 
@@ -35,18 +37,30 @@ def _attrs(spec: SweepSpec) -> dict:
         "quantities": ",".join(spec.quantities),
         "plane": spec.plane,
         "drive": parse_drive(spec.drive).describe(),
-        "damping": "none (undamped, exact elliptic flow)",
+        "damping": ("none (undamped)" if spec.c == 0 else
+                    f"viscous, c = {spec.c!r} 1/s (damping ratio zeta = c / (2 sqrt(g/l)) = {zeta_of(spec.c, spec.l, spec.g):.6g})"),
+        "damping_c_per_s": spec.c,
+        "path": ("exact: step flows in Jacobi elliptic functions (undamped piecewise-constant drive)" if spec.exact else
+                 f"integrated: DOP853, rtol {INTEGRATED_RTOL:g} and atol {INTEGRATED_ATOL:g} per component, restarted "
+                 f"at every jump of the drive (the sine drive or damping has no exact flow)"),
         "periods": spec.periods,
         "tol_rad": spec.tol,
         "l_m": spec.l,
         "g_m_per_s2": spec.g,
-        "survival_test": "|theta(t)| <= tol on all of [0, 2NT], checked on the continuous motion "
-                         "(kapitza.motion.survival)",
+        "survival_test": ("|theta(t)| <= tol on all of [0, 2NT], checked on the continuous motion "
+                          "(kapitza.motion.survival)" if spec.exact else
+                          f"|theta(t)| <= tol on [0, 2NT], checked at instants evenly spaced over each period (at "
+                          f"least {MIN_SAMPLES}, (w_h + c) dt <= {SAMPLE_SPACING:g}) and between them on the cubic "
+                          f"Hermite interpolant through (theta, theta'), error about (w dt)^4/384 < 5e-6 of the "
+                          f"swing: sampled, not exact (kapitza.motion.survival)"),
         "accuracy": (f"max_safe_tilt, max_safe_radius: bisection; the value v stays and a start less than "
                      f"{acc} above it does not, so v is the edge of the safe starts from the upright to {acc} "
                      f"where they form one segment (near zone edges they can be ragged at that scale); 0 means "
                      f"below floor {spec.floor:g} rad; capped at tol. basin_area: exact fraction of a "
-                     f"{spec.basin_resolution} x {spec.basin_resolution} start grid. Linear quantities: exact."),
+                     f"{spec.basin_resolution} x {spec.basin_resolution} start grid. Linear quantities: exact"
+                     + (" (with the damping)." if spec.c else ".")
+                     + ("" if spec.exact else " 'Stays' is the sampled test of survival_test (DOP853), not the "
+                        "exact one.")),
         "radius_directions": spec.directions,
         "radius_scale": "start (theta0, dtheta0) = r (cos phi, (2/T) sin phi)",
         "basin_window": "|theta0| <= tol, |dtheta0| <= 2 tol / T",
