@@ -513,6 +513,21 @@ def averaged_twist(eps, mu):
 KINDS = ("moser", "moser 1:3", "markeev stable", "markeev unstable", "undecided")
 
 
+def _sentence(kind, rho, tr, tau, c4) -> str:
+    """The verdict of one point in words, with its numbers (``kind`` one of :data:`KINDS`)."""
+    nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g} per rad^2"
+    if kind == "moser":
+        return f"Lyapunov stable (Moser's twist theorem: twist != 0, not at 1:4); {nums}"
+    if kind == "moser 1:3":
+        return (f"Lyapunov stable (Moser's twist theorem at 1:3: the odd map has no zbar^2 term, "
+                f"twist != 0); {nums}")
+    if kind == "markeev stable":
+        return f"Lyapunov stable at 1:4 (Markeev: |tau| > |c4| = {c4:.10g}); {nums}"
+    if kind == "markeev unstable":
+        return f"unstable at 1:4 (Markeev: |tau| < |c4| = {c4:.10g}); {nums}"
+    return f"undecided at this order (twist tau = 0, or |tau| = |c4| at 1:4); {nums}, |c4| = {c4:.10g}"
+
+
 @dataclass(frozen=True)
 class NonlinearVerdict:
     """Nonlinear (Lyapunov) stability of the upright, with the numbers behind it (arrays).
@@ -557,18 +572,7 @@ class NonlinearVerdict:
         out = []
         for e, m, k, rho, tr, tau, c4 in zip(*(np.ravel(a) for a in (
                 self.eps, self.mu, self.kind, self.rotation_number, self.trace, self.twist, self.resonant_4))):
-            nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g} per rad^2"
-            if k == "moser":
-                s = f"Lyapunov stable (Moser's twist theorem: twist != 0, not at 1:4); {nums}"
-            elif k == "moser 1:3":
-                s = (f"Lyapunov stable (Moser's twist theorem at 1:3: the odd map has no zbar^2 term, "
-                     f"twist != 0); {nums}")
-            elif k == "markeev stable":
-                s = f"Lyapunov stable at 1:4 (Markeev: |tau| > |c4| = {c4:.10g}); {nums}"
-            elif k == "markeev unstable":
-                s = f"unstable at 1:4 (Markeev: |tau| < |c4| = {c4:.10g}); {nums}"
-            else:
-                s = f"undecided at this order (twist tau = 0, or |tau| = |c4| at 1:4); {nums}, |c4| = {c4:.10g}"
+            s = _sentence(k, rho, tr, tau, c4)
             out.append(f"eps = {e:.10g}, mu = {m:.10g}: {s}" if np.size(self.eps) > 1 else s)
         return out
 
