@@ -385,3 +385,24 @@ def test_plain_numbers_are_refused_as_before(kw):
     with pytest.raises(K.KapitzaValueError) as slow:
         _slow(**kw)
     assert str(fast.value) == str(slow.value)
+
+
+def test_array_fallback_of_the_nonlinear_line_prints_what_nonlinear_stability_prints():
+    # where the scalar twin declines, analyze takes normal_form._sentence_of: the same kernels
+    # without the validation and the repeated side evaluations -- the same text, exactly
+    ze, zm = zone_points(13, 300)
+    ee, em = edge_points(14, 12)
+    eps, mu = np.concatenate([ze, ee[::7]]), np.concatenate([zm, em[::7]])
+    stable = _floquet(eps, mu)[3]
+    assert np.count_nonzero(stable) > 250
+    for e, m in zip(eps[stable].tolist(), mu[stable].tolist()):
+        assert NF._sentence_of(e, m) == str(NF.nonlinear_stability(e, m)), (e, m)
+
+
+def test_series_of_the_jets_at_one_point_are_those_of_an_array():
+    # normal_form._polyval sums a few points in Python floats: the same bits as np.polyval
+    k = np.concatenate([np.random.default_rng(15).uniform(-1.0, 1.0, 2000), [0.0, -0.0, 1.0, -1.0]])
+    big = NF._entire(k)
+    for i in range(k.size):
+        for one, many in zip(NF._entire(k[i]), big):
+            assert np.asarray(one).tobytes() == np.asarray(many[i]).tobytes(), k[i]

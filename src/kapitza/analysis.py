@@ -15,7 +15,7 @@ from . import _point
 from . import _validate as _v
 from ._display import Summary, multipliers
 from .parameters import G_EARTH, to_arnold
-from .normal_form import nonlinear_stability
+from .normal_form import _sentence_of, nonlinear_stability
 from .propagation import _floquet, _multipliers
 from .zones import amplitude_edges, period_edges, stability_margin
 
@@ -442,7 +442,7 @@ def _square_report(eps, mu, physical, T, A, l, g, pointwise=True):
     if stable:
         nonlinear = _point.nonlinear(eps, mu, theta, zone, exact_theta=fl is None) if pointwise else None
         if nonlinear is None:
-            nonlinear = str(nonlinear_stability(eps, mu))
+            nonlinear = _sentence_of(eps, mu) if pointwise else str(nonlinear_stability(eps, mu))
     return StabilityReport(
         eps=float(eps),
         mu=float(mu),

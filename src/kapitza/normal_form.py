@@ -92,13 +92,31 @@ def _ser_tables():
 _SER = _ser_tables()
 
 
+_SER_LISTS = {name: coef.tolist() for name, coef in _SER.items()}
+
+
+def _polyval(name, k):
+    """``np.polyval(_SER[name], k)``. A few points are summed in Python floats (the same
+    multiply then add, so the same bits) to spare the 32 array calls per series at one point."""
+    if k.size > 8:
+        return np.polyval(_SER[name], k)
+    coef = _SER_LISTS[name]
+    vals = []
+    for x in k.ravel().tolist():
+        y = 0.0
+        for c in coef:
+            y = y * x + c
+        vals.append(y)
+    return np.array(vals, dtype=float).reshape(k.shape)
+
+
 def _entire(k):
     """``c, sh, f1, f2, f3`` of ``k`` (any sign): ``c = cosh sqrt k``, ``sh = sinh(sqrt k)/sqrt k``,
     ``f1 = (c - sh)/k``, ``f2 = (1 - sh c)/k``, ``f3 = (3 f1 - sh^3)/k``."""
     k = np.asarray(k, float)
     small = np.abs(k) <= _K_SERIES
     ks = np.where(small, k, 0.0)
-    out = {name: np.polyval(coef, ks) for name, coef in _SER.items()}
+    out = {name: _polyval(name, ks) for name in _SER}
     if not small.all():
         kb = np.where(small, 2.0 * _K_SERIES, k)
         r = np.sqrt(np.abs(kb))
@@ -603,6 +621,24 @@ def _verdict_kinds(w, beta, coef, tol, on4=None, on3=None):
     code = np.where(on4, np.where(np.abs(beta) > c03, 2, 3), code)
     code = np.where(zero_twist | tie, 4, code)
     return code
+
+
+def _sentence_of(eps, mu, tol=1e-15):
+    """``str(nonlinear_stability(eps, mu))`` of one trusted, linearly stable point: the same
+    kernels on the same numbers, without the validation, and with the two sides of the 1:4 and
+    1:3 tests computed once for both (:func:`kapitza.analyze`, where the scalar twin declines)."""
+    eps, mu = np.asarray(eps, float), np.asarray(mu, float)
+    nf, _ = _normal_form(eps, mu)
+    h = np.maximum(tol, 4.0 * np.finfo(float).eps) * eps
+    sides = [_floquet(eps - h, mu), _floquet(eps + h, mu)]
+    on = []
+    for target in (0.5 * PI, 2.0 * PI / 3.0):  # as _on_curve
+        d_m, d_p = (np.where(f[3], _w_of(f[2], f[4]) - target, np.nan) for f in sides)
+        with np.errstate(invalid="ignore"):
+            crossed = (d_m * d_p) <= 0.0
+        on.append(crossed | (np.abs(nf.w - target) <= 1e-14))
+    code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol, on[0], on[1])
+    return _sentence(KINDS[int(code)], nf.rotation_number, 2.0 * np.cos(nf.w), nf.twist, nf.resonant_4)
 
 
 @_v.shapes_named
