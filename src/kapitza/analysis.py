@@ -6,14 +6,16 @@ for the physical ``(T, A)`` of a rod ``l`` under gravity ``g``.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, asdict
 
 import numpy as np
 
+from . import _point
 from . import _validate as _v
 from ._display import Summary, multipliers
 from .parameters import G_EARTH, to_arnold
-from .normal_form import nonlinear_stability
+from .normal_form import _sentence_of, nonlinear_stability
 from .propagation import _floquet, _multipliers
 from .zones import amplitude_edges, period_edges, stability_margin
 
@@ -314,6 +316,16 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     ValueError
         If neither or both parameter sets are given, or a value is out of range.
     """
+    return _analyze(eps, mu, T, A, l, g, drive, damping, zeta)
+
+
+def _analyze(eps, mu, T, A, l, g, drive, damping, zeta, pointwise=True):
+    """:func:`analyze`; ``pointwise=False`` keeps every part on the array kernels (the path the
+    scalar twins are tested and timed against)."""
+    if pointwise and drive is None and zeta is None and _plain_zero(damping):
+        rep = _plain_square(eps, mu, T, A, l, g)
+        if rep is not None:
+            return rep
     for name, v in (("eps", eps), ("mu", mu), ("T", T), ("A", A), ("l", l), ("g", g), ("damping", damping),
                     ("zeta", zeta)):
         try:
@@ -348,46 +360,105 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     general, _ = _v.general_drive(drive, zeta_v)
     if general is not None:
         return _general_report(eps, mu, general, zeta_v, physical, T, A, l, g, c)
-    tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in _floquet(eps, mu))
-    mult = _multipliers(tau, growth, theta, stable)
-    with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double
-        trace = float(2.0 * tau)
-    m = stability_margin(eps, mu)
-    stable = bool(stable)
+    return _square_report(eps, mu, physical, T, A, l, g, pointwise)
+
+
+def _plain(v):
+    """``v`` as a float if it is a Python number with ``0 < v < inf``, else None."""
+    if type(v) is float:
+        return v if 0.0 < v < math.inf else None
+    if type(v) is int and 0 < v < 2**53:
+        return float(v)
+    return None
+
+
+def _plain_zero(v):
+    return (type(v) is float or type(v) is int) and v == 0
+
+
+def _plain_square(eps, mu, T, A, l, g):
+    """The square wave's report when every argument is a plain Python number that the validation
+    would pass as it is (the common call), or None: then the full validation runs. Saves the
+    dozen array conversions of the validation, a good part of a one-point answer."""
+    if T is None and A is None:
+        e, m = _plain(eps), _plain(mu)
+        if e is None or m is None or type(l) not in (float, int) or type(g) not in (float, int):
+            return None
+        return _square_report(e, m, False, None, None, l, g)
+    if eps is not None or mu is not None:
+        return None
+    T, A, l, g = _plain(T), _plain(A), _plain(l), _plain(g)
+    if T is None or A is None or l is None or g is None or not math.isfinite(l / g):
+        return None
+    e, m = T * math.sqrt(A / (8.0 * l)), math.sqrt(g / A)  # kapitza.to_arnold, where it needs no split
+    if not (0.0 < e < math.inf and 0.0 < m < math.inf):
+        return None
+    return _square_report(e, m, True, T, A, l, g)
+
+
+def _square_report(eps, mu, physical, T, A, l, g, pointwise=True):
+    """:func:`analyze` for the paper's undamped square wave (validated floats).
+
+    With ``pointwise`` each part is first asked of its scalar twin in :mod:`kapitza._point`
+    (Python floats: numpy's overhead per call on one-element arrays was most of the time); the
+    array kernels answer wherever a twin declines -- within the rounding bound of an edge, where
+    the verdict is decided in extended precision, or near a threshold of the nonlinear verdict --
+    and everywhere with ``pointwise=False``, the path the twins are tested against.
+    """
+    fl = _point.floquet(eps, mu) if pointwise else None
+    if fl is None:
+        tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in _floquet(eps, mu))
+        mult = tuple(complex(z) for z in _multipliers(tau, growth, theta, stable))
+        tau, growth, theta, stable, zone = float(tau), float(growth), float(theta), bool(stable), int(zone)
+    else:
+        tau, growth, theta, stable, zone = fl
+        mult = _point.multipliers(tau, growth, theta, stable)
+    mg = _point.stability_margin(eps, mu) if pointwise else None
+    if mg is None:
+        m = stability_margin(eps, mu)
+        mg = (bool(m.stable), int(m.zone), float(m.eps_lo), float(m.eps_hi), float(m.margin))
+    _, nz, eps_lo, eps_hi, margin = mg
     if mu >= 1.0:
         verdict = "always unstable: no elliptic phase (A <= g)"
     elif stable:
-        verdict = f"stable (zone {int(zone)})"
+        verdict = f"stable (zone {zone})"
     else:
-        verdict = _unstable_verdict(tau, int(m.zone), eps, float(m.eps_lo))
+        verdict = _unstable_verdict(tau, nz, eps, eps_lo)
     phys = {}
     if physical:
         phys = dict(T=T, A=A, l=l, g=g)
-        nz = int(m.zone)
         stroke = 0.25 * A * T * T
         phys["stroke"] = stroke
         if nz >= 0:
-            Tlo, Thi = period_edges(A, nz, l, g)
-            Alo, Ahi = amplitude_edges(T, nz, l, g)
-            phys.update(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi),
-                        stroke_lo=float(stroke * Alo / A), stroke_hi=float(stroke * Ahi / A))
-            phys.update(_rig_margins(eps, mu, nz, None, 0.0, T, A, stroke))
+            rig = _point.rig_intervals(eps, mu, nz, T, A, l, g) if pointwise else None
+            if rig is None:
+                Tlo, Thi = period_edges(A, nz, l, g)
+                Alo, Ahi = amplitude_edges(T, nz, l, g)
+                rig = dict(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi),
+                           stroke_lo=float(stroke * Alo / A), stroke_hi=float(stroke * Ahi / A))
+                rig.update(_rig_margins(eps, mu, nz, None, 0.0, T, A, stroke))
+            phys.update(rig)
+    nonlinear = None
+    if stable:
+        nonlinear = _point.nonlinear(eps, mu, theta, zone, exact_theta=fl is None) if pointwise else None
+        if nonlinear is None:
+            nonlinear = _sentence_of(eps, mu) if pointwise else str(nonlinear_stability(eps, mu))
     return StabilityReport(
         eps=float(eps),
         mu=float(mu),
         stable=stable,
         verdict=verdict,
-        zone=int(zone),
-        nearest_zone=int(m.zone),
-        trace=trace,
-        multipliers=tuple(complex(z) for z in mult),
-        growth=float(growth),
-        rotation_number=float(theta / (2.0 * np.pi)),
-        eps_lo=float(m.eps_lo),
-        eps_hi=float(m.eps_hi),
-        margin=float(m.margin),
-        trace_margin=float(1.0 - abs(tau)),
-        nonlinear=str(nonlinear_stability(eps, mu)) if stable else None,
+        zone=zone,
+        nearest_zone=nz,
+        trace=2.0 * tau,
+        multipliers=mult,
+        growth=growth,
+        rotation_number=theta / (2.0 * np.pi),
+        eps_lo=eps_lo,
+        eps_hi=eps_hi,
+        margin=margin,
+        trace_margin=1.0 - abs(tau),
+        nonlinear=nonlinear,
         **phys,
     )
 

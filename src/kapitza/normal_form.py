@@ -92,13 +92,31 @@ def _ser_tables():
 _SER = _ser_tables()
 
 
+_SER_LISTS = {name: coef.tolist() for name, coef in _SER.items()}
+
+
+def _polyval(name, k):
+    """``np.polyval(_SER[name], k)``. A few points are summed in Python floats (the same
+    multiply then add, so the same bits) to spare the 32 array calls per series at one point."""
+    if k.size > 8:
+        return np.polyval(_SER[name], k)
+    coef = _SER_LISTS[name]
+    vals = []
+    for x in k.ravel().tolist():
+        y = 0.0
+        for c in coef:
+            y = y * x + c
+        vals.append(y)
+    return np.array(vals, dtype=float).reshape(k.shape)
+
+
 def _entire(k):
     """``c, sh, f1, f2, f3`` of ``k`` (any sign): ``c = cosh sqrt k``, ``sh = sinh(sqrt k)/sqrt k``,
     ``f1 = (c - sh)/k``, ``f2 = (1 - sh c)/k``, ``f3 = (3 f1 - sh^3)/k``."""
     k = np.asarray(k, float)
     small = np.abs(k) <= _K_SERIES
     ks = np.where(small, k, 0.0)
-    out = {name: np.polyval(coef, ks) for name, coef in _SER.items()}
+    out = {name: _polyval(name, ks) for name in _SER}
     if not small.all():
         kb = np.where(small, 2.0 * _K_SERIES, k)
         r = np.sqrt(np.abs(kb))
@@ -513,6 +531,21 @@ def averaged_twist(eps, mu):
 KINDS = ("moser", "moser 1:3", "markeev stable", "markeev unstable", "undecided")
 
 
+def _sentence(kind, rho, tr, tau, c4) -> str:
+    """The verdict of one point in words, with its numbers (``kind`` one of :data:`KINDS`)."""
+    nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g} per rad^2"
+    if kind == "moser":
+        return f"Lyapunov stable (Moser's twist theorem: twist != 0, not at 1:4); {nums}"
+    if kind == "moser 1:3":
+        return (f"Lyapunov stable (Moser's twist theorem at 1:3: the odd map has no zbar^2 term, "
+                f"twist != 0); {nums}")
+    if kind == "markeev stable":
+        return f"Lyapunov stable at 1:4 (Markeev: |tau| > |c4| = {c4:.10g}); {nums}"
+    if kind == "markeev unstable":
+        return f"unstable at 1:4 (Markeev: |tau| < |c4| = {c4:.10g}); {nums}"
+    return f"undecided at this order (twist tau = 0, or |tau| = |c4| at 1:4); {nums}, |c4| = {c4:.10g}"
+
+
 @dataclass(frozen=True)
 class NonlinearVerdict:
     """Nonlinear (Lyapunov) stability of the upright, with the numbers behind it (arrays).
@@ -557,18 +590,7 @@ class NonlinearVerdict:
         out = []
         for e, m, k, rho, tr, tau, c4 in zip(*(np.ravel(a) for a in (
                 self.eps, self.mu, self.kind, self.rotation_number, self.trace, self.twist, self.resonant_4))):
-            nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g} per rad^2"
-            if k == "moser":
-                s = f"Lyapunov stable (Moser's twist theorem: twist != 0, not at 1:4); {nums}"
-            elif k == "moser 1:3":
-                s = (f"Lyapunov stable (Moser's twist theorem at 1:3: the odd map has no zbar^2 term, "
-                     f"twist != 0); {nums}")
-            elif k == "markeev stable":
-                s = f"Lyapunov stable at 1:4 (Markeev: |tau| > |c4| = {c4:.10g}); {nums}"
-            elif k == "markeev unstable":
-                s = f"unstable at 1:4 (Markeev: |tau| < |c4| = {c4:.10g}); {nums}"
-            else:
-                s = f"undecided at this order (twist tau = 0, or |tau| = |c4| at 1:4); {nums}, |c4| = {c4:.10g}"
+            s = _sentence(k, rho, tr, tau, c4)
             out.append(f"eps = {e:.10g}, mu = {m:.10g}: {s}" if np.size(self.eps) > 1 else s)
         return out
 
@@ -599,6 +621,24 @@ def _verdict_kinds(w, beta, coef, tol, on4=None, on3=None):
     code = np.where(on4, np.where(np.abs(beta) > c03, 2, 3), code)
     code = np.where(zero_twist | tie, 4, code)
     return code
+
+
+def _sentence_of(eps, mu, tol=1e-15):
+    """``str(nonlinear_stability(eps, mu))`` of one trusted, linearly stable point: the same
+    kernels on the same numbers, without the validation, and with the two sides of the 1:4 and
+    1:3 tests computed once for both (:func:`kapitza.analyze`, where the scalar twin declines)."""
+    eps, mu = np.asarray(eps, float), np.asarray(mu, float)
+    nf, _ = _normal_form(eps, mu)
+    h = np.maximum(tol, 4.0 * np.finfo(float).eps) * eps
+    sides = [_floquet(eps - h, mu), _floquet(eps + h, mu)]
+    on = []
+    for target in (0.5 * PI, 2.0 * PI / 3.0):  # as _on_curve
+        d_m, d_p = (np.where(f[3], _w_of(f[2], f[4]) - target, np.nan) for f in sides)
+        with np.errstate(invalid="ignore"):
+            crossed = (d_m * d_p) <= 0.0
+        on.append(crossed | (np.abs(nf.w - target) <= 1e-14))
+    code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol, on[0], on[1])
+    return _sentence(KINDS[int(code)], nf.rotation_number, 2.0 * np.cos(nf.w), nf.twist, nf.resonant_4)
 
 
 @_v.shapes_named
