@@ -239,3 +239,12 @@ def test_paper_build_starts_no_more_processes_than_cpus(tmp_path, monkeypatch):
     assert all(w <= V.cpus() for w in seen) and (seen or V.cpus() == 1)
     with pytest.raises(ValueError, match="workers"):
         B.build_paper(tmp_path, workers=10**6)
+
+
+def test_far_out_rigs_give_no_warning():
+    # l / g overflowed in the damping ratio (0 * inf), and 2 g T^2 / l underflowed in amplitude_edges
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"2 g T\^2 / l"):
+            K.analyze(T=0.15, A=100.0, l=1e300, g=1e-300)
+        assert K.analyze(T=1e-200, A=1e250, l=1e-100).stable

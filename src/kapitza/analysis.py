@@ -353,7 +353,7 @@ def _analyze(eps, mu, T, A, l, g, drive, damping, zeta, pointwise=True):
         eps, mu = (float(v) for v in to_arnold(T, A, l, g))
     if physical:
         c = _v.one("damping", _v.nonnegative("damping", damping))
-        zeta_v = 0.5 * c * np.sqrt(l / g)
+        zeta_v = 0.5 * c * (np.sqrt(l) / np.sqrt(g)) if c > 0 else 0.0  # l / g may overflow
     else:
         c = None
         zeta_v = _v.one("zeta", _v.nonnegative("zeta", 0.0 if zeta is None else zeta))

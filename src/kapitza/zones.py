@@ -671,6 +671,23 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
 
 
 @_v.shapes_named
+def _kappa(T, l, g):
+    """``2 g T^2 / l`` (``x^2 - u^2``), formed so that it stays a double where it is one: ``T^2``
+    alone underflows at ``T = 1e-200`` while ``2 g (T / l) T`` need not. Refused by name where it
+    is not a positive double."""
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        k = 2.0 * g * T * T / l
+        alt = 2.0 * g * (T / l) * T
+        k = np.where((k > 0.0) & np.isfinite(k), k, alt)
+    bad = ~((k > 0.0) & np.isfinite(k))
+    if np.any(bad):
+        i = np.flatnonzero(bad.ravel())[0]
+        raise _v.KapitzaValueError(
+            f"T, l and g must give a positive, finite 2 g T^2 / l (a double); got T = {float(T.flat[i])!r}, "
+            f"l = {float(np.broadcast_to(l, T.shape).flat[i])!r}, g = {float(np.broadcast_to(g, T.shape).flat[i])!r}")
+    return k
+
+
 def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Amplitudes ``A_lo < A_hi`` bounding stability zone ``n`` for fixed half-period ``T``.
 
@@ -711,7 +728,7 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
         hi = np.array([p[1] for p in pairs]).reshape(T.shape)
         return _v.scalars(np.asarray(lo), np.asarray(hi))
     T, n, l, g = np.broadcast_arrays(T, n, l, g)
-    kappa = 2.0 * g * T * T / l
+    kappa = _kappa(T, l, g)
 
     # both edges in one solve: index 0 of the stacked arrays is the lower edge, 1 the upper
     upper = np.stack([np.zeros(n.shape, bool), np.ones(n.shape, bool)])
