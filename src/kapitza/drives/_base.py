@@ -60,8 +60,10 @@ class Floquet0:
 
 
 def log_cosh(k):
-    """log cosh k for k >= 0 without overflow."""
-    return k + np.log1p(np.exp(-2.0 * k)) - LOG2
+    """log cosh k for k >= 0 without overflow, to a few ulp relative (``log1p(2 sinh^2(k/2))`` below 1)."""
+    with np.errstate(over="ignore"):
+        small = np.log1p(2.0 * np.sinh(0.5 * np.minimum(k, 1.0)) ** 2)
+    return np.where(k < 1.0, small, k + np.log1p(np.exp(-2.0 * k)) - LOG2)
 
 
 def acosh_from_log(log_tau, tau):
@@ -109,6 +111,12 @@ class Drive:
     def _log_tau0(self, eps, mu):
         """``log|tr M / 2|`` of the undamped drive (a drive may give it more cheaply)."""
         return self._floquet0(eps, mu, certify=False).log_tau
+
+    def _tau_minus_one0(self, eps, mu):
+        """``tr M / 2 - 1`` of the undamped drive free of cancellation where the phases are short
+        (near the lower edge of zone 0, where ``tr M / 2 - 1`` is far smaller than 1); NaN
+        where the drive does not provide it."""
+        return np.full(np.shape(eps), np.nan)
 
     # ------------------------------------------------------------ descriptions
     def describe(self) -> str:
@@ -238,9 +246,11 @@ class Drive:
         if not damped:
             return f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)
         kappa = 2.0 * SQRT8 * zeta * mu * eps
-        # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow).
+        # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow), or
+        # without cancellation where tr M_phi / 2 is near 1 (_damped_excess).
         with np.errstate(divide="ignore"):
-            stable = (f.zone >= 0) | (f.log_tau < log_cosh(kappa))
+            G = _damped_excess(self, eps, mu_c, kappa, f.log_tau, f.zone < 0)
+            stable = (f.zone >= 0) | (G < 0)
         growth = f.growth - kappa
         zone = np.where(f.zone >= 0, f.zone, -1)
         gap = stable & (f.zone < 0)
@@ -268,8 +278,36 @@ class Drive:
 def _excess(drive, eps, mu, zeta):
     """G = log|tau_phi| - log cosh(kappa): the damped upright is stable iff G < 0 (or on a zone)."""
     mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+    kappa = 2.0 * SQRT8 * zeta * mu * eps
     # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
-    return drive._log_tau0(eps, mu_c) - log_cosh(2.0 * SQRT8 * zeta * mu * eps)
+    return _damped_excess(drive, eps, mu_c, kappa, drive._log_tau0(eps, mu_c))
+
+
+def _damped_excess(drive, eps, mu_c, kappa, log_tau, where=None):
+    """``G = log|tau_phi| - log cosh(kappa)`` from ``log|tau_phi|``, re-formed without cancellation
+    where ``tau_phi`` is near 1 and the drive gives ``tau_phi - 1`` accurately (``where``: rows
+    that may need it; all by default).
+
+    Below zone 0 at small ``mu`` both logarithms are of order ``eps^2 mu^2`` and ``G`` of order
+    ``eps^4``: there ``G = log1p((y - 2 sinh^2(kappa/2)) / cosh(kappa))`` with ``y = tau_phi - 1``
+    from :meth:`Drive._tau_minus_one0`, whose terms are of the size of the result (``docs/drives.md``).
+    """
+    with np.errstate(divide="ignore"):
+        G = log_tau - log_cosh(kappa)
+    near = (log_tau < 0.5) & (kappa < 1.0)
+    if where is not None:
+        near &= where
+    if not near.any():
+        return G
+    idx = np.flatnonzero(near)
+    shape = np.shape(G)
+    y = drive._tau_minus_one0(np.ravel(eps)[idx], np.ravel(mu_c)[idx])
+    ok = np.isfinite(y) & (y > -1.0)
+    k = np.ravel(kappa)[idx][ok]
+    sh2 = 2.0 * np.sinh(0.5 * k) ** 2
+    G = np.array(G, dtype=float).reshape(-1)
+    G[idx[ok]] = np.log1p((y[ok] - sh2) / (1.0 + sh2))
+    return G.reshape(shape)
 
 
 def _bisect(drive, mu, zeta, lo, hi, rising):
