@@ -422,7 +422,12 @@ def _step_series(x):
 
 
 def _tau_minus_one(eps, mu, levels, durations):
-    """``tr M / 2 - 1`` free of cancellation, for phases of moderate size (``sum r <~ 40``).
+    """``tr M / 2 - 1`` free of cancellation (see :func:`_tau_minus_one_scaled`)."""
+    return eps * eps * _tau_minus_one_scaled(eps, mu, levels, durations)
+
+
+def _tau_minus_one_scaled(eps, mu, levels, durations):
+    """``(tr M / 2 - 1) / eps^2`` free of cancellation, for phases of moderate size (``sum r <~ 40``).
 
     Near ``eps, mu -> 0`` (Kapitza's limit, the lower edge of zone 0) ``tr M - 2`` is of order
     ``a mu^2`` and ``a^2`` (``a = 8 eps^2``) while the product's entries carry terms of order
@@ -436,6 +441,7 @@ def _tau_minus_one(eps, mu, levels, durations):
     ``I + D`` carries ``tr D`` by its own recurrence ``tr D' = tr F + tr D + tr(F D)``, whose
     terms are all of order ``a mu^2`` or ``a^2``. The result is accurate to a few ulp relative
     to ``a mu^2 + a^2`` (``tests/test_drive_edges_oracle.py``), not merely to ``a`` or to 1.
+    Every entry but ``D_12`` is carried divided by ``a`` (no underflow for ``mu`` down to 1e-150).
     """
     W0, W1, dW, rest = _frame(tuple(levels), tuple(durations))
     a = 8.0 * eps * eps
@@ -445,20 +451,21 @@ def _tau_minus_one(eps, mu, levels, durations):
         ms = m + s
         x = a * ms * h * h
         S1, S2, C1, C2 = _step_series(x)
-        e11 = x * C1
+        # the step I + F in the sheared frame; F_11, F_22, F_21 and tr F divided by a
+        e11 = ms * h * h * C1
         e12 = h * S1
-        f11 = e11 + (a * w0) * e12
-        f22 = e11 - (a * w1) * e12
-        f21 = a * (m * h * S1 + s * h * x * S2 + rs - dw * e11 - a * (w0 * w1) * e12)
-        trF = a * (m * h * h + rs * h * S1 + x * h * h * (2.0 * ms * C2 - s * S2))
+        f11 = e11 + w0 * e12
+        f22 = e11 - w1 * e12
+        f21 = m * h * S1 + s * h * x * S2 + rs - dw * x * C1 - a * (w0 * w1) * e12
+        trF = m * h * h + rs * h * S1 + x * h * h * (2.0 * ms * C2 - s * S2)
         if D is None:
             D = (f11, e12, f21, f22, trF)
             continue
-        d11, d12, d21, d22, t = D
-        D = (f11 + d11 + f11 * d11 + e12 * d21, e12 + d12 + f11 * d12 + e12 * d22,
-             f21 + d21 + f21 * d11 + f22 * d21, f22 + d22 + f21 * d12 + f22 * d22,
-             trF + t + (f11 * d11 + f22 * d22) + (e12 * d21 + f21 * d12))
-    return 0.5 * D[4]
+        d11, d12, d21, d22, t = D  # D_11, D_21, D_22, tr D over a; D_12 itself
+        D = (f11 + d11 + a * (f11 * d11) + e12 * d21, e12 + d12 + a * (f11 * d12 + e12 * d22),
+             f21 + d21 + a * (f21 * d11 + f22 * d21), f22 + d22 + f21 * d12 + a * (f22 * d22),
+             trF + t + a * (f11 * d11 + f22 * d22) + (e12 * d21 + f21 * d12))
+    return 4.0 * D[4]  # tr D / 2 / eps^2 = (a / 2) (tr D / a) / eps^2
 
 
 def _illinois(f, a, b, fa, fb, iters=60, enough=None):
@@ -592,9 +599,11 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     m = int(np.ceil(np.max(np.where(has, (g_b - g_a) * rate_s / PI, 0.0)) * per_turn)) + 2
     grid = g_a[:, None] + (g_b - g_a)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
     # eps = 0 is the trivial root (M = I); start just above it, where every drive is unstable
-    # (the mean stiffness 8 eps^2 mu^2 > 0 repels) and tr M / 2 - 1 > 0 is formed accurately.
+    # (the mean stiffness 8 eps^2 mu^2 > 0 repels) and tr M / 2 - 1 > 0 is formed accurately:
+    # far below the averaging edge mu / sqrt(8 <V^2>), near which zone 0 begins as mu -> 0.
     from0 = g_a == 0.0
-    grid[:, 0] = np.where(from0, 1e-3 * grid[:, 1], grid[:, 0])
+    eps_avg = mu / np.sqrt(8.0 * drive._mean_square_velocity)
+    grid[:, 0] = np.where(from0, np.minimum(1e-3 * grid[:, 1], 1e-2 * eps_avg), grid[:, 0])
     R = np.broadcast_to(np.arange(mu.size)[:, None], grid.shape)
     F, th = _sample(drive, grid, np.broadcast_to(mu[:, None], grid.shape))
     A1 = np.arcsinh(1.0)
@@ -642,7 +651,7 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
 
         def near(x, m):
             # (tr M / 2 - 1) / eps^2: nearly linear in eps^2 from eps = 0 to the edge
-            return _tau_minus_one(x, m, levels, durations) / (x * x)
+            return _tau_minus_one_scaled(x, m, levels, durations)
 
         def f(x, live):
             out = np.zeros(x.shape)
