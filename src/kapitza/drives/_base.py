@@ -249,7 +249,7 @@ class Drive:
         # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow), or
         # without cancellation where tr M_phi / 2 is near 1 (_damped_excess).
         with np.errstate(divide="ignore"):
-            G = _damped_excess(self, eps, mu_c, kappa, f.log_tau, f.zone < 0)
+            G = _damped_excess(self, eps, mu_c, kappa, f.log_tau, f.zone < 0).reshape(eps.shape)
             stable = (f.zone >= 0) | (G < 0)
         growth = f.growth - kappa
         zone = np.where(f.zone >= 0, f.zone, -1)
@@ -277,37 +277,49 @@ class Drive:
 # ---------------------------------------------------------------- damped edges
 def _excess(drive, eps, mu, zeta):
     """G = log|tau_phi| - log cosh(kappa): the damped upright is stable iff G < 0 (or on a zone)."""
+    eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float))
+    shape = eps.shape
+    eps, mu, zeta = eps.reshape(-1), mu.reshape(-1), zeta.reshape(-1)
     mu_c = mu * np.sqrt(1.0 + zeta * zeta)
     kappa = 2.0 * SQRT8 * zeta * mu * eps
-    # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
-    return _damped_excess(drive, eps, mu_c, kappa, drive._log_tau0(eps, mu_c))
+    # where the phases are short, tau_phi - 1 itself (no product needed); elsewhere log|tau_phi|
+    G = _damped_excess(drive, eps, mu_c, kappa)
+    rest = np.isnan(G)
+    if rest.any():
+        # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
+        G[rest] = drive._log_tau0(eps[rest], mu_c[rest]) - log_cosh(kappa[rest])
+    return G.reshape(shape)
 
 
-def _damped_excess(drive, eps, mu_c, kappa, log_tau, where=None):
-    """``G = log|tau_phi| - log cosh(kappa)`` from ``log|tau_phi|``, re-formed without cancellation
-    where ``tau_phi`` is near 1 and the drive gives ``tau_phi - 1`` accurately (``where``: rows
-    that may need it; all by default).
+def _damped_excess(drive, eps, mu_c, kappa, log_tau=None, where=None):
+    """``G = log|tau_phi| - log cosh(kappa)``, without cancellation where ``tau_phi > 0`` and the
+    drive gives ``y = tau_phi - 1`` accurately (short phases): there
+    ``G = log1p((y - 2 sinh^2(kappa/2)) / cosh(kappa))``, whose terms are of the size of the result.
 
     Below zone 0 at small ``mu`` both logarithms are of order ``eps^2 mu^2`` and ``G`` of order
-    ``eps^4``: there ``G = log1p((y - 2 sinh^2(kappa/2)) / cosh(kappa))`` with ``y = tau_phi - 1``
-    from :meth:`Drive._tau_minus_one0`, whose terms are of the size of the result (``docs/drives.md``).
+    ``eps^4`` (``docs/drives.md``, section 3). With ``log_tau`` given, ``G`` is formed from it
+    except at the rows (of ``where``, all by default) with ``tau_phi`` near 1; without it, rows
+    the drive cannot form are NaN. Flat arrays.
     """
-    with np.errstate(divide="ignore"):
-        G = log_tau - log_cosh(kappa)
-    near = (log_tau < 0.5) & (kappa < 1.0)
+    eps, mu_c, kappa = (np.asarray(v, float).reshape(-1) for v in np.broadcast_arrays(eps, mu_c, kappa))
+    if log_tau is None:
+        G = np.full(eps.shape, np.nan)
+        near = kappa < 1.0
+    else:
+        log_tau = np.asarray(log_tau, float).reshape(-1)
+        with np.errstate(divide="ignore"):
+            G = log_tau - log_cosh(kappa)
+        near = (log_tau < 0.5) & (kappa < 1.0)
     if where is not None:
-        near &= where
+        near &= np.asarray(where).reshape(-1)
     if not near.any():
         return G
     idx = np.flatnonzero(near)
-    shape = np.shape(G)
-    y = drive._tau_minus_one0(np.ravel(eps)[idx], np.ravel(mu_c)[idx])
+    y = drive._tau_minus_one0(eps[idx], mu_c[idx])
     ok = np.isfinite(y) & (y > -1.0)
-    k = np.ravel(kappa)[idx][ok]
-    sh2 = 2.0 * np.sinh(0.5 * k) ** 2
-    G = np.array(G, dtype=float).reshape(-1)
+    sh2 = 2.0 * np.sinh(0.5 * kappa[idx[ok]]) ** 2
     G[idx[ok]] = np.log1p((y[ok] - sh2) / (1.0 + sh2))
-    return G.reshape(shape)
+    return G
 
 
 def _bisect(drive, mu, zeta, lo, hi, rising):

@@ -404,9 +404,13 @@ def _step_series(x):
     """
     small = np.abs(x) <= 2.0
     xs = np.where(small, x, 0.0)
-    S2 = np.full(x.shape, _S2[-1])
-    C2 = np.full(x.shape, _C2[-1])
-    for cs, cc in zip(_S2[-2::-1], _C2[-2::-1]):
+    # terms up to x^n with n the first where |x|^(n+1) / (2n + 5)! < 2^-60 (13 at |x| = 2)
+    big_x = float(np.max(np.abs(xs), initial=0.0))
+    n = next((k for k, c in enumerate(_C2) if big_x ** (k + 1) * c * (1.0 / ((2 * k + 5) * (2 * k + 6)))
+              < 2.0 ** -60), len(_C2) - 1)
+    S2 = np.full(x.shape, _S2[n])
+    C2 = np.full(x.shape, _C2[n])
+    for cs, cc in zip(_S2[n - 1::-1], _C2[n - 1::-1]):
         S2 = S2 * xs + cs
         C2 = C2 * xs + cc
     if not small.all():
