@@ -20,7 +20,8 @@ from kapitza.drives import parse_drive
 EDGE_RTOL = 1e-14
 DRIVES = ["rectangular:0.3", "rectangular:0.7", "steps:2,-1,1,-1:0.2,0.3,0.2,0.3", "square"]
 ZETAS = [0.0, 0.05, 0.1, 1.0]
-MUS = np.geomspace(1e-3, 0.9, 7)
+# log-spaced from 1e-3, and about where the solver changes form (mu^2 = max|level| / 5)
+MUS = np.sort(np.r_[np.geomspace(1e-3, 0.9, 7), 0.44, 0.46, 0.55, 0.62])
 DPS = 50
 
 

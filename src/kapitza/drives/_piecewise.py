@@ -298,7 +298,7 @@ class PiecewiseConstant(Drive):
         rsum = eps * (_elliptic_rate(mu, self.levels, self._durations)
                       + _hyperbolic_rate(mu, self.levels, self._durations))
         out = np.full(eps.shape, np.nan)
-        short = rsum < 3.0
+        short = (rsum < 3.0) & _cancels(mu, self.levels)
         if short.any():
             out[short] = _tau_minus_one(eps[short], mu[short], self.levels, self._durations)
         return out
@@ -470,6 +470,12 @@ def _tau_minus_one_scaled(eps, mu, levels, durations):
              f21 + d21 + a * (f21 * d11 + f22 * d21), f22 + d22 + f21 * d12 + a * (f22 * d22),
              trF + t + a * (f11 * d11 + f22 * d22) + (e12 * d21 + f21 * d12))
     return 4.0 * D[4]  # tr D / 2 / eps^2 = (a / 2) (tr D / a) / eps^2
+
+
+def _cancels(mu, levels):
+    """Where ``tr M / 2 - 1`` near zone 0's lower edge must be formed by :func:`_tau_minus_one`:
+    its terms of order ``8 eps^2 |s|`` cancel to ``8 eps^2 mu^2`` (lose ``max|s| / mu^2``)."""
+    return mu * mu < 0.2 * max(abs(s) for s in levels)
 
 
 def _illinois(f, a, b, fa, fb, iters=60, enough=None):
@@ -661,8 +667,10 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
             out = np.zeros(x.shape)
             use = live & near_one
             rest = live & ~near_one
-            out[rest] = _asinh_tau(x[rest], mr[rest], levels, durations) - target[rest]
-            out[use] = near(x[use], mr[use])
+            if rest.any():
+                out[rest] = _asinh_tau(x[rest], mr[rest], levels, durations) - target[rest]
+            if use.any():
+                out[use] = near(x[use], mr[use])
             return out
 
         fa, fb = fa - target, fb - target
@@ -708,7 +716,7 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     rsum = _elliptic_rate(mu[rows], levels, durations) + _hyperbolic_rate(mu[rows], levels, durations)
     # the lower edge of zone 0 (and of any even zone while the phases are short): on
     # tr M / 2 - 1 formed without cancellation (its terms are of order a mu^2 and a^2, a = 8 eps^2)
-    near_one = (tl > 0) & (((zone == 0) & (rsum * z < 40.0)) | (rsum * z < 3.0))
+    near_one = (tl > 0) & (((zone == 0) & _cancels(mu[rows], levels) & (rsum * z < 40.0)) | (rsum * z < 3.0))
     a, b, fa, fb = solve(rows, xl, z, FL, Fz, tl, near_one)
     lo = _unstable_end(a, b, fa, fb, FL - tl)
     a, b, fa, fb = solve(rows, z, xr, Fz, FR, tr_)
