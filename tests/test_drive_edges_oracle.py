@@ -8,7 +8,8 @@ in mpmath, from the drive's own double levels and fractions) and solves
 
 Near ``mu -> 0`` the lower edge is where ``tr M - 2`` of order ``eps^2 mu^2`` balances terms of
 order ``eps^4`` while the monodromy's entries are of order 1 and ``eps^2``: the sweep goes down to
-``mu = 1e-3`` where a product formed without care loses 1e-7 relative.
+``mu = 1e-3`` where a product formed without care loses 1e-7 relative. The sine drive's lower
+edge is checked against Hill's determinant in mpmath (with damping it lost 1e-6 there too).
 """
 import mpmath as mp
 import numpy as np
@@ -120,3 +121,47 @@ def test_zone0_edges_and_verdicts_match_the_reference(text):
             st_inside = K.is_stable(np.array(inside), m, drive=d, zeta=zeta)
             assert not st_below.any(), (text, zeta, m[st_below])
             assert st_inside.all(), (text, zeta, m[~st_inside])
+
+
+def _sine_excess(eps, mu, zeta, R=40):
+    """``tau_phi - cosh(kappa)`` of the sine drive from Hill's determinant, in mpmath.
+
+    Mathieu's ``y'' + (a - 2 q cos 2z) y = 0`` with ``q = 16 eps^2 / pi^2``,
+    ``a = -2 mu^2 (1 + zeta^2) q`` (the ``phi``-system); ``tau_phi = 1 + 2 Delta(0) sinh^2(pi sqrt(-a)/2)``,
+    ``Delta(0)`` the continuant of ``xi_r = q / (4 r^2 - a)`` over ``|r| <= R`` times the far tails
+    ``exp(-2 sum_{r > R} xi_r xi_{r-1})`` (the neglected terms are of order ``xi^4``).
+    """
+    eps, mu, zeta = mp.mpf(eps), mp.mpf(mu), mp.mpf(zeta)
+    q = 16 * eps**2 / mp.pi**2
+    a = -2 * mu**2 * (1 + zeta**2) * q
+
+    def xi(r):
+        return q / (4 * mp.mpf(r) ** 2 - a)
+
+    D_prev, D = mp.mpf(1), mp.mpf(1)
+    for r in range(-R + 1, R + 1):
+        D, D_prev = D - xi(r) * xi(r - 1) * D_prev, D
+    D = D * mp.exp(-2 * mp.nsum(lambda r: xi(r) * xi(r - 1), [R + 1, mp.inf]))
+    tau = 1 + 2 * D * mp.sinh(mp.pi * mp.sqrt(-a) / 2) ** 2
+    return tau - mp.cosh(2 * mp.sqrt(8) * zeta * mu * eps)
+
+
+@pytest.mark.parametrize("zeta, mu", [(0.0, 1e-3), (0.1, 1e-3), (1.0, 0.01), (1.0, 0.3)])
+def test_sine_zone0_lower_edge_matches_hill(zeta, mu):
+    lo, _ = K.zone_edges(mu, 0, drive="sine", zeta=zeta)
+    with mp.workdps(40):
+        g = mp.mpf(float(lo))
+        a, b = g * (1 - mp.mpf("1e-9")), g * (1 + mp.mpf("1e-9"))
+        fa, fb = _sine_excess(a, mu, zeta), _sine_excess(b, mu, zeta)
+        assert fa * fb < 0
+        for _ in range(100):
+            m = (a * fb - b * fa) / (fb - fa)
+            fm = _sine_excess(m, mu, zeta)
+            if fm * fb < 0:
+                a, fa = b, fb
+            else:
+                fa = fa / 2
+            b, fb = m, fm
+            if abs(b - a) < mp.mpf(10) ** -25 * b:
+                break
+        assert float(abs(lo - b) / b) < EDGE_RTOL
