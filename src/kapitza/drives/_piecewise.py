@@ -293,6 +293,13 @@ class PiecewiseConstant(Drive):
     def _edges0(self, mu, n):
         return sampled_edges(self, mu, n)
 
+    def _log_tau0(self, eps, mu):
+        # the product alone: no rotation angle, no certification (the damped excess needs no more)
+        eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+        (a, _, _, d), L, _ = _product(_segments(eps.ravel(), mu.ravel(), self.levels, self._durations))
+        with np.errstate(divide="ignore"):
+            return (L + np.log(np.abs(0.5 * (a + d)))).reshape(eps.shape)
+
     def _tau_minus_one0(self, eps, mu):
         eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
         rsum = eps * (_elliptic_rate(mu, self.levels, self._durations)
