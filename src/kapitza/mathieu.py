@@ -321,8 +321,10 @@ def sine_zone_edges(mu, n):
 
 
 # ---------------------------------------------------------------- Floquet data (Hill)
-def _hill_half_trace(a, q):
-    """``(tau, log|tau|)`` of Mathieu's monodromy over z in [0, pi] for ``a < 0`` (Hill).
+def _hill_half_trace(a, q, minus_one=False):
+    """``(tau, log|tau|)`` of Mathieu's monodromy over z in [0, pi] for ``a < 0`` (Hill);
+    with ``minus_one``, ``tau - 1 = 2 Delta(0) sinh^2(pi sqrt(-a) / 2)`` itself (no 1 added and
+    taken away: accurate where ``tau`` is near 1).
 
     ``Delta(0)`` is the continuant of ``xi_r = q/(4 r^2 - a)``, ``r`` in Z, computed by the
     three-term recurrence over ``|r| <= R`` (``R = 200 + 4 sqrt q``) and the far tails as
@@ -363,6 +365,8 @@ def _hill_half_trace(a, q):
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         delta0 = D * np.exp(np.minimum(logs, 700.0))
         sh2 = np.sinh(x) ** 2
+        if minus_one:
+            return 2.0 * delta0 * sh2
         tau = 1.0 + 2.0 * delta0 * sh2
     with np.errstate(divide="ignore", invalid="ignore"):
         log_big = np.log(2.0 * np.abs(D)) + logs + 2.0 * x - 2.0 * np.log(2.0) + 2.0 * np.log1p(-np.exp(-2.0 * x))
@@ -452,6 +456,18 @@ def _sine_log_tau(eps, mu):
     out = np.empty(e.size)
     for i in range(0, e.size, 2048):
         out[i:i + 2048] = _hill_half_trace(-2.0 * m[i:i + 2048] ** 2 * q[i:i + 2048], q[i:i + 2048])[1]
+    return out.reshape(eps.shape)
+
+
+def _sine_tau_minus_one(eps, mu):
+    """``tr M / 2 - 1`` of the undamped sine drive over 2T, free of the cancellation of the 1
+    (Hill's determinant; non-finite where it overflows)."""
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    e, m = eps.ravel(), mu.ravel()
+    q = 16.0 * e * e / PI**2
+    out = np.empty(e.size)
+    for i in range(0, e.size, 2048):
+        out[i:i + 2048] = _hill_half_trace(-2.0 * m[i:i + 2048] ** 2 * q[i:i + 2048], q[i:i + 2048], minus_one=True)
     return out.reshape(eps.shape)
 
 

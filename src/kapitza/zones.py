@@ -322,7 +322,10 @@ def zone_edges(mu, n, drive=None, zeta=0.0):
         Zone index, ``n >= 0``; broadcasts with ``mu``.
     drive, zeta : optional
         As in :func:`is_stable`. For other drives and with damping the edges are found by
-        safeguarded root solves to about 1e-14 relative (``docs/drives.md``); NaN where the
+        safeguarded root solves to about 1e-14 relative, zone 0's lower edge included as
+        ``mu -> 0`` (Kapitza's regime, formed without cancellation; checked against a 50-digit
+        reference for ``mu`` in [1e-3, 0.9] in ``tests/test_drive_edges_oracle.py``;
+        ``docs/drives.md``); NaN where the
         drive has no such zone at this ``mu``; where damping has joined zones ``n`` and
         ``n + 1``, ``eps_hi`` of one is ``eps_lo`` of the other.
 

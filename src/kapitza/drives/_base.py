@@ -60,8 +60,10 @@ class Floquet0:
 
 
 def log_cosh(k):
-    """log cosh k for k >= 0 without overflow."""
-    return k + np.log1p(np.exp(-2.0 * k)) - LOG2
+    """log cosh k for k >= 0 without overflow, to a few ulp relative (``log1p(2 sinh^2(k/2))`` below 1)."""
+    with np.errstate(over="ignore"):
+        small = np.log1p(2.0 * np.sinh(0.5 * np.minimum(k, 1.0)) ** 2)
+    return np.where(k < 1.0, small, k + np.log1p(np.exp(-2.0 * k)) - LOG2)
 
 
 def acosh_from_log(log_tau, tau):
@@ -109,6 +111,12 @@ class Drive:
     def _log_tau0(self, eps, mu):
         """``log|tr M / 2|`` of the undamped drive (a drive may give it more cheaply)."""
         return self._floquet0(eps, mu, certify=False).log_tau
+
+    def _tau_minus_one0(self, eps, mu):
+        """``tr M / 2 - 1`` of the undamped drive free of cancellation where the phases are short
+        (near the lower edge of zone 0, where ``tr M / 2 - 1`` is far smaller than 1); NaN
+        where the drive does not provide it."""
+        return np.full(np.shape(eps), np.nan)
 
     # ------------------------------------------------------------ descriptions
     def describe(self) -> str:
@@ -238,9 +246,11 @@ class Drive:
         if not damped:
             return f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)
         kappa = 2.0 * SQRT8 * zeta * mu * eps
-        # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow).
+        # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow), or
+        # without cancellation where tr M_phi / 2 is near 1 (_damped_excess).
         with np.errstate(divide="ignore"):
-            stable = (f.zone >= 0) | (f.log_tau < log_cosh(kappa))
+            G = _damped_excess(self, eps, mu_c, kappa, f.log_tau, f.zone < 0).reshape(eps.shape)
+            stable = (f.zone >= 0) | (G < 0)
         growth = f.growth - kappa
         zone = np.where(f.zone >= 0, f.zone, -1)
         gap = stable & (f.zone < 0)
@@ -267,9 +277,49 @@ class Drive:
 # ---------------------------------------------------------------- damped edges
 def _excess(drive, eps, mu, zeta):
     """G = log|tau_phi| - log cosh(kappa): the damped upright is stable iff G < 0 (or on a zone)."""
+    eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float))
+    shape = eps.shape
+    eps, mu, zeta = eps.reshape(-1), mu.reshape(-1), zeta.reshape(-1)
     mu_c = mu * np.sqrt(1.0 + zeta * zeta)
-    # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
-    return drive._log_tau0(eps, mu_c) - log_cosh(2.0 * SQRT8 * zeta * mu * eps)
+    kappa = 2.0 * SQRT8 * zeta * mu * eps
+    # where the phases are short, tau_phi - 1 itself (no product needed); elsewhere log|tau_phi|
+    G = _damped_excess(drive, eps, mu_c, kappa)
+    rest = np.isnan(G)
+    if rest.any():
+        # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
+        G[rest] = drive._log_tau0(eps[rest], mu_c[rest]) - log_cosh(kappa[rest])
+    return G.reshape(shape)
+
+
+def _damped_excess(drive, eps, mu_c, kappa, log_tau=None, where=None):
+    """``G = log|tau_phi| - log cosh(kappa)``, without cancellation where ``tau_phi > 0`` and the
+    drive gives ``y = tau_phi - 1`` accurately (short phases): there
+    ``G = log1p((y - 2 sinh^2(kappa/2)) / cosh(kappa))``, whose terms are of the size of the result.
+
+    Below zone 0 at small ``mu`` both logarithms are of order ``eps^2 mu^2`` and ``G`` of order
+    ``eps^4`` (``docs/drives.md``, section 3). With ``log_tau`` given, ``G`` is formed from it
+    except at the rows (of ``where``, all by default) with ``tau_phi`` near 1; without it, rows
+    the drive cannot form are NaN. Flat arrays.
+    """
+    eps, mu_c, kappa = (np.asarray(v, float).reshape(-1) for v in np.broadcast_arrays(eps, mu_c, kappa))
+    if log_tau is None:
+        G = np.full(eps.shape, np.nan)
+        near = kappa < 1.0
+    else:
+        log_tau = np.asarray(log_tau, float).reshape(-1)
+        with np.errstate(divide="ignore"):
+            G = log_tau - log_cosh(kappa)
+        near = (log_tau < 0.5) & (kappa < 1.0)
+    if where is not None:
+        near &= np.asarray(where).reshape(-1)
+    if not near.any():
+        return G
+    idx = np.flatnonzero(near)
+    y = drive._tau_minus_one0(eps[idx], mu_c[idx])
+    ok = np.isfinite(y) & (y > -1.0)
+    sh2 = 2.0 * np.sinh(0.5 * kappa[idx[ok]]) ** 2
+    G[idx[ok]] = np.log1p((y[ok] - sh2) / (1.0 + sh2))
+    return G
 
 
 def _bisect(drive, mu, zeta, lo, hi, rising):

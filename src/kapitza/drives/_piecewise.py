@@ -25,6 +25,9 @@ of an eigenvector is an exact multiple of ``pi``.
 """
 from __future__ import annotations
 
+import functools
+import math
+
 import numpy as np
 
 from .. import _validate as _v
@@ -290,6 +293,23 @@ class PiecewiseConstant(Drive):
     def _edges0(self, mu, n):
         return sampled_edges(self, mu, n)
 
+    def _log_tau0(self, eps, mu):
+        # the product alone: no rotation angle, no certification (the damped excess needs no more)
+        eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+        (a, _, _, d), L, _ = _product(_segments(eps.ravel(), mu.ravel(), self.levels, self._durations))
+        with np.errstate(divide="ignore"):
+            return (L + np.log(np.abs(0.5 * (a + d)))).reshape(eps.shape)
+
+    def _tau_minus_one0(self, eps, mu):
+        eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+        rsum = eps * (_elliptic_rate(mu, self.levels, self._durations)
+                      + _hyperbolic_rate(mu, self.levels, self._durations))
+        out = np.full(eps.shape, np.nan)
+        short = (rsum < 3.0) & _cancels(mu, self.levels)
+        if short.any():
+            out[short] = _tau_minus_one(eps[short], mu[short], self.levels, self._durations)
+        return out
+
     def as_dict(self) -> dict:
         return {"drive": self.name, "levels": list(self.levels), "fractions": list(self.fractions)}
 
@@ -351,31 +371,118 @@ def _asinh_tau(eps, mu, levels, durations):
     return np.where(log_tau <= 30.0, small, big)
 
 
-def _tau_minus_one(eps, mu, levels, durations):
-    """``tr M / 2 - 1`` without cancelling the identity: ``M = I + D`` carried as ``D``.
+@functools.lru_cache(maxsize=64)
+def _frame(levels, durations):
+    """Constants of the shear frame used by :func:`_tau_minus_one`, exact for the drive's doubles.
 
-    Each factor is ``I + E`` with ``cosh r - 1 = 2 sinh^2(r/2)`` (``cos r - 1 = -2 sin^2(r/2)``),
-    and ``D <- E + D + E D``; so the error of ``tr D`` is relative to ``|D| ~ eps^2``, not to 1.
-    This is what keeps the lower edge of zone 0 accurate as ``eps, mu -> 0`` (Kapitza's limit),
-    where ``tr M - 2`` is of order ``eps^4``. Used where every factor is near ``I`` (``sum r < 3``).
+    ``W_i`` (doubles) is the zero-mean velocity shape at the start of step ``i`` (``W_K = W_0``);
+    ``dW_i = W_{i+1} - W_i`` rounded, and ``rest_i = s_i h_i - (W_{i+1} - W_i)`` evaluated exactly
+    (rational arithmetic on the doubles) and rounded: the ``rest_i`` sum to the drive's own
+    ``sum s_i h_i``, which is zero up to the rounding of its levels and fractions.
     """
+    from fractions import Fraction
+
+    s = [Fraction(x) for x in levels]
+    h = [Fraction(x) for x in durations]
+    V = [Fraction(0)]
+    for si, hi in zip(s, h):
+        V.append(V[-1] + si * hi)
+    V = V[:-1]
+    mean = sum(v * hi + si * hi * hi / 2 for v, si, hi in zip(V, s, h)) / sum(h)
+    W = [float(v - mean) for v in V]
+    Wf = [Fraction(w) for w in W]
+    nxt = Wf[1:] + Wf[:1]
+    dW = [float(b - a) for a, b in zip(Wf, nxt)]
+    rest = [float(si * hi - (b - a)) for si, hi, a, b in zip(s, h, Wf, nxt)]
+    return tuple(W), tuple(W[1:] + W[:1]), tuple(dW), tuple(rest)
+
+
+# Taylor coefficients 1/(2n+3)! and 1/(2n+4)!, n = 0..12, for |x| <= 2
+_S2 = tuple(1.0 / math.factorial(2 * n + 3) for n in range(13))
+_C2 = tuple(1.0 / math.factorial(2 * n + 4) for n in range(13))
+
+
+def _step_series(x):
+    """``(S1, S2, C1, C2)`` of ``x = k h^2`` (either sign), each to a few ulp:
+
+    ``S1 = sinh(r)/r``, ``C1 = (cosh r - 1)/r^2`` for ``x = r^2 > 0`` (``sin``, ``cos`` for
+    ``x = -r^2``), ``S1 = 1 + x S2``, ``C1 = 1/2 + x C2``: the series tails, formed without
+    subtracting their leading terms where ``|x| <= 2``.
+    """
+    small = np.abs(x) <= 2.0
+    xs = np.where(small, x, 0.0)
+    # terms up to x^n with n the first where |x|^(n+1) / (2n + 5)! < 2^-60 (13 at |x| = 2)
+    big_x = float(np.max(np.abs(xs), initial=0.0))
+    n = next((k for k, c in enumerate(_C2) if big_x ** (k + 1) * c * (1.0 / ((2 * k + 5) * (2 * k + 6)))
+              < 2.0 ** -60), len(_C2) - 1)
+    S2 = np.full(x.shape, _S2[n])
+    C2 = np.full(x.shape, _C2[n])
+    for cs, cc in zip(_S2[n - 1::-1], _C2[n - 1::-1]):
+        S2 = S2 * xs + cs
+        C2 = C2 * xs + cc
+    if not small.all():
+        big = ~small
+        xb = x[big]
+        r = np.sqrt(np.abs(xb))
+        hyp = xb > 0
+        S1b = np.where(hyp, np.sinh(r), np.sin(r)) / r
+        C1b = 2.0 * np.where(hyp, np.sinh(0.5 * r), np.sin(0.5 * r)) ** 2 / np.abs(xb)
+        S2[big] = (S1b - 1.0) / xb
+        C2[big] = (C1b - 0.5) / xb
+    return 1.0 + x * S2, S2, 0.5 + x * C2, C2
+
+
+def _tau_minus_one(eps, mu, levels, durations):
+    """``tr M / 2 - 1`` free of cancellation (see :func:`_tau_minus_one_scaled`)."""
+    return eps * eps * _tau_minus_one_scaled(eps, mu, levels, durations)
+
+
+def _tau_minus_one_scaled(eps, mu, levels, durations):
+    """``(tr M / 2 - 1) / eps^2`` free of cancellation, for phases of moderate size (``sum r <~ 40``).
+
+    Near ``eps, mu -> 0`` (Kapitza's limit, the lower edge of zone 0) ``tr M - 2`` is of order
+    ``a mu^2`` and ``a^2`` (``a = 8 eps^2``) while the product's entries carry terms of order
+    ``a`` that cancel only because the drive has zero mean. Here the product is taken in the
+    frame ``(theta, theta' - a W(tau) theta)`` with ``W`` the zero-mean velocity shape (the
+    trace does not change: ``W`` is periodic). In that frame each step is ``I + F_i`` with
+    ``F_21 = a mu^2 h S1 + a s h x S2 + a rest - a dW e11 - a^2 W W' e12`` and
+    ``tr F_i = a mu^2 h^2 + a rest h S1 + a x h^2 (2 (mu^2 + s) C2 - s S2)`` (``x = k h^2``,
+    the series tails of :func:`_step_series`, ``rest`` the exact rounding residue of the drive's
+    zero mean, :func:`_frame`), so neither holds a term of order ``a`` that cancels; the product
+    ``I + D`` carries ``tr D`` by its own recurrence ``tr D' = tr F + tr D + tr(F D)``, whose
+    terms are all of order ``a mu^2`` or ``a^2``. The result is accurate to a few ulp relative
+    to ``a mu^2 + a^2`` (``tests/test_drive_edges_oracle.py``), not merely to ``a`` or to 1.
+    Every entry but ``D_12`` is carried divided by ``a`` (no underflow for ``mu`` down to 1e-150).
+    """
+    W0, W1, dW, rest = _frame(tuple(levels), tuple(durations))
+    a = 8.0 * eps * eps
+    m = mu * mu
     D = None
-    for kind, w, r, h in _segments(eps, mu, levels, durations):
-        hyp, ell = kind > 0, kind < 0
-        ws = np.where(w > 0, w, 1.0)
-        half = 0.5 * r
-        e11 = np.where(hyp, 2.0 * np.sinh(half) ** 2, np.where(ell, -2.0 * np.sin(half) ** 2, 0.0))
-        sn = np.where(hyp, np.sinh(r), np.where(ell, np.sin(r), 0.0))
-        e12 = np.where(w > 0, sn / ws, h)
-        e21 = np.where(hyp, w * sn, np.where(ell, -w * sn, 0.0))
-        E = (e11, e12, e21, e11)
+    for s, h, w0, w1, dw, rs in zip(levels, durations, W0, W1, dW, rest):
+        ms = m + s
+        x = a * ms * h * h
+        S1, S2, C1, C2 = _step_series(x)
+        # the step I + F in the sheared frame; F_11, F_22, F_21 and tr F divided by a
+        e11 = ms * h * h * C1
+        e12 = h * S1
+        f11 = e11 + w0 * e12
+        f22 = e11 - w1 * e12
+        f21 = m * h * S1 + s * h * x * S2 + rs - dw * x * C1 - a * (w0 * w1) * e12
+        trF = m * h * h + rs * h * S1 + x * h * h * (2.0 * ms * C2 - s * S2)
         if D is None:
-            D = E
+            D = (f11, e12, f21, f22, trF)
             continue
-        a, b, c, d = D
-        D = (e11 + a + e11 * a + e12 * c, e12 + b + e11 * b + e12 * d,
-             e21 + c + e21 * a + e11 * c, e11 + d + e21 * b + e11 * d)
-    return 0.5 * (D[0] + D[3])
+        d11, d12, d21, d22, t = D  # D_11, D_21, D_22, tr D over a; D_12 itself
+        D = (f11 + d11 + a * (f11 * d11) + e12 * d21, e12 + d12 + a * (f11 * d12 + e12 * d22),
+             f21 + d21 + a * (f21 * d11 + f22 * d21), f22 + d22 + f21 * d12 + a * (f22 * d22),
+             trF + t + a * (f11 * d11 + f22 * d22) + (e12 * d21 + f21 * d12))
+    return 4.0 * D[4]  # tr D / 2 / eps^2 = (a / 2) (tr D / a) / eps^2
+
+
+def _cancels(mu, levels):
+    """Where ``tr M / 2 - 1`` near zone 0's lower edge must be formed by :func:`_tau_minus_one`:
+    its terms of order ``8 eps^2 |s|`` cancel to ``8 eps^2 mu^2`` (lose ``max|s| / mu^2``)."""
+    return mu * mu < 0.2 * max(abs(s) for s in levels)
 
 
 def _illinois(f, a, b, fa, fb, iters=60, enough=None):
@@ -509,9 +616,11 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     m = int(np.ceil(np.max(np.where(has, (g_b - g_a) * rate_s / PI, 0.0)) * per_turn)) + 2
     grid = g_a[:, None] + (g_b - g_a)[:, None] * np.linspace(0.0, 1.0, m)[None, :]
     # eps = 0 is the trivial root (M = I); start just above it, where every drive is unstable
-    # (the mean stiffness 8 eps^2 mu^2 > 0 repels) and tr M / 2 - 1 > 0 is formed accurately.
+    # (the mean stiffness 8 eps^2 mu^2 > 0 repels) and tr M / 2 - 1 > 0 is formed accurately:
+    # far below the averaging edge mu / sqrt(8 <V^2>), near which zone 0 begins as mu -> 0.
     from0 = g_a == 0.0
-    grid[:, 0] = np.where(from0, 1e-3 * grid[:, 1], grid[:, 0])
+    eps_avg = mu / np.sqrt(8.0 * drive._mean_square_velocity)
+    grid[:, 0] = np.where(from0, np.minimum(1e-3 * grid[:, 1], 1e-2 * eps_avg), grid[:, 0])
     R = np.broadcast_to(np.arange(mu.size)[:, None], grid.shape)
     F, th = _sample(drive, grid, np.broadcast_to(mu[:, None], grid.shape))
     A1 = np.arcsinh(1.0)
@@ -554,21 +663,29 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
 
     def solve(r, a, b, fa, fb, target, near_one=None, enough=None):
         mr = mu[r]
+        if near_one is None:
+            near_one = np.zeros(r.size, bool)
+
+        def near(x, m):
+            # (tr M / 2 - 1) / eps^2: nearly linear in eps^2 from eps = 0 to the edge
+            return _tau_minus_one_scaled(x, m, levels, durations)
 
         def f(x, live):
             out = np.zeros(x.shape)
-            out[live] = _asinh_tau(x[live], mr[live], levels, durations) - target[live]
-            if near_one is not None:
-                use = live & near_one
-                out[use] = _tau_minus_one(x[use], mr[use], levels, durations)
+            use = live & near_one
+            rest = live & ~near_one
+            if rest.any():
+                out[rest] = _asinh_tau(x[rest], mr[rest], levels, durations) - target[rest]
+            if use.any():
+                out[use] = near(x[use], mr[use])
             return out
 
         fa, fb = fa - target, fb - target
-        if near_one is not None and near_one.any():
+        if near_one.any():
             u = near_one
             fa, fb = fa.copy(), fb.copy()
-            fa[u] = _tau_minus_one(a[u], mr[u], levels, durations)
-            fb[u] = _tau_minus_one(b[u], mr[u], levels, durations)
+            fa[u] = near(a[u], mr[u])
+            fb[u] = near(b[u], mr[u])
         return _illinois(f, a, b, fa, fb, enough=enough)
 
     # Any point inside the zone will do as the inner end of the edges' brackets: stop there.
@@ -604,7 +721,9 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     tl = np.where(zone % 2 == 0, A1, -A1)  # tr M = +2 below an even zone, -2 below an odd one
     tr_ = -tl
     rsum = _elliptic_rate(mu[rows], levels, durations) + _hyperbolic_rate(mu[rows], levels, durations)
-    near_one = (tl > 0) & (rsum * z < 3.0)
+    # the lower edge of zone 0 (and of any even zone while the phases are short): on
+    # tr M / 2 - 1 formed without cancellation (its terms are of order a mu^2 and a^2, a = 8 eps^2)
+    near_one = (tl > 0) & (((zone == 0) & _cancels(mu[rows], levels) & (rsum * z < 40.0)) | (rsum * z < 3.0))
     a, b, fa, fb = solve(rows, xl, z, FL, Fz, tl, near_one)
     lo = _unstable_end(a, b, fa, fb, FL - tl)
     a, b, fa, fb = solve(rows, z, xr, Fz, FR, tr_)

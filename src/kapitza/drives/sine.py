@@ -43,6 +43,11 @@ class SineWave(Drive):
 
         return _sine_log_tau(eps, mu)
 
+    def _tau_minus_one0(self, eps, mu):
+        from ..mathieu import _sine_tau_minus_one
+
+        return _sine_tau_minus_one(eps, mu)
+
     def _edges0(self, mu, n):
         from ..mathieu import _sine_edges
 

@@ -29,6 +29,9 @@ class SquareWave(PiecewiseConstant):
             log_tau = np.where(np.isfinite(tau), np.log(np.abs(tau)), log_cosh(growth))
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
 
+    def _log_tau0(self, eps, mu):
+        return self._floquet0(eps, mu, certify=False).log_tau
+
     def _edges0(self, mu, n):
         from ..zones import _edges_eps
 
