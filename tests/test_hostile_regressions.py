@@ -248,3 +248,13 @@ def test_far_out_rigs_give_no_warning():
         with pytest.raises(ValueError, match=r"2 g T\^2 / l"):
             K.analyze(T=0.15, A=100.0, l=1e300, g=1e-300)
         assert K.analyze(T=1e-200, A=1e250, l=1e-100).stable
+
+
+def test_averaged_twist_of_a_huge_eps_is_refused_by_name_not_overflowed():
+    # eps^4 overflowed (a RuntimeWarning) at eps = 1e300 although the twist is ~ -0.5 eps^2
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert K.averaged_twist(1e100, 0.3) == pytest.approx(-8.0 / 9.0 * 3.0 / (2.0 * np.pi * np.sqrt(16.0 / 3.0)) * 1e200,
+                                                             rel=1e-12)
+        with pytest.raises(ValueError, match="eps must be below about 1e154"):
+            K.averaged_twist(1e300, [0.3, 0.3])

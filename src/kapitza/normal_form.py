@@ -516,14 +516,23 @@ def averaged_twist(eps, mu):
     """
     eps = _v.positive("eps", eps)
     mu = _v.positive("mu", mu)
-    e2 = eps * eps
-    om2 = 16.0 * e2 * e2 / 3.0 - 8.0 * e2 * mu * mu
-    bad = ~(om2 > 0)
+    eps, mu = _v.broadcast(eps=eps, mu=mu)
+    # In units of eps^2: (Omega T)^2 = eps^4 (16/3 - 8 m), c4 T^2 = eps^4 (m/3 - 8/9), m = (mu/eps)^2,
+    # so the twist is 3 eps^2 (m/3 - 8/9) / (2 pi sqrt(16/3 - 8 m)) with no eps^4 to overflow.
+    with np.errstate(under="ignore", over="ignore"):
+        m = (mu / eps) ** 2
+    bad = ~(m < 2.0 / 3.0)
     if bad.any():
         raise _v.KapitzaValueError(
-            f"eps must exceed the averaging threshold sqrt(3/2) mu; got eps = {np.broadcast_to(eps, bad.shape)[bad].flat[0]!r}")
-    c4 = e2 * mu * mu / 3.0 - 8.0 * e2 * e2 / 9.0
-    return 3.0 * c4 / (2.0 * PI * np.sqrt(om2))
+            f"eps must exceed the averaging threshold sqrt(3/2) mu; got eps = {float(eps[bad].flat[0])!r}")
+    with np.errstate(over="ignore"):
+        tau = 3.0 * (eps * eps) * (m / 3.0 - 8.0 / 9.0) / (2.0 * PI * np.sqrt(16.0 / 3.0 - 8.0 * m))
+    big = ~np.isfinite(tau)
+    if big.any():
+        raise _v.KapitzaValueError(
+            f"eps must be below about 1e154 (the twist, about -0.5 eps^2, must be a double); got eps = "
+            f"{float(eps[big].flat[0])!r}")
+    return _v.scalars(tau)
 
 
 # ---------------------------------------------------------------- the verdict
