@@ -258,3 +258,15 @@ def test_averaged_twist_of_a_huge_eps_is_refused_by_name_not_overflowed():
                                                              rel=1e-12)
         with pytest.raises(ValueError, match="eps must be below about 1e154"):
             K.averaged_twist(1e300, [0.3, 0.3])
+
+
+def test_subnormal_amplitude_and_radius_give_no_warning():
+    # g / A overflowed in linear_motion at A = 5e-324; r = 5e-324 gave 0/0 in the rotation number
+    from kapitza.motion import measured_rotation_number, motion_pair
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        pair = motion_pair(0.1, 0.0, 0.15, 5e-324, 1.0, 9.81)
+        assert np.all(np.isfinite(pair.motion.theta))
+        with pytest.raises(ValueError, match=r"r must lie in \[1e-150"):
+            measured_rotation_number(0.5, 0.3, r=5e-324, periods=16)

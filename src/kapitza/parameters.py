@@ -60,13 +60,19 @@ def to_arnold(T, A, l=1.0, g=G_EARTH):
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     _v.shape_check(T=T, A=A, l=l, g=g)
+    eps, mu = _arnold(T, A, l, g)
+    _refuse_outside(dict(T=T, A=A, l=l, g=g), eps=eps, mu=mu)
+    return eps, mu
+
+
+def _arnold(T, A, l, g):
+    """``(eps, mu)`` of trusted positive ``T, A, l, g``, with no warning: where ``A / (8 l)`` or
+    ``g / A`` overflows or underflows before its square root would, the roots are taken apart."""
     with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
         eps, mu = T * np.sqrt(A / (8.0 * l)), np.sqrt(g / A)
         if not _in_double(eps, mu):
-            # the ratios overflow or underflow before their square roots would: split them
             eps = T * (np.sqrt(A) / np.sqrt(8.0 * l))
             mu = np.sqrt(g) / np.sqrt(A)
-    _refuse_outside(dict(T=T, A=A, l=l, g=g), eps=eps, mu=mu)
     return eps, mu
 
 

@@ -18,7 +18,7 @@ from . import _exact as X
 from . import _validate as _v
 from ._display import Summary, multipliers, num, shape_of, span, stable_share
 from .drives import _api as _drv
-from .parameters import G_EARTH, SQRT8, _phase_angles
+from .parameters import G_EARTH, SQRT8, _arnold, _phase_angles
 
 __all__ = [
     "Floquet",
@@ -400,8 +400,7 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
     if drive is not None:
         return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
     t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)
-    eps = T * np.sqrt(A / (8.0 * l))
-    mu = np.sqrt(g / A)
+    eps, mu = _arnold(T, A, l, g)
     tau, growth, theta, stable, _ = _floquet(eps, mu)
     k = np.floor(t / (2.0 * T))
     r = t - 2.0 * k * T

@@ -73,7 +73,7 @@ def measured_rotation_number(eps, mu, r, *, periods=4000):
     ----------
     eps, mu, r : array_like, broadcast together
         Arnold's parameters of linearly stable points, and starting amplitudes [rad],
-        ``0 < r < pi/2``.
+        ``1e-150 <= r < pi/2``.
     periods : int, optional
         Number of periods ``2T`` iterated (>= 16).
 
@@ -90,7 +90,8 @@ def measured_rotation_number(eps, mu, r, *, periods=4000):
     ``g = 9.81``).
     """
     eps, mu = _stable_arnold(eps, mu)
-    r = _v.in_range("r", r, 0.0, 0.5 * np.pi)
+    # below 1e-150 the orbit is the linear one, and its normal coordinates leave the normal doubles
+    r = _v.in_range("r", r, 1e-150, 0.5 * np.pi, lo_open=False)
     periods = int(_v.nonnegative_int("periods", periods, minimum=16))
     eps, mu, r = np.broadcast_arrays(eps, mu, r)
     shape = r.shape
