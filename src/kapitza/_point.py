@@ -94,10 +94,11 @@ def tan3(z, sign):
     return acc
 
 
-def sin_half_a0(u, D, mu):
+def sin_half_a0(u, D, mu, d2m1=None):
     z = 0.5 * u
     y = D * z
-    d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
+    if d2m1 is None:
+        d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
     diff = z**3 * (tan3(z, 1) + D**4 * tan3(y, -1)) - z * d2m1
     Dt = D * math.tanh(y)
     return diff * math.cos(z) / math.sqrt(1.0 + Dt * Dt)
@@ -349,7 +350,7 @@ def period_edges(A, n, l, g):
     return lo * scale, hi * scale
 
 
-def illinois(F, a, b, iterations=60):
+def illinois(F, a, b, iterations=60, ulps=4.0):
     """:func:`kapitza._exact.illinois` for one bracket ``[a, b]``."""
     fa, fb = F(a), F(b)
     if fa == 0 or fb == 0 or _sign(fa) == _sign(fb):
@@ -369,7 +370,7 @@ def illinois(F, a, b, iterations=60):
         else:
             fa = 0.5 * fa
         b, fb = c, fc
-        if fc == 0 or stuck or abs(b - a) <= 4.0 * _EPS * abs(c):
+        if fc == 0 or stuck or abs(b - a) <= ulps * _EPS * abs(c):
             return c
     return c
 
@@ -377,6 +378,8 @@ def illinois(F, a, b, iterations=60):
 def amplitude_edges(T, n, l, g):
     """``(A_lo, A_hi)`` of :func:`kapitza.amplitude_edges` (square wave, undamped)."""
     kappa = 2.0 * g * T * T / l
+    if not 0.0 < kappa < _INF:  # kapitza.zones._kappa
+        kappa = 2.0 * g * (T / l) * T
     npi = n * PI
 
     def F(u, upper):
@@ -384,11 +387,23 @@ def amplitude_edges(T, n, l, g):
         if x == 0.0:
             raise Careful("kappa underflowed")
         D = x / u if u != 0.0 else _INF
-        return u - npi - (beta_x(x, D) if upper else alpha_x(x, D))
+        f = u - npi - (beta_x(x, D) if upper else alpha_x(x, D))
+        if not upper and n == 0 and u < 1.0 and abs(f) < 2.0:  # kapitza.zones.amplitude_edges
+            s = sin_half_a0(u, D, None, kappa / u / u)
+            f = 2.0 * math.asin(min(max(s, -1.0), 1.0))
+        return f
 
     out = []
     for upper in (False, True):
-        u = illinois(lambda v: F(v, upper), npi + 0.0, (n + 1.0) * PI)
+        a, b = npi + 0.0, (n + 1.0) * PI
+        if not upper and n == 0:
+            guess = math.sqrt(math.sqrt(6.0) * math.sqrt(kappa))
+            a0, b0 = min(0.5 * guess, 1.0), min(2.0 * guess, PI)
+            if F(a0, False) < 0.0:
+                a = a0
+            if F(b0, False) > 0.0:
+                b = b0
+        u = illinois(lambda v: F(v, upper), a, b, ulps=1.0)
         r = u / T
         A = g + l * (r * r)
         if not math.isfinite(A):

@@ -734,13 +734,33 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     upper = np.stack([np.zeros(n.shape, bool), np.ones(n.shape, bool)])
     nn, kk = np.stack([n, n]), np.stack([kappa, kappa])
 
-    def F(u):
-        x = np.sqrt(u * u + kk)
-        with np.errstate(divide="ignore"):
-            D = x / u
-            return u - nn * PI - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
+    # Zone 0's lower edge at small u: u and alpha agree to O(u^3) there (the root carries
+    # ``eps / u^2`` of relative rounding, and the old bracket [0, pi] took more steps than
+    # regula falsi is given once u is far below 1). Its gap is taken from the
+    # cancellation-free form of :func:`kapitza._exact.sin_half_a0` with ``D^2 - 1 = kappa / u^2``
+    # (the identity :func:`zone_edges` rests on), and it is bracketed about its small-kappa
+    # value ``u ~ (6 kappa)^(1/4)``.
+    low0 = ~upper & (nn == 0)
 
-    u = X.illinois(F, nn * PI + 0.0, (nn + 1.0) * PI)
+    def F(u):
+        with np.errstate(divide="ignore", under="ignore"):
+            x = np.sqrt(u * u + kk)
+            D = x / u
+            f = u - nn * PI - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
+            small = low0 & (u < 1.0) & (np.abs(f) < 2.0)
+            if small.any():
+                us = u[small]
+                s = X.sin_half_a0(us, D[small], None, kk[small] / us / us)
+                f[small] = 2.0 * np.arcsin(np.clip(s, -1.0, 1.0))
+        return f
+
+    a, b = nn * PI + 0.0, (nn + 1.0) * PI
+    if low0.any():
+        guess = np.sqrt(np.sqrt(6.0) * np.sqrt(kk))  # (6 kappa)^(1/4), without overflow
+        a0, b0 = np.minimum(0.5 * guess, 1.0), np.minimum(2.0 * guess, PI)
+        a = np.where(low0 & (F(a0) < 0.0), a0, a)
+        b = np.where(low0 & (F(b0) > 0.0), b0, b)
+    u = X.illinois(F, a, b, ulps=1.0)
     TT, ll, gg = np.stack([T, T]), np.stack([l, l]), np.stack([g, g])
     with np.errstate(over="ignore"):  # (u / T)^2 may overflow where l (u / T)^2 does not
         A = gg + ll * (u / TT) ** 2
