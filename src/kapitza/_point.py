@@ -39,6 +39,8 @@ _TOL = 16.0 * _EPS            # kapitza._certify._TOL
 _MAX_NEWTON = 200             # kapitza.zones._MAX_NEWTON
 _SMALL_MU = 0.6               # kapitza.zones._SMALL_MU
 _MU_MIN = 1e-6                # kapitza.analysis._MU_MIN
+_EPS_SERIES = 1e-5            # kapitza.analysis._EPS_SERIES
+_SQRT_3_2 = math.sqrt(1.5)
 _INF = math.inf
 
 
@@ -422,20 +424,26 @@ def square_rig_margins(eps, mu, zone, T, stroke):
         q = math.sqrt((1.0 - m) * (1.0 + m))
         x, u = SQRT8 * eps * p, SQRT8 * eps * q
         D = p / q if q != 0.0 else _INF
-        return u - n * PI - (beta_x(x, D) if upper else alpha_x(x, D))
+        w = u - n * PI
+        return w - beta_x(x, D) if upper else lower_gap(x, u, w, n, D, m)
 
     lo, hi = _MU_MIN, 1.0 - 1e-12
+    lo_a = min(_MU_MIN, 0.5 * eps) if n == 0 else _MU_MIN
     out = dict(stroke=float(stroke))
     # the gaps carry a few ulp of u + n pi; a sign or an order within that is the array path's
+    # (zone 0's lower gap is positive at lo_a: that edge lies below eps / 2 there)
     noise = 16.0 * _EPS * (SQRT8 * eps + n * PI + 4.0)
-    g_lo, g_hi = gap(lo, False), gap(lo, True)
-    if abs(g_lo) <= noise or abs(g_hi) <= noise:
+    g_lo, g_hi = gap(lo_a, False), gap(lo, True)
+    if (n != 0 and abs(g_lo) <= noise) or abs(g_hi) <= noise:
         raise Careful("a zone edge at the end of the frequency range")
     if g_lo <= 0.0:
         return out
     open_top = g_hi < 0.0
-    mu_a = illinois(lambda m: gap(m, False), lo, hi)
-    mu_b = _MU_MIN if open_top else illinois(lambda m: gap(m, True), lo, hi)
+    if n == 0 and eps < _EPS_SERIES:
+        mu_a = eps / _SQRT_3_2
+    else:
+        mu_a = illinois(lambda m: gap(m, False), lo_a, hi, ulps=1.0)
+    mu_b = 0.0 if open_top else illinois(lambda m: gap(m, True), lo, hi, ulps=1.0)
     if abs(mu_a - mu_b) <= 1e-8 * mu_a:
         raise Careful("a zone thinner than its edges' rounding in mu")
     if mu_b < mu_a:
