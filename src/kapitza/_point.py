@@ -348,7 +348,8 @@ def period_edges(A, n, l, g):
     """``(T_lo, T_hi)`` of :func:`kapitza.period_edges` (square wave, undamped, ``A > g``)."""
     mu = math.sqrt(g / A)
     lo, hi = edges_eps(mu, n, math.sqrt((A - g) / A))
-    scale = math.sqrt(8.0 * l / A)
+    r = 8.0 * l / A
+    scale = math.sqrt(r) if r > 1e-300 else SQRT8 * (math.sqrt(l) / math.sqrt(A))
     return lo * scale, hi * scale
 
 

@@ -666,7 +666,10 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
             f"A must exceed g (A > g) for stability zones to exist; got A={bad!r} with g={float(np.max(g))!r}"
         )
     lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A))  # A - g is exact as A -> g
-    scale = np.sqrt(8.0 * l / A)
+    with np.errstate(under="ignore"):
+        scale = np.sqrt(8.0 * l / A)
+        # 8 l / A leaves the normal doubles before T does (l = 1e-100, A = 1e250: T_lo ~ 1e-299)
+        scale = np.where(8.0 * l / A > 1e-300, scale, SQRT8 * (np.sqrt(l) / np.sqrt(A)))
     return lo * scale, hi * scale
 
 
