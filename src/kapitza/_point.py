@@ -437,10 +437,11 @@ def square_rig_margins(eps, mu, zone, T, stroke):
     g_lo, g_hi = gap(lo_a, False), gap(lo, True)
     if (n != 0 and abs(g_lo) <= noise) or abs(g_hi) <= noise:
         raise Careful("a zone edge at the end of the frequency range")
-    if g_lo <= 0.0:
+    series = n == 0 and eps < _EPS_SERIES  # (then g_lo may underflow; its sign is known)
+    if g_lo <= 0.0 and not series:
         return out
     open_top = g_hi < 0.0
-    if n == 0 and eps < _EPS_SERIES:
+    if series:
         mu_a = eps / _SQRT_3_2
     else:
         mu_a = illinois(lambda m: gap(m, False), lo_a, hi, ulps=1.0)

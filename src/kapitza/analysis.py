@@ -276,10 +276,11 @@ def _square_rig_margins(eps, mu, zone, T, stroke):
     hi = np.full(2, 1.0 - 1e-12)
     f_lo = gap(lo, upper)
     out = dict(stroke=float(stroke))
-    if f_lo[0] <= 0.0:  # below the zone's lower edge at every mu: no frequency reaches it
+    series = n == 0 and eps < _EPS_SERIES  # (then the gap at lo may underflow; its sign is known)
+    if f_lo[0] <= 0.0 and not series:  # below the zone's lower edge at every mu: no frequency reaches it
         return out
     open_top = f_lo[1] < 0.0  # still in the zone at the smallest mu
-    if n == 0 and eps < _EPS_SERIES:
+    if series:
         roots = np.array([eps / _SQRT_3_2, X.illinois(lambda m: gap(m, upper[1:]), lo[1:], hi[1:], ulps=1.0)[0]])
     else:
         roots = X.illinois(lambda m: gap(m, upper), lo, hi, ulps=1.0)
