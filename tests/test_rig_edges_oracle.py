@@ -155,3 +155,19 @@ def test_intervals_agree_with_the_verdict(fast):
                 assert inside == rep.stable, (T, A, l, rep.stable, lo, v, hi)
                 checked += 1
     assert checked > 1200
+
+
+@pytest.mark.parametrize("mu", [1e-99, 1e-100, 1e-101, 1e-155, 1e-160, 1e-200, 1e-300])
+def test_zone0_lower_edge_where_mu_squared_leaves_the_doubles(mu):
+    # mu^2 = 2e-320 was subnormal in the fixed point of zone 0's lower edge: eps_lo was 5e-6
+    # relative off at mu = 1e-160 and 0.0 at mu = 1e-200 (and so was T_lo of period_edges)
+    ref = O.edge_eps(mu, 0, False) if mu > 1e-170 else mp.sqrt(1.5) * mp.mpf(mu)  # (1 + 4 mu^4 / 7 + ...)
+    lo, _ = K.zone_edges(mu, 0)
+    assert ulps(lo, ref) <= 4.0 and ulps(P.edges_eps(mu, 0)[0], ref) <= 4.0
+    if mu < 1e-170:  # T_lo ~ 3.5 mu^2 / sqrt(g) would be subnormal for every g that keeps A a double
+        return
+    g = 1e-30
+    A = g / mu**2
+    T_lo, _ = K.period_edges(A, 0, 1.0, g)
+    mu_A = mp.sqrt(mp.mpf(g) / mp.mpf(A))
+    assert ulps(T_lo, O.edge_eps(mu_A, 0, False) * mp.sqrt(8 / mp.mpf(A))) <= 8.0

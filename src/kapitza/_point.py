@@ -246,6 +246,8 @@ def _verdict(eps, mu):
 
 
 def _lower0_small_mu(mu):
+    if mu < 1e-100:  # kapitza.zones._TINY_MU
+        return 2.0 * math.sqrt(3.0) * mu
     d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
     D2 = 1.0 + d2m1
     D = math.sqrt(D2)

@@ -80,7 +80,13 @@ def _lower0_small_mu(mu):
         live &= np.abs(step) > 8.0 * np.finfo(float).eps * z1
         if not live.any():
             break
-    return 2.0 * fixed(z1)
+    # Below mu = 1e-100 mu^2 may leave the normal doubles (1e-154 and less) and the iteration
+    # with it; there u = 2 sqrt(3) mu (1 + O(mu^2)) is the edge to rounding.
+    return np.where(mu < _TINY_MU, (2.0 * _SQRT3) * mu, 2.0 * fixed(z1))
+
+
+_TINY_MU = 1e-100
+_SQRT3 = np.sqrt(3.0)
 
 
 _SMALL_MU = 0.6
