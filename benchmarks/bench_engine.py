@@ -11,6 +11,8 @@ same run:
   numerical Floquet analysis (solve_ivp, DOP853, per point, timed on a sample and
   extrapolated);
 * ``zone_edges`` for 10 zones x 10,000 mu values;
+* ``amplitude_edges`` for 3 zones x 30,000 half-periods, against the earlier solve (zone 0's
+  lower edge on the plain gap, which cancels as u -> 0) in the same run;
 * ``is_stable`` (with its blocks on every CPU, and on one thread) and ``zone_index`` on 10^7
   random points (eps in (0, 4], mu in (0, 1)) against
   the plain numpy trace formula on the same points and against the closed forms with
@@ -64,6 +66,28 @@ def trace_baseline(eps, mu, rows_per_chunk=256):
         tr = 2.0 * np.cosh(x) * np.cos(u) + (D - 1.0 / D) * np.sinh(x) * np.sin(u)
         out[r0:r0 + rows_per_chunk] = np.abs(tr) < 2.0
     return out
+
+
+def amplitude_edges_plain(T, n, l=1.0, g=K.G_EARTH):
+    """The earlier ``amplitude_edges`` (square wave): regula falsi on ``u - n pi - alpha`` (or
+    ``beta``) over ``[n pi, (n + 1) pi]``, zone 0's lower edge on the plain gap (its terms cancel
+    as u -> 0). Kept here as the baseline of the cancellation-free solve's cost."""
+    from kapitza import _exact as X
+
+    T, n = np.broadcast_arrays(np.asarray(T, float), np.asarray(n, float))
+    kappa = 2.0 * g * T * T / l
+    upper = np.stack([np.zeros(n.shape, bool), np.ones(n.shape, bool)])
+    nn, kk = np.stack([n, n]), np.stack([kappa, kappa])
+
+    def F(u):
+        x = np.sqrt(u * u + kk)
+        with np.errstate(divide="ignore"):
+            D = x / u
+            return u - nn * np.pi - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
+
+    u = X.illinois(F, nn * np.pi + 0.0, (nn + 1.0) * np.pi)
+    A = g + l * (u / np.stack([T, T])) ** 2
+    return A[0], A[1]
 
 
 def floquet_ivp(eps, mu, rtol=1e-10, atol=1e-12):
@@ -185,6 +209,20 @@ def main(argv=None):
     t_edges = median_time(lambda: K.zone_edges(mu_e[None, :], n[:, None]), edge_repeats)
     print(f"  zone_edges: {t_edges[0] * 1e3:8.2f} ms  (min {t_edges[1] * 1e3:.2f}, max {t_edges[2] * 1e3:.2f})"
           f"  = {t_edges[0] / (2 * 10 * mu_e.size) * 1e9:.0f} ns per edge")
+
+    # ------------------------------------------------------------ amplitude edges
+    n_T = 2_000 if tiny else 30_000
+    T_a = np.geomspace(1e-4, 3.0, n_T)
+    n_a = np.arange(3)
+    print()
+    print(f"amplitude_edges: 3 zones x {n_T:,} half-periods T in [1e-4, 3] (l = 1, g = 9.81); median of "
+          f"{edge_repeats} repeats, against the earlier solve (zone 0's lower edge on the plain gap)")
+    t_amp = median_time(lambda: K.amplitude_edges(T_a[None, :], n_a[:, None]), edge_repeats)
+    t_plain = median_time(lambda: amplitude_edges_plain(T_a[None, :], n_a[:, None]), edge_repeats)
+    print(f"  amplitude_edges:         {t_amp[0] * 1e3:8.2f} ms  (min {t_amp[1] * 1e3:.2f})"
+          f"  = {t_amp[0] / (2 * 3 * n_T) * 1e9:.0f} ns per edge")
+    print(f"  earlier plain solve:     {t_plain[0] * 1e3:8.2f} ms  (min {t_plain[1] * 1e3:.2f})")
+    print(f"  ratio amplitude_edges / earlier: {t_amp[0] / t_plain[0]:.2f}x (median), {t_amp[1] / t_plain[1]:.2f}x (min)")
 
     # ------------------------------------------------------------ pointwise verdicts
 

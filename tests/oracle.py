@@ -307,3 +307,70 @@ def motion(t, theta0, dtheta0, T, A, l=1.0, g=9.81, dps=BASE_DPS):
             E = mp.matrix([[mp.cos(we * s), mp.sin(we * s) / we], [-we * mp.sin(we * s), mp.cos(we * s)]])
             y = E * y
         return y[0], y[1]
+
+
+# ---------------------------------------------------------------- edges along A and along mu
+def _digits_lost(u):
+    """Digits the plain ``w - alpha`` loses at a small phase ``u`` (its terms agree to ``u^2``)."""
+    return 2 * max(0, int(-mp.log10(u))) if u < 1 else 0
+
+
+def amplitude_edge(T, n, l, g, upper: bool, dps=BASE_DPS):
+    """Zone n's lower/upper edge in A at the exact doubles T, l, g (an mpf).
+
+    At fixed T, ``u = T sqrt((A - g)/l)`` and ``x^2 = u^2 + 2 g T^2 / l``; the edge solves
+    ``w - alpha(x) = 0`` (or ``beta``), ``w = u - n pi``, ``D = x / u``, for ``u`` in
+    ``(n pi, (n + 1) pi)``, carrying the digits its terms cancel to as ``u -> 0``; then
+    ``A = g + l (u / T)^2``.
+    """
+    T, l, g = mpf(T), mpf(l), mpf(g)
+    with mp.workdps(dps + 30):
+        kappa = 2 * g * T * T / l
+        guess = min(mp.mpf(1), (6 * kappa) ** mp.mpf(0.25))
+    with mp.workdps(dps + 30 + _digits_lost(guess)):
+        kappa = 2 * g * T * T / l
+        npi = n * mp.pi
+
+        def F(u):
+            x = mp.sqrt(u * u + kappa)
+            D = x / u
+            t = mp.tanh(x / 2)
+            f = 2 * mp.atan(D / t) if upper else 2 * mp.atan(D * t)
+            return u - npi - f
+
+        rtol = mp.mpf(10) ** (-(dps + 5))
+        if n == 0:
+            a = guess / 2 if not upper else mp.mpf(10) ** -30
+            while F(a) >= 0:
+                a /= 2
+        else:
+            a = npi
+        u = _solve_increasing(F, a, (n + 1) * mp.pi, rtol)
+        return +(g + l * (u / T) ** 2)
+
+
+def frequency_edge(eps, n, upper: bool, dps=BASE_DPS):
+    """The mu at which zone n's lower/upper edge passes the exact double eps (an mpf), or None
+    where it passes no mu in (0, 1) (then the zone stays above, or below, eps at every mu).
+
+    At fixed eps, ``u = 2 sqrt2 eps sqrt(1 - mu^2)`` falls and ``alpha``, ``beta`` rise as mu
+    grows: ``w - alpha`` (or ``beta``) decreases in mu and changes sign at most once.
+    """
+    e = mpf(eps)
+    with mp.workdps(dps + 30 + _digits_lost(min(mp.mpf(1), 3 * e))):
+        npi = n * mp.pi
+
+        def G(m):  # increasing in mu
+            q = mp.sqrt((1 - m) * (1 + m))
+            p = mp.sqrt(1 + m * m)
+            x, u = 2 * mp.sqrt(2) * e * p, 2 * mp.sqrt(2) * e * q
+            t = mp.tanh(x / 2)
+            D = p / q
+            f = 2 * mp.atan(D / t) if upper else 2 * mp.atan(D * t)
+            return -(u - npi - f)
+
+        rtol = mp.mpf(10) ** (-(dps + 5))
+        a, b = mp.mpf(10) ** -320, 1 - mp.mpf(10) ** -30
+        if G(a) >= 0 or G(b) < 0:
+            return None
+        return _solve_increasing(G, a, b, rtol)

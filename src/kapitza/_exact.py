@@ -150,18 +150,20 @@ def tan3(z, sign):
     return np.where(near, direct, series)
 
 
-def sin_half_a0(u, D, mu):
+def sin_half_a0(u, D, mu, d2m1=None):
     """sin((u - alpha)/2) on zone 0's branch (``n = 0``) for small ``u``, free of cancellation.
 
     ``sin(z - atan(D t)) = cos z cos(atan(D t)) (tan z - D t)`` with ``z = u/2``,
     ``t = tanh(D z)``, and ``tan z - D t = z^3 [T3(z) + D^4 H3(D z)] - z (D^2 - 1)``
     (``T3``, ``H3`` as in :func:`tan3`; ``D^2 - 1 = 2 mu^2 / (1 - mu^2)`` exactly). The
     direct ``u - alpha`` subtracts two numbers of size ``u`` whose difference is
-    ``O(u max(mu^2, u^2))``.
+    ``O(u max(mu^2, u^2))``. ``d2m1 = D^2 - 1`` may be passed instead of ``mu`` where it is
+    known better (``kappa / u^2`` along ``A`` at fixed ``T``).
     """
     z = 0.5 * u
     y = D * z
-    d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
+    if d2m1 is None:
+        d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
     diff = z**3 * (tan3(z, 1) + D**4 * tan3(y, -1)) - z * d2m1
     Dt = D * np.tanh(y)
     return diff * np.cos(z) / np.sqrt(1.0 + Dt * Dt)
@@ -272,10 +274,11 @@ def floquet_hyperbolic(x, v):
     return tau, growth
 
 
-def illinois(F, a, b, iterations=60):
+def illinois(F, a, b, iterations=60, ulps=4.0):
     """Roots of ``F`` on the brackets ``[a, b]`` (arrays; ``F(a)`` and ``F(b)`` of opposite
     signs), by the Illinois variant of regula falsi, vectorised: superlinear, never leaving the
-    bracket, about ten evaluations of ``F`` to a few ulp. Returns the last iterate."""
+    bracket, about ten evaluations of ``F`` to a few ulp (it stops once the bracket is ``ulps``
+    units of the iterate wide, or makes no progress). Returns the last iterate."""
     a, b = np.array(a, float), np.array(b, float)
     fa, fb = F(a), F(b)
     # no sign change: nothing to find there (the caller decides what that means)
@@ -292,7 +295,7 @@ def illinois(F, a, b, iterations=60):
         a, fa = np.where(flip, b, a), np.where(flip, fb, 0.5 * fa)
         b, fb = c, fc
         root = np.where(done, root, c)
-        done |= (fc == 0) | stuck | (np.abs(b - a) <= 4.0 * np.finfo(float).eps * np.abs(c))
+        done |= (fc == 0) | stuck | (np.abs(b - a) <= ulps * np.finfo(float).eps * np.abs(c))
         if done.all():
             break
     return root

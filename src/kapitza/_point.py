@@ -39,6 +39,8 @@ _TOL = 16.0 * _EPS            # kapitza._certify._TOL
 _MAX_NEWTON = 200             # kapitza.zones._MAX_NEWTON
 _SMALL_MU = 0.6               # kapitza.zones._SMALL_MU
 _MU_MIN = 1e-6                # kapitza.analysis._MU_MIN
+_EPS_SERIES = 1e-5            # kapitza.analysis._EPS_SERIES
+_SQRT_3_2 = math.sqrt(1.5)
 _INF = math.inf
 
 
@@ -94,10 +96,11 @@ def tan3(z, sign):
     return acc
 
 
-def sin_half_a0(u, D, mu):
+def sin_half_a0(u, D, mu, d2m1=None):
     z = 0.5 * u
     y = D * z
-    d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
+    if d2m1 is None:
+        d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
     diff = z**3 * (tan3(z, 1) + D**4 * tan3(y, -1)) - z * d2m1
     Dt = D * math.tanh(y)
     return diff * math.cos(z) / math.sqrt(1.0 + Dt * Dt)
@@ -243,6 +246,8 @@ def _verdict(eps, mu):
 
 
 def _lower0_small_mu(mu):
+    if mu < 1e-100:  # kapitza.zones._TINY_MU
+        return 2.0 * math.sqrt(3.0) * mu
     d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
     D2 = 1.0 + d2m1
     D = math.sqrt(D2)
@@ -345,11 +350,12 @@ def period_edges(A, n, l, g):
     """``(T_lo, T_hi)`` of :func:`kapitza.period_edges` (square wave, undamped, ``A > g``)."""
     mu = math.sqrt(g / A)
     lo, hi = edges_eps(mu, n, math.sqrt((A - g) / A))
-    scale = math.sqrt(8.0 * l / A)
+    r = 8.0 * l / A
+    scale = math.sqrt(r) if r > 1e-300 else SQRT8 * (math.sqrt(l) / math.sqrt(A))
     return lo * scale, hi * scale
 
 
-def illinois(F, a, b, iterations=60):
+def illinois(F, a, b, iterations=60, ulps=4.0):
     """:func:`kapitza._exact.illinois` for one bracket ``[a, b]``."""
     fa, fb = F(a), F(b)
     if fa == 0 or fb == 0 or _sign(fa) == _sign(fb):
@@ -369,7 +375,7 @@ def illinois(F, a, b, iterations=60):
         else:
             fa = 0.5 * fa
         b, fb = c, fc
-        if fc == 0 or stuck or abs(b - a) <= 4.0 * _EPS * abs(c):
+        if fc == 0 or stuck or abs(b - a) <= ulps * _EPS * abs(c):
             return c
     return c
 
@@ -377,6 +383,8 @@ def illinois(F, a, b, iterations=60):
 def amplitude_edges(T, n, l, g):
     """``(A_lo, A_hi)`` of :func:`kapitza.amplitude_edges` (square wave, undamped)."""
     kappa = 2.0 * g * T * T / l
+    if not 0.0 < kappa < _INF:  # kapitza.zones._kappa
+        kappa = 2.0 * g * (T / l) * T
     npi = n * PI
 
     def F(u, upper):
@@ -384,11 +392,23 @@ def amplitude_edges(T, n, l, g):
         if x == 0.0:
             raise Careful("kappa underflowed")
         D = x / u if u != 0.0 else _INF
-        return u - npi - (beta_x(x, D) if upper else alpha_x(x, D))
+        f = u - npi - (beta_x(x, D) if upper else alpha_x(x, D))
+        if not upper and n == 0 and u < 1.0 and abs(f) < 2.0:  # kapitza.zones.amplitude_edges
+            s = sin_half_a0(u, D, None, kappa / u / u)
+            f = 2.0 * math.asin(min(max(s, -1.0), 1.0))
+        return f
 
     out = []
     for upper in (False, True):
-        u = illinois(lambda v: F(v, upper), npi + 0.0, (n + 1.0) * PI)
+        a, b = npi + 0.0, (n + 1.0) * PI
+        if not upper and n == 0:
+            guess = math.sqrt(math.sqrt(6.0) * math.sqrt(kappa))
+            a0, b0 = min(0.5 * guess, 1.0), min(2.0 * guess, PI)
+            if F(a0, False) < 0.0:
+                a = a0
+            if F(b0, False) > 0.0:
+                b = b0
+        u = illinois(lambda v: F(v, upper), a, b, ulps=1.0)
         r = u / T
         A = g + l * (r * r)
         if not math.isfinite(A):
@@ -407,20 +427,27 @@ def square_rig_margins(eps, mu, zone, T, stroke):
         q = math.sqrt((1.0 - m) * (1.0 + m))
         x, u = SQRT8 * eps * p, SQRT8 * eps * q
         D = p / q if q != 0.0 else _INF
-        return u - n * PI - (beta_x(x, D) if upper else alpha_x(x, D))
+        w = u - n * PI
+        return w - beta_x(x, D) if upper else lower_gap(x, u, w, n, D, m)
 
     lo, hi = _MU_MIN, 1.0 - 1e-12
+    lo_a = min(_MU_MIN, 0.5 * eps) if n == 0 else _MU_MIN
     out = dict(stroke=float(stroke))
     # the gaps carry a few ulp of u + n pi; a sign or an order within that is the array path's
+    # (zone 0's lower gap is positive at lo_a: that edge lies below eps / 2 there)
     noise = 16.0 * _EPS * (SQRT8 * eps + n * PI + 4.0)
-    g_lo, g_hi = gap(lo, False), gap(lo, True)
-    if abs(g_lo) <= noise or abs(g_hi) <= noise:
+    g_lo, g_hi = gap(lo_a, False), gap(lo, True)
+    if (n != 0 and abs(g_lo) <= noise) or abs(g_hi) <= noise:
         raise Careful("a zone edge at the end of the frequency range")
-    if g_lo <= 0.0:
+    series = n == 0 and eps < _EPS_SERIES  # (then g_lo may underflow; its sign is known)
+    if g_lo <= 0.0 and not series:
         return out
     open_top = g_hi < 0.0
-    mu_a = illinois(lambda m: gap(m, False), lo, hi)
-    mu_b = _MU_MIN if open_top else illinois(lambda m: gap(m, True), lo, hi)
+    if series:
+        mu_a = eps / _SQRT_3_2
+    else:
+        mu_a = illinois(lambda m: gap(m, False), lo_a, hi, ulps=1.0)
+    mu_b = 0.0 if open_top else illinois(lambda m: gap(m, True), lo, hi, ulps=1.0)
     if abs(mu_a - mu_b) <= 1e-8 * mu_a:
         raise Careful("a zone thinner than its edges' rounding in mu")
     if mu_b < mu_a:

@@ -241,6 +241,8 @@ def _rig_margins(eps, mu, zone, drive, zeta, T, A, stroke):
 
 
 _MU_MIN = 1e-6  # A = 1e12 g: a zone still open there has no upper frequency
+_EPS_SERIES = 1e-5  # below this zone 0's lower edge is eps = sqrt(3/2) mu to rounding
+_SQRT_3_2 = math.sqrt(1.5)
 
 
 def _square_rig_margins(eps, mu, zone, T, stroke):
@@ -249,7 +251,11 @@ def _square_rig_margins(eps, mu, zone, T, stroke):
     At fixed ``eps`` both ``w - alpha`` and ``w - beta`` (``w = u - n pi``, ``docs/theory.md``
     section 5) decrease as ``mu`` grows (``u`` falls, ``alpha`` and ``beta`` rise), so zone ``n``
     is ``mu_b < mu < mu_a`` with ``w - alpha = 0`` at ``mu_a`` and ``w - beta = 0`` at ``mu_b``;
-    both are found by regula falsi (:func:`kapitza._exact.illinois`) to about 1e-14.
+    both are found by regula falsi (:func:`kapitza._exact.illinois`) to an ulp or two of the
+    gaps' rounding. Zone 0's lower gap is taken from :func:`kapitza._exact.lower_gap`, free of
+    the cancellation of ``u`` against ``alpha`` as ``u -> 0``; that edge reaches every ``eps``
+    (``eps_lo = sqrt(3/2) mu (1 + 4 mu^4 / 7 + ...)`` as ``mu -> 0``), so its search starts
+    below ``eps / 2``, and below ``eps = 1e-5`` the series' first term is its value to rounding.
     """
     from . import _exact as X
     from .parameters import SQRT8
@@ -262,18 +268,23 @@ def _square_rig_margins(eps, mu, zone, T, stroke):
         x, u = SQRT8 * eps * p, SQRT8 * eps * q
         with np.errstate(divide="ignore"):
             D = p / q
-        return u - n * np.pi - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
+        w = u - n * np.pi
+        return np.where(upper, w - X.beta_x(x, D), X.lower_gap(x, u, w, n, D, m))
 
     upper = np.array([False, True])
-    lo = np.full(2, _MU_MIN)
+    lo = np.array([min(_MU_MIN, 0.5 * eps) if n == 0 else _MU_MIN, _MU_MIN])
     hi = np.full(2, 1.0 - 1e-12)
     f_lo = gap(lo, upper)
     out = dict(stroke=float(stroke))
-    if f_lo[0] <= 0.0:  # below the zone's lower edge at every mu: no frequency reaches it
+    series = n == 0 and eps < _EPS_SERIES  # (then the gap at lo may underflow; its sign is known)
+    if f_lo[0] <= 0.0 and not series:  # below the zone's lower edge at every mu: no frequency reaches it
         return out
     open_top = f_lo[1] < 0.0  # still in the zone at the smallest mu
-    roots = X.illinois(lambda m: gap(m, upper), lo, hi)
-    mu_a, mu_b = float(roots[0]), (_MU_MIN if open_top else float(roots[1]))
+    if series:
+        roots = np.array([eps / _SQRT_3_2, X.illinois(lambda m: gap(m, upper[1:]), lo[1:], hi[1:], ulps=1.0)[0]])
+    else:
+        roots = X.illinois(lambda m: gap(m, upper), lo, hi, ulps=1.0)
+    mu_a, mu_b = float(roots[0]), (0.0 if open_top else float(roots[1]))
     if mu_b < mu_a:
         f = 0.5 / T
         out.update(frequency_lo=float(f * mu / mu_a), frequency_hi=float("inf") if open_top else float(f * mu / mu_b))

@@ -80,7 +80,13 @@ def _lower0_small_mu(mu):
         live &= np.abs(step) > 8.0 * np.finfo(float).eps * z1
         if not live.any():
             break
-    return 2.0 * fixed(z1)
+    # Below mu = 1e-100 mu^2 may leave the normal doubles (1e-154 and less) and the iteration
+    # with it; there u = 2 sqrt(3) mu (1 + O(mu^2)) is the edge to rounding.
+    return np.where(mu < _TINY_MU, (2.0 * _SQRT3) * mu, 2.0 * fixed(z1))
+
+
+_TINY_MU = 1e-100
+_SQRT3 = np.sqrt(3.0)
 
 
 _SMALL_MU = 0.6
@@ -669,7 +675,10 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
             f"A must exceed g (A > g) for stability zones to exist; got A={bad!r} with g={float(np.max(g))!r}"
         )
     lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A))  # A - g is exact as A -> g
-    scale = np.sqrt(8.0 * l / A)
+    with np.errstate(under="ignore"):
+        scale = np.sqrt(8.0 * l / A)
+        # 8 l / A leaves the normal doubles before T does (l = 1e-100, A = 1e250: T_lo ~ 1e-299)
+        scale = np.where(8.0 * l / A > 1e-300, scale, SQRT8 * (np.sqrt(l) / np.sqrt(A)))
     return lo * scale, hi * scale
 
 
@@ -716,7 +725,11 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     At fixed ``T`` the elliptic phase angle ``u = T sqrt((A - g)/l)`` increases with
     ``A`` and ``x^2 = u^2 + 2 g T^2 / l``; each edge equation ``u - n pi = alpha`` or
     ``beta`` changes sign once on ``n pi <= u <= (n+1) pi`` and is solved there by
-    regula falsi (Illinois) to a few ulp.
+    regula falsi (Illinois). Zone 0's lower edge, where ``u`` and ``alpha`` agree to
+    ``O(u^3)`` as ``kappa = 2 g T^2 / l -> 0`` (``u ~ (6 kappa)^(1/4)``), is solved on the
+    cancellation-free form of that gap (:func:`kapitza._exact.sin_half_a0`). Both edges are
+    within 5 ulp of the 50-digit reference on the rigs of ``tests/test_rig_edges_oracle.py``
+    (``kappa`` from 1e-299 to about 100, zones 0-2; no proof of a bound is claimed).
     """
     T = _v.positive("T", T)
     l = _v.positive("l", l)
@@ -737,13 +750,33 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     upper = np.stack([np.zeros(n.shape, bool), np.ones(n.shape, bool)])
     nn, kk = np.stack([n, n]), np.stack([kappa, kappa])
 
-    def F(u):
-        x = np.sqrt(u * u + kk)
-        with np.errstate(divide="ignore"):
-            D = x / u
-            return u - nn * PI - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
+    # Zone 0's lower edge at small u: u and alpha agree to O(u^3) there (the root carries
+    # ``eps / u^2`` of relative rounding, and the old bracket [0, pi] took more steps than
+    # regula falsi is given once u is far below 1). Its gap is taken from the
+    # cancellation-free form of :func:`kapitza._exact.sin_half_a0` with ``D^2 - 1 = kappa / u^2``
+    # (the identity :func:`zone_edges` rests on), and it is bracketed about its small-kappa
+    # value ``u ~ (6 kappa)^(1/4)``.
+    low0 = ~upper & (nn == 0)
 
-    u = X.illinois(F, nn * PI + 0.0, (nn + 1.0) * PI)
+    def F(u):
+        with np.errstate(divide="ignore", under="ignore"):
+            x = np.sqrt(u * u + kk)
+            D = x / u
+            f = u - nn * PI - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
+            small = low0 & (u < 1.0) & (np.abs(f) < 2.0)
+            if small.any():
+                us = u[small]
+                s = X.sin_half_a0(us, D[small], None, kk[small] / us / us)
+                f[small] = 2.0 * np.arcsin(np.clip(s, -1.0, 1.0))
+        return f
+
+    a, b = nn * PI + 0.0, (nn + 1.0) * PI
+    if low0.any():
+        guess = np.sqrt(np.sqrt(6.0) * np.sqrt(kk))  # (6 kappa)^(1/4), without overflow
+        a0, b0 = np.minimum(0.5 * guess, 1.0), np.minimum(2.0 * guess, PI)
+        a = np.where(low0 & (F(a0) < 0.0), a0, a)
+        b = np.where(low0 & (F(b0) > 0.0), b0, b)
+    u = X.illinois(F, a, b, ulps=1.0)
     TT, ll, gg = np.stack([T, T]), np.stack([l, l]), np.stack([g, g])
     with np.errstate(over="ignore"):  # (u / T)^2 may overflow where l (u / T)^2 does not
         A = gg + ll * (u / TT) ** 2
