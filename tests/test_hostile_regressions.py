@@ -270,3 +270,13 @@ def test_subnormal_amplitude_and_radius_give_no_warning():
         assert np.all(np.isfinite(pair.motion.theta))
         with pytest.raises(ValueError, match=r"r must lie in \[1e-150"):
             measured_rotation_number(0.5, 0.3, r=5e-324, periods=16)
+
+
+@pytest.mark.parametrize("q", [1.7976931348623157e308, -1.7976931348623157e308])
+def test_mathieu_values_at_the_largest_double_are_refused_by_name(q):
+    # q rounded up to a power of 1.05 overflowed in exp (a RuntimeWarning)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for fn in (mathieu.characteristic_a, mathieu.characteristic_b):
+            with pytest.raises(ValueError, match=r"\|q\| <= 4e6"):
+                fn([1, 1], q)

@@ -60,7 +60,8 @@ def _decay_rows(q):
     the smallest ``r`` with ``(|q|/4)^r / (r!)^2 < 1e-18`` (their decay, DLMF 28.4(iii))."""
     from scipy.special import gammaln
 
-    q = np.maximum(np.abs(np.asarray(q, float)), 1e-3)
+    # (beyond 1e300 the count exceeds the table anyway, and q rounded up would overflow)
+    q = np.clip(np.abs(np.asarray(q, float)), 1e-3, 1e300)
     # the count grows with q: evaluate it on q rounded up to powers of 1.05 (a few distinct values)
     step = np.log(1.05)
     key = np.ceil(np.log(q) / step)
