@@ -340,6 +340,8 @@ def _coefficients(M, C, lam):
 #: the ``+A`` phase grow like ``e^{3x}`` while the map's own coefficients inside the thin zones
 #: stay far smaller. Below it the twist is good to about 2e-9 relative.
 _DEFECT_MP = 1e-9
+#: Below this eps the normal form is computed in extended precision (see :func:`_normal_form`).
+_EPS_TINY = 1e-3
 #: The looser bound of pictures and of scans that only bracket sign changes.
 _DEFECT_DRAW = 1e-4
 
@@ -350,7 +352,8 @@ def _normal_form_mp(eps, mu):
 
     e, m = mp.mpf(float(eps)), mp.mpf(float(mu))
     x = 2 * mp.sqrt(2) * e * mp.sqrt(1 + m * m)
-    with mp.workdps(40 + int(2.5 * float(x))):
+    # the map is I + O(eps^2) and tr M / 2 = 1 - O(eps^4): 4 |log10 eps| digits cancel at small eps
+    with mp.workdps(40 + int(2.5 * float(x)) + 4 * max(0, int(-mp.log10(e)))):
         e, m = mp.mpf(float(eps)), mp.mpf(float(mu))
         x = 2 * mp.sqrt(2) * e * mp.sqrt(1 + m * m)
         u = 2 * mp.sqrt(2) * e * mp.sqrt((1 - m) * (1 + m))
@@ -412,10 +415,13 @@ def _normal_form(eps, mu, defect_max=_DEFECT_MP):
     r21 = coef[..., 1] / lam
     with np.errstate(invalid="ignore", divide="ignore"):
         defect = np.abs(r21.real) / np.where(np.abs(r21) > 0, np.abs(r21), 1.0)
-    redo = stable & (defect > defect_max)
+    # At small eps the monodromy is I + O(eps^2) and its linear data cancel in double precision
+    # (the twist was 4e-9 off at eps = 1e-4, of the wrong sign by 1e-12): extended precision there.
+    tiny = stable & (eps < _EPS_TINY)
+    redo = stable & ((defect > defect_max) | tiny)
     if np.any(redo):
         x, u, _ = _phase_angles(eps, mu)
-        avg = redo & (x <= _X_AVERAGED)
+        avg = redo & (x <= _X_AVERAGED) & ~tiny
         if np.any(avg):
             coef = np.array(coef)
             coef[avg] = _coefficients_averaged(x[avg], u[avg], M[avg], lam[avg], np.sin(w[avg]))
