@@ -280,3 +280,17 @@ def test_mathieu_values_at_the_largest_double_are_refused_by_name(q):
         for fn in (mathieu.characteristic_a, mathieu.characteristic_b):
             with pytest.raises(ValueError, match=r"\|q\| <= 4e6"):
                 fn([1, 1], q)
+
+
+def test_exact_flows_refuse_a_phase_longer_than_their_argument_reduction_resolves(capsys, tmp_path):
+    # l = 1e-300 makes w_h T = 1.6e150: the elliptic functions gave 0/0 (a RuntimeWarning, NaN)
+    from kapitza.motion import motion_pair
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"w_h T = T sqrt\(\(g \+ A\) / l\) <= 100000"):
+            motion_pair(0.1, 0.0, 0.15, 100.0, 1e-300, 9.81)
+        # a window in which no zone lies draws no legend, and warns of none
+        code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", str(tmp_path / "c"), "--duty",
+                            "9e-27"], capsys)
+        assert code == 0 and "legend" not in err and (tmp_path / "c.png").exists()

@@ -172,7 +172,10 @@ class Drawn(dict):
 
 def place_legend(ax, inside=False, **kw):
     """A legend for ``ax``: inside the axes (``inside=True``, best corner, framed)
-    or just outside its right edge (the captioned figures' default)."""
+    or just outside its right edge (the captioned figures' default). None when nothing drawn
+    has a label (a window in which no zone lies)."""
+    if not ax.get_legend_handles_labels()[0]:
+        return None
     if inside:
         return ax.legend(loc=kw.pop("loc", "best"), fontsize=kw.pop("fontsize", 8), framealpha=0.9, **kw)
     return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=kw.pop("fontsize", 8), frameon=False,

@@ -89,6 +89,8 @@ MAX_PERIODS = 1_000_000
 #: Drive periods one trajectory may be followed through by the exact flows, phase by phase in
 #: Python (about 0.2 ms a period: some 40 s; ``KAPITZA_ALLOW_LARGE=1`` lifts it).
 MAX_TRAJECTORY_PERIODS = 200_000
+#: Largest scaled duration ``w_h T`` of one phase followed by the exact flows [rad].
+MAX_SCALED_PHASE = 1e5
 #: Samples a trajectory may hold (``KAPITZA_ALLOW_LARGE=1`` lifts it).
 MAX_SAMPLES = 20_000_000
 #: Largest ``(w_h + |dtheta0| + c) * duration`` [rad] handed to DOP853: about 20 steps per radian, so
@@ -109,6 +111,15 @@ def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
     """Refuse spans whose work is not bounded: ``t_end / (2T)`` periods, and for DOP853 the
     angle ``(w_h + |dtheta0| + c) t_end`` it must resolve (large ``c`` makes the equation stiff)."""
     T, A, l, g, c = (np.asarray(v, float) for v in (T, A, l, g, c))
+    if method == "exact":
+        # the phase flows are Jacobi elliptic functions of the scaled time w T: beyond 1e5 rad in one
+        # phase their argument reduction loses the digits of the motion (NaN by 1e150)
+        with np.errstate(over="ignore"):
+            wT = float(np.max(np.sqrt((g + peak * A) / l) * T))
+        if not wT <= MAX_SCALED_PHASE:
+            raise _v.KapitzaValueError(
+                f"T, A and l must keep w_h T = T sqrt((g + A) / l) <= {MAX_SCALED_PHASE:g} rad for the exact phase "
+                f"flows (one phase of the drive); got {wT:.4g}")
     limit = MAX_TRAJECTORY_PERIODS if method == "exact" else MAX_PERIODS
     _v.bounded_work("the duration t / (2 T)", float(t_end / (2.0 * np.min(T))), limit,
                     what="drive periods, each followed phase by phase")
