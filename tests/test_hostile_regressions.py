@@ -294,3 +294,13 @@ def test_exact_flows_refuse_a_phase_longer_than_their_argument_reduction_resolve
         code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", str(tmp_path / "c"), "--duty",
                             "9e-27"], capsys)
         assert code == 0 and "legend" not in err and (tmp_path / "c.png").exists()
+
+
+def test_eps_mu_beyond_a_double_grows_without_limit_not_nan():
+    # eps * mu = 9e307: x and v overflowed (a RuntimeWarning) and the growth came out NaN
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert K.growth_rate(0.5, 1.7976931348623157e308) == np.inf
+        assert not np.any(np.isnan(K.floquet_multipliers(0.5, 1.7976931348623157e308)))
+        with pytest.raises(ValueError, match=r"mu must lie in \(0, 1\)"):
+            K.twist_coefficient(0.5, 1.7976931348623157e308)

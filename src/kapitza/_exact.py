@@ -271,6 +271,8 @@ def floquet_hyperbolic(x, v):
         big = log_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * log_tau)))
         small = acosh_excess(np.where(excess < 1.0, excess, 0.0))
     growth = np.where(excess < 1.0, small, big)
+    # x or v beyond a double (eps mu > 1e308): the growth, about x + v, is too
+    growth = np.where(np.isinf(x) | np.isinf(v), np.inf, growth)
     return tau, growth
 
 

@@ -63,8 +63,9 @@ def _floquet(eps, mu):
     if not ell.all():
         # sqrt(1 + mu^2) and sqrt(mu^2 - 1) without squaring mu (it may be ~1e300)
         r = 1.0 / np.maximum(mu, 1.0)
-        xh = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(1.0 + r * r), np.hypot(1.0, mu))
-        v = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(np.maximum((1.0 - r) * (1.0 + r), 0.0)), 0.0)
+        with np.errstate(over="ignore"):  # eps mu beyond 1e308: x and v are inf, and so is the growth
+            xh = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(1.0 + r * r), np.hypot(1.0, mu))
+            v = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(np.maximum((1.0 - r) * (1.0 + r), 0.0)), 0.0)
         tau_h, growth_h = X.floquet_hyperbolic(xh, v)
         tau = np.where(ell, tau, tau_h)
         growth = np.where(ell, growth, growth_h)
