@@ -304,3 +304,8 @@ def test_eps_mu_beyond_a_double_grows_without_limit_not_nan():
         assert not np.any(np.isnan(K.floquet_multipliers(0.5, 1.7976931348623157e308)))
         with pytest.raises(ValueError, match=r"mu must lie in \(0, 1\)"):
             K.twist_coefficient(0.5, 1.7976931348623157e308)
+
+
+def test_amplitude_edges_names_mismatched_shapes():
+    with pytest.raises(ValueError, match=r"l, damping must have shapes that broadcast together"):
+        K.amplitude_edges(0.15, 1, l=np.array([0.5, 0.6, 0.7]), damping=[0.0, 0.0])

@@ -682,7 +682,6 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     return lo * scale, hi * scale
 
 
-@_v.shapes_named
 def _kappa(T, l, g):
     """``2 g T^2 / l`` (``x^2 - u^2``), formed so that it stays a double where it is one: ``T^2``
     alone underflows at ``T = 1e-200`` while ``2 g (T / l) T`` need not. Refused by name where it
@@ -700,6 +699,7 @@ def _kappa(T, l, g):
     return k
 
 
+@_v.shapes_named
 def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     """Amplitudes ``A_lo < A_hi`` bounding stability zone ``n`` for fixed half-period ``T``.
 
