@@ -309,3 +309,11 @@ def test_eps_mu_beyond_a_double_grows_without_limit_not_nan():
 def test_amplitude_edges_names_mismatched_shapes():
     with pytest.raises(ValueError, match=r"l, damping must have shapes that broadcast together"):
         K.amplitude_edges(0.15, 1, l=np.array([0.5, 0.6, 0.7]), damping=[0.0, 0.0])
+
+
+def test_measured_rotation_number_bounds_its_periods():
+    # periods = 1e12 asked numpy for 7 TiB (MemoryError)
+    from kapitza.motion import measured_rotation_number
+
+    with pytest.raises(ValueError, match=r"periods must be .*KAPITZA_ALLOW_LARGE"):
+        measured_rotation_number(0.5, 0.3, r=0.05, periods=10**12)

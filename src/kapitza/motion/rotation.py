@@ -18,7 +18,8 @@ from .. import _validate as _v
 from ..normal_form import _normal_coordinate, _normal_form, _stable_arnold, _taylor
 from ..parameters import G_EARTH, to_physical
 from ._elliptic import _phase_step
-from ._maps import phases
+from ._maps import bound_ensemble, phases
+from .nonlinear import MAX_PERIODS
 
 __all__ = ["RotationRun", "measured_rotation_number"]
 
@@ -92,8 +93,9 @@ def measured_rotation_number(eps, mu, r, *, periods=4000):
     eps, mu = _stable_arnold(eps, mu)
     # below 1e-150 the orbit is the linear one, and its normal coordinates leave the normal doubles
     r = _v.in_range("r", r, 1e-150, 0.5 * np.pi, lo_open=False)
-    periods = int(_v.nonnegative_int("periods", periods, minimum=16))
+    periods = _v.bounded_count("periods", periods, MAX_PERIODS, minimum=16)
     eps, mu, r = np.broadcast_arrays(eps, mu, r)
+    bound_ensemble(periods, r.size)
     shape = r.shape
     eps, mu, r = (a.ravel() for a in (eps, mu, r))
     nf, _ = _normal_form(eps, mu)
