@@ -317,3 +317,11 @@ def test_measured_rotation_number_bounds_its_periods():
 
     with pytest.raises(ValueError, match=r"periods must be .*KAPITZA_ALLOW_LARGE"):
         measured_rotation_number(0.5, 0.3, r=0.05, periods=10**12)
+
+
+def test_curve_samples_are_bounded():
+    # points = 1e12 went straight to numpy (MemoryError)
+    from kapitza.curves import zone_curves
+
+    with pytest.raises(ValueError, match=r"points must be <= 200,000.*KAPITZA_ALLOW_LARGE"):
+        zone_curves(points=10**12)

@@ -12,6 +12,8 @@ __all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "param
            "linearly_stable", "KapitzaValueError", "bounded_count", "bounded_ints", "bounded_work", "allow_large",
            "ALLOW_LARGE_ENV", "one", "broadcast", "workers", "scalars"]
 
+#: Samples along a curve or a scan one call may ask for (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_POINTS = 200_000
 #: Set this environment variable to 1 to lift the bounds on work (counts, periods, frames, ...).
 ALLOW_LARGE_ENV = "KAPITZA_ALLOW_LARGE"
 

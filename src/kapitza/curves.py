@@ -67,7 +67,7 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
     """
     e0, e1 = window_range(eps_range, mu_range)
     m0, m1 = (float(v) for v in mu_range)
-    points = int(_v.nonnegative_int("points", points, minimum=2))
+    points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
     tiny = 1e-9
     # Cluster samples towards the ends where the edges bend fastest (mu -> 0, mu -> 1).
     s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, points))
@@ -138,7 +138,7 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     if general is None:
         return zone_curves(eps_range, mu_range, points, max_zones)
     e0, e1 = window_range(eps_range, mu_range)
-    points = int(_v.nonnegative_int("points", points, minimum=2))
+    points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
     m0, m1 = (float(v) for v in mu_range)
     # from mu = 1e-3 as kapitza chart draws other drives (the window method and the edge-by-edge
     # solution of a damped zone 0 disagree at mu ~ 1e-9)

@@ -67,7 +67,7 @@ def resonance_curve(mu, n, order):
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     n = int(_v.nonnegative_int("n", n))
-    order = int(_v.nonnegative_int("order", order, minimum=3))
+    order = _v.bounded_count("order", order, 1000, minimum=3)
     return _resonance_eps(mu, n, order)
 
 
@@ -97,7 +97,7 @@ def twist_zeros(mu, n, samples=400):
 
     mu = _v.one("mu", _v.in_range("mu", mu, 0.0, 1.0))
     n = int(_v.nonnegative_int("n", n))
-    samples = int(_v.nonnegative_int("samples", samples, minimum=8))
+    samples = _v.bounded_count("samples", samples, _v.MAX_POINTS, minimum=8)
     lo, hi = (float(v) for v in _edges_eps(np.array(mu), n))
     s = 0.5 - 0.5 * np.cos(np.linspace(0.0, PI, samples + 2)[1:-1])
     eps = lo + s * (hi - lo)
@@ -224,5 +224,5 @@ def nonlinear_chart(mu, zones=(0, 1, 2), *, scan=60):
     """
     mu = np.atleast_1d(_v.in_range("mu", mu, 0.0, 1.0)).ravel()
     zones = tuple(int(_v.nonnegative_int("zones", z)) for z in zones)
-    scan = int(_v.nonnegative_int("scan", scan))
+    scan = _v.bounded_count("scan", scan, _v.MAX_POINTS)
     return NonlinearChart(zones=tuple(_zone_curves(mu, n, scan) for n in zones), scan=scan)

@@ -193,7 +193,7 @@ def tongue_curves(n, mu_range=(0.0, 1.0), points=400):
     every sample (:func:`kapitza.zone_edges`).
     """
     n = int(_v.nonnegative_int("n", n))
-    points = int(_v.nonnegative_int("points", points, minimum=2))
+    points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
     m0, m1 = (float(v) for v in mu_range)
     if not (0.0 <= m0 < m1 <= 1.0):
         raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= 1; got ({m0:g}, {m1:g})")

@@ -238,7 +238,7 @@ def figure1_data(levels=(0.3, 0.6, 0.9, 1.2), extent=1.6, samples=241) -> Figure
     """
     levels = _v.positive("levels", levels).ravel()
     extent = _v.one("extent", _v.positive("extent", extent))
-    samples = int(_v.nonnegative_int("samples", samples, minimum=3))
+    samples = _v.bounded_count("samples", samples, _v.MAX_POINTS, minimum=3)
     series, points = [], []
     R = extent * np.sqrt(2.0)
     for c in levels:
@@ -331,7 +331,7 @@ _DYNAMICS = {
 
 def _dynamics_data(number, A, l, g, samples):
     A, l, g = _physical(A, l, g)
-    samples = int(_v.nonnegative_int("samples", samples, minimum=3))
+    samples = _v.bounded_count("samples", samples, _v.MAX_POINTS, minimum=3)
     spec = _DYNAMICS[number]
     sol = periodic_solution(A, spec["index"], spec["tilde"], l, g)
     b = sol.boundary
@@ -497,8 +497,8 @@ def figure6_data(A=FIGURE6_A, l=1.0, g=G_EARTH, zones=4, samples=1500, zoom_samp
     """
     A, l, g = _physical(A, l, g)
     zones = int(_v.nonnegative_int("zones", zones, minimum=1))
-    samples = int(_v.nonnegative_int("samples", samples, minimum=3))
-    zoom_samples = int(_v.nonnegative_int("zoom_samples", zoom_samples, minimum=3))
+    samples = _v.bounded_count("samples", samples, _v.MAX_POINTS, minimum=3)
+    zoom_samples = _v.bounded_count("zoom_samples", zoom_samples, _v.MAX_POINTS, minimum=3)
     w_h = np.sqrt((A + g) / l)
     w_e = np.sqrt((A - g) / l)
     u_max = zones * PI + 0.35 * PI
@@ -583,7 +583,7 @@ def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600, magnify=
     from ..curves import zone_curves  # what plot_zones draws
     from ..figures.chart import tongue_curves  # what plot_tongue draws
 
-    points = int(_v.nonnegative_int("points", points, minimum=2))
+    points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
     curves = zone_curves(eps_range, mu_range, points)
     series = []
     for i, n in enumerate(curves.n):
@@ -658,7 +658,7 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
     ``mu -> 0``, with relative errors ``(4/7) mu^4`` and ``(8424/13475) mu^8``.
     """
     eps_max = _v.one("eps_max", _v.positive("eps_max", eps_max))
-    points = int(_v.nonnegative_int("points", points, minimum=3))
+    points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=3)
     m0, m1 = (float(v) for v in error_mu)
     if not (0.0 < m0 < m1 < 1.0):
         raise _v.KapitzaValueError(f"error_mu must satisfy 0 < mu_min < mu_max < 1; got ({m0:g}, {m1:g})")
