@@ -325,3 +325,17 @@ def test_curve_samples_are_bounded():
 
     with pytest.raises(ValueError, match=r"points must be <= 200,000.*KAPITZA_ALLOW_LARGE"):
         zone_curves(points=10**12)
+
+
+def test_damped_monodromy_of_strong_damping_is_finite_and_basin_names_its_own_speed():
+    # c T = 725: the phi-flows' e^{cT} overflowed before e^{-cT} was applied (inf and NaN entries);
+    # basin(dtheta_max=1e300) named survival's dtheta0 instead of dtheta_max
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for c in (4835.0, 26095.0):
+            M = K.monodromy(0.15, 100.0, 1.0, 9.81, damping=c)
+            assert np.all(np.isfinite(M))
+        np.testing.assert_allclose(K.monodromy(0.15, 100.0, damping=0.5),
+                                   [[2.74487496, 0.27273995], [-19.6943525, -1.64332755]], rtol=1e-7)
+        with pytest.raises(ValueError, match=r"dtheta_max must satisfy"):
+            K.basin(0.15, 100.0, periods=2, dtheta_max=1e300, n_theta=5, n_dtheta=5)

@@ -220,11 +220,26 @@ def along_amplitude(T, n, l, g, drive, c):
 
 
 # ---------------------------------------------------------------- motion of the linear equation
-def _segment_flow(s, h):
-    """Entries (a, b, c, d) of the exact flow of ``x'' = s x`` over ``h`` (physical units)."""
+def _segment_flow(s, h, k=None):
+    """Entries (a, b, c, d) of the exact flow of ``x'' = s x`` over ``h`` (physical units), times
+    ``e^{-k}`` when ``k`` is given: formed as ``e^{r - k}`` where ``r = sqrt(s) h`` is large, so a
+    damped step (``s`` raised by ``c^2/4``, ``k = c h / 2``) does not overflow where its product
+    with ``e^{-k}`` is a double."""
     from ..propagation import _flow
 
-    c, sd, ds = _flow(np.asarray(s, float), np.asarray(h, float))
+    s, h = np.asarray(s, float), np.asarray(h, float)
+    c, sd, ds = _flow(s, h)
+    if k is None:
+        return c, sd, ds, c
+    with np.errstate(over="ignore", invalid="ignore"):
+        e = np.exp(-k)
+        c, sd, ds = c * e, sd * e, ds * e
+        w = np.sqrt(np.abs(s))
+        big = (s > 0) & (w * h > 700.0)  # cosh r = sinh r = e^r / 2 to rounding
+        half = 0.5 * np.exp(w * h - k)
+        c = np.where(big, half, c)
+        sd = np.where(big, half / np.where(big, w, 1.0), sd)
+        ds = np.where(big, half * w, ds)
     return c, sd, ds, c
 
 
@@ -238,7 +253,8 @@ def monodromy(T, A, l, g, drive, c):
     """``M_theta`` over one period ``2T`` of ``theta'' + c theta' = (g + a(t))/l theta``, shape ``(..., 2, 2)``.
 
     Piecewise-constant drives: ``exp(-c T) S^{-1} (prod of phi-flows) S`` with the stiffness of
-    each step raised by ``c^2/4`` (``docs/drives.md`` section 3). The sine drive: one period
+    each step raised by ``c^2/4`` (``docs/drives.md`` section 3), each step carrying its share of
+    ``exp(-c T)``. The sine drive: one period
     integrated by DOP853 (rtol 1e-12).
     """
     T, A, l, g, c = np.broadcast_arrays(*(np.asarray(x, float) for x in (T, A, l, g, c)))
@@ -246,7 +262,8 @@ def monodromy(T, A, l, g, drive, c):
         if isinstance(drive, PiecewiseConstant):
             P = (np.ones(T.shape), np.zeros(T.shape), np.zeros(T.shape), np.ones(T.shape))
             for lev, f in zip(drive.levels, drive.fractions):
-                P = _mul(_segment_flow((g + A * lev) / l + 0.25 * c * c, 2.0 * f * T), P)
+                # each step carries its share e^{-c f T} of e^{-c T}: no e^{c T}-sized entries
+                P = _mul(_segment_flow((g + A * lev) / l + 0.25 * c * c, 2.0 * f * T, c * f * T), P)
         else:
             P = _ivp_period(T, A, l, g, drive)
         a, b, cc, d = P
@@ -256,8 +273,10 @@ def monodromy(T, A, l, g, drive, c):
         m12 = b
         m21 = cc + (d - a) * half - b * half * half
         m22 = d - b * half
-        e = np.exp(-c * T)
-        M = np.stack([np.stack([m11, m12], -1), np.stack([m21, m22], -1)], -2) * e[..., None, None]
+        if not isinstance(drive, PiecewiseConstant):
+            e = np.exp(-c * T)
+            m11, m12, m21, m22 = (v * e for v in (m11, m12, m21, m22))
+        M = np.stack([np.stack([m11, m12], -1), np.stack([m21, m22], -1)], -2)
     return M
 
 

@@ -497,10 +497,14 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     n_theta = _v.bounded_count("n_theta", n_theta, MAX_GRID, minimum=2)
     n_dtheta = _v.bounded_count("n_dtheta", n_dtheta, MAX_GRID, minimum=2)
     _v.bounded_work("n_theta * n_dtheta", n_theta * n_dtheta, 25_000_000, what="grid points held in memory")
+    d = as_drive(drive)
+    if model == "nonlinear" and exact_path(d, _v.one("c", _damping(c))):
+        # the window's corner speed starts a motion: refuse it here, by this function's name for it
+        plan = phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g)
+        _check_speed(np.asarray(dtheta_max), [s_ for s_, _ in plan], name="dtheta_max")
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)
     grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model, c=c,
                     chunk=chunk, workers=workers, progress=progress, drive=drive)
-    d = as_drive(drive)
     return Basin(theta0=th, dtheta0=om, periods_survived=grid, periods=int(periods), tol=tol, model=model,
                  T=T, A=A, l=l, g=g, drive=None if d.name == "square" else d, c=float(_v.one("c", _damping(c))))
