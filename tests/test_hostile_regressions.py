@@ -339,3 +339,11 @@ def test_damped_monodromy_of_strong_damping_is_finite_and_basin_names_its_own_sp
                                    [[2.74487496, 0.27273995], [-19.6943525, -1.64332755]], rtol=1e-7)
         with pytest.raises(ValueError, match=r"dtheta_max must satisfy"):
             K.basin(0.15, 100.0, periods=2, dtheta_max=1e300, n_theta=5, n_dtheta=5)
+
+
+def test_phase_flow_refuses_a_scaled_time_beyond_its_accuracy():
+    # t = 1.8e308: w t overflowed (a RuntimeWarning) inside the elliptic functions
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"sqrt\|s\| \|t\| <= 100000"):
+            phase_flow(1.7976931348623157e308, 0.1, 0.0, 10.0)

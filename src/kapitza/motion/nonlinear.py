@@ -187,7 +187,7 @@ def phase_flow(t, theta0, dtheta0, s):
     Parameters
     ----------
     t : array_like
-        Duration [s], any sign (the flow is reversible).
+        Duration [s], any sign (the flow is reversible), with ``sqrt|s| |t| <= 1e5``.
     theta0, dtheta0 : array_like
         Initial angle from the upright [rad] (any real; turns are kept, not
         wrapped) and angular velocity [rad/s].
@@ -218,6 +218,13 @@ def phase_flow(t, theta0, dtheta0, s):
     s = _v.finite("s", s)
     t, theta0, dtheta0, s = _v.broadcast(t=t, theta0=theta0, dtheta0=dtheta0, s=s)
     _check_speed_pointwise(dtheta0, s)
+    with np.errstate(over="ignore"):
+        wt = np.sqrt(np.abs(s)) * np.abs(t)
+    long = ~(wt <= MAX_SCALED_PHASE)
+    if np.any(long):
+        raise _v.KapitzaValueError(
+            f"t and s must keep sqrt|s| |t| <= {MAX_SCALED_PHASE:g} rad for the exact flow (its elliptic functions "
+            f"lose the motion's digits beyond); got t = {float(t[long].flat[0])!r} with s = {float(s[long].flat[0])!r}")
     back = t < 0
     # Time reversal: run the mirrored state forward and mirror back.
     om = np.where(back, -dtheta0, dtheta0)
