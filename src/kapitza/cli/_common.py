@@ -9,7 +9,7 @@ from pathlib import Path
 from .._io import to_jsonable
 from ..parameters import G_EARTH
 
-__all__ = ["CLIError", "Parser", "add_parameters", "add_damping", "parameters_from", "print_json", "finite_float", "positive_float",
+__all__ = ["CLIError", "Parser", "add_parameters", "add_damping", "damping_from", "parameters_from", "print_json", "finite_float", "positive_float",
            "format_table", "count"]
 
 
@@ -82,6 +82,18 @@ def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
                             "instead of --l")
 
 
+def damping_from(args, physical):
+    """``{"damping": c}`` from --damping with physical parameters, ``{"zeta": z}`` (or nothing) from
+    --zeta with Arnold's; the other flag given is refused, naming the right one."""
+    if physical:
+        if args.zeta is not None:
+            raise CLIError("with physical parameters give the damping as --damping C (1/s), not --zeta")
+        return {"damping": args.damping}
+    if args.damping:
+        raise CLIError("with --eps/--mu give the damping as --zeta (ratio c / (2 sqrt(g/l))), not --damping")
+    return {} if args.zeta is None else {"zeta": args.zeta}
+
+
 def add_damping(g, physical="with physical parameters", arnold="with --eps/--mu"):
     """--damping C [1/s] and --zeta (the damping ratio); which goes with which parameters is said in
     the help and enforced where they are read."""
@@ -151,18 +163,13 @@ def parameters_from(args) -> dict:
                 raise CLIError("--T and --A must be given together")
             T, A = args.T, args.A
         if rig:
-            if args.zeta is not None:
-                raise CLIError("with physical parameters give the damping as --damping C (1/s), not --zeta")
-            extra["damping"] = args.damping
+            extra.update(damping_from(args, physical=True))
         return dict(T=T, A=A, l=l, g=args.g, **extra)
     if arn:
         if args.eps is None or args.mu is None:
             raise CLIError("--eps and --mu must be given together")
         if rig:
-            if args.damping:
-                raise CLIError("with --eps/--mu give the damping as --zeta (ratio c / (2 sqrt(g/l))), not --damping")
-            if args.zeta is not None:
-                extra["zeta"] = args.zeta
+            extra.update(damping_from(args, physical=False))
         return dict(eps=args.eps, mu=args.mu, **extra)
     raise CLIError("give the parameters: --T and --A (physical) or --eps and --mu (Arnold)")
 

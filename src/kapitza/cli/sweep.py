@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ._common import CLIError, add_damping, add_drive, drive_from, finite_float, print_json
+from ._common import CLIError, add_damping, add_drive, damping_from, drive_from, finite_float, print_json
 from ..parameters import G_EARTH
 
 #: Figures drawn, in order: variable -> (file suffix, colour-bar label, what).
@@ -96,14 +96,9 @@ def _damping_from(args, plane):
     for flag, v in (("--damping", args.damping), ("--zeta", args.zeta)):
         if v is not None and v < 0:
             raise CLIError(f"{flag} must be >= 0; got {v!r}")
-    if plane == "physical":
-        if args.zeta is not None:
-            raise CLIError("with physical parameters give the damping as --damping C (1/s), not --zeta")
-        return args.damping
-    if args.damping:
-        raise CLIError("with --eps/--mu give the damping as --zeta (ratio c / (2 sqrt(g/l))), not --damping")
-    if args.zeta is None:
-        return 0.0
+    given = damping_from(args, physical=plane == "physical")
+    if "zeta" not in given:
+        return given.get("damping", 0.0)
     from ..drives._api import damping_of
     from .._validate import positive
 

@@ -36,7 +36,7 @@ from .. import _validate as _v
 from .._display import Summary, num
 from ..drives import as_drive
 from ..parameters import G_EARTH
-from ._maps import AMPLITUDES, STEPS, bound_ensemble, chunk_results, phases
+from ._maps import AMPLITUDES, STEPS, bound_ensemble, chunk_results
 from .nonlinear import MAX_PERIODS, MODELS, _budget, _check_speed, _choice, _damping, _peak, _physical, _solve
 
 __all__ = ["survival", "Basin", "basin"]
@@ -317,7 +317,7 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     om = np.ascontiguousarray(dtheta0, dtype=float).ravel()
     d = as_drive(drive)
     if exact_path(d, c):
-        plan = phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g)
+        plan = d.phases(T, A, l, g)
         # Sub-steps of scaled length <= 1 per phase: the work grows with w T as well.
         per_period = sum(max(1.0, np.ceil(np.sqrt(abs(s_)) * dur)) for s_, dur in plan)
         bound_ensemble(periods * per_period, th.size,
@@ -500,7 +500,7 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     d = as_drive(drive)
     if model == "nonlinear" and exact_path(d, _v.one("c", _damping(c))):
         # the window's corner speed starts a motion: refuse it here, by this function's name for it
-        plan = phases(T, A, l, g) if d.name == "square" else d.phases(T, A, l, g)
+        plan = d.phases(T, A, l, g)
         _check_speed(np.asarray(dtheta_max), [s_ for s_, _ in plan], name="dtheta_max")
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)

@@ -99,6 +99,11 @@ def _zeta(zeta):
     return _bounded("zeta", _v.one("zeta", _v.nonnegative("zeta", zeta)), LIMITS["zeta"])
 
 
+def _damping(zeta, l, g):
+    """Viscous damping ``c = 2 zeta sqrt(g/l)`` [1/s] of the explorer's damping ratio (bounded)."""
+    return damping_of(_zeta(zeta), _v.one("l", _v.positive("l", l)), _v.one("g", _v.positive("g", g)))
+
+
 def _physical_point(T, A, eps, mu, l, g):
     """``(T, A)`` from either pair; the other must be absent."""
     if (T is None) != (A is None) or (eps is None) != (mu is None) or (T is None) == (eps is None):
@@ -198,7 +203,7 @@ def create_app() -> FastAPI:
         if T is not None or A is not None:
             if eps is not None or mu is not None:
                 raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
-            c = damping_of(_zeta(zeta), _v.one("l", _v.positive("l", l)), _v.one("g", _v.positive("g", g)))
+            c = _damping(zeta, l, g)
             rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=c)
         else:
             rep = analyze(eps=eps, mu=mu, drive=d, zeta=_zeta(zeta))
@@ -234,8 +239,7 @@ def create_app() -> FastAPI:
         _bounded("eps_max", eps_max, LIMITS["eps_max" if general is None else "general_eps_max"])
         mark = None
         if T is not None or A is not None:
-            rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=damping_of(zeta, _v.one("l", _v.positive("l", l)),
-                                                                          _v.one("g", _v.positive("g", g))))
+            rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=_damping(zeta, l, g))
             mark = (rep, f"T = {T:g} s, A = {A:g} m/s$^2$")
         with _FIGURES:
             import matplotlib.pyplot as plt
@@ -338,6 +342,6 @@ def _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_p
     _bounded("|theta0|", abs(theta0), LIMITS["theta0"])
     _bounded("periods * points_per_period", periods * points_per_period, LIMITS["motion_samples"])
     d = _drive(drive)
-    c = damping_of(_zeta(zeta), _v.one("l", _v.positive("l", l)), _v.one("g", _v.positive("g", g)))
+    c = _damping(zeta, l, g)
     pair = motion_pair(theta0, dtheta0, T, A, l, g, periods=periods, points_per_period=points_per_period, c=c, drive=d)
     return pair, d
