@@ -48,6 +48,25 @@ class Careful(Exception):
     """This point needs the array path (a rounding bound is reached, or a float left the doubles)."""
 
 
+#: What makes a twin decline a point (the array path then answers it).
+_DECLINE = (Careful, OverflowError, ValueError, ZeroDivisionError)
+
+
+def _elliptic_only(fn):
+    """A twin of one point with ``0 < mu < 1``: None for ``mu >= 1`` or wherever it declines."""
+    import functools
+
+    @functools.wraps(fn)
+    def twin(eps, mu):
+        if not mu < 1.0:
+            return None
+        try:
+            return fn(eps, mu)
+        except _DECLINE:
+            return None
+    return twin
+
+
 def _cosh(x):
     try:
         return math.cosh(x)
@@ -154,18 +173,10 @@ def _conditioned(m, u, sd):
 
 
 # ---------------------------------------------------------------- kapitza.propagation._floquet
+@_elliptic_only
 def floquet(eps, mu):
     """``(tau, growth, theta, stable, zone)`` of :func:`kapitza.propagation._floquet`, or None
     where the array path must decide (``mu >= 1`` too, where no zone is to be had)."""
-    if not mu < 1.0:
-        return None
-    try:
-        return _floquet(eps, mu)
-    except (Careful, OverflowError, ValueError, ZeroDivisionError):
-        return None
-
-
-def _floquet(eps, mu):
     x, u, D = phase_angles(eps, mu)
     n = float(math.floor(u / PI))
     w = u - n * PI
@@ -303,18 +314,10 @@ def edges_eps(mu, n, q=None):
     return ulo / (SQRT8 * q), uhi / (SQRT8 * q)
 
 
+@_elliptic_only
 def stability_margin(eps, mu):
     """``(stable, zone, eps_lo, eps_hi, margin)`` of :func:`kapitza.stability_margin` (square
     wave, undamped) for one point with ``0 < mu < 1``, or None where the array path answers."""
-    if not mu < 1.0:
-        return None
-    try:
-        return _stability_margin(eps, mu)
-    except (Careful, OverflowError, ValueError, ZeroDivisionError):
-        return None
-
-
-def _stability_margin(eps, mu):
     u_all = SQRT8 * eps * math.sqrt(max((1.0 - mu) * (1.0 + mu), 0.0))
     if not u_all < 2.0**52:
         raise Careful("no zone resolvable")
@@ -465,7 +468,7 @@ def rig_intervals(eps, mu, zone, T, A, l, g):
         out = dict(T_lo=Tlo, T_hi=Thi, A_lo=Alo, A_hi=Ahi,
                    stroke_lo=stroke * Alo / A, stroke_hi=stroke * Ahi / A)
         out.update(square_rig_margins(eps, mu, zone, T, stroke))
-    except (Careful, OverflowError, ValueError, ZeroDivisionError):
+    except _DECLINE:
         return None
     if not all(math.isfinite(v) for k, v in out.items() if k != "frequency_hi"):
         return None
@@ -645,5 +648,5 @@ def nonlinear(eps, mu, theta, zone, exact_theta=False, tol=1e-15):
         if on4:
             code = 2 if abs(beta) > c03 else 3
         return _sentence(KINDS[code], w / (2.0 * PI), 2.0 * math.cos(w), twist, res4)
-    except (Careful, OverflowError, ValueError, ZeroDivisionError):
+    except _DECLINE:
         return None
