@@ -387,7 +387,6 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     if general is not None and plane == "physical":
         curves = plot_zones_physical(ax, T_range, A_range, l=l, g=g, points=points, drive=general, zeta=zeta).data
         header = ["n", "A", "T_lo", "T_hi"]
-        ax.set_title(title or f"Exact stability zones: {general.label}" + (f", damping ratio {zeta:g}" if zeta > 0 else ""))
     elif general is not None:
         from .drives import drive_curves, plot_drive_comparison
 
@@ -395,7 +394,6 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
         curves = drive_curves(general, mu_s, eps_range[1], zeta)
         plot_drive_comparison([curves], ax, eps_range=eps_range, mu_range=mu_range)
         header = ["drive", "zeta", "n", "mu", "eps_lo", "eps_hi"]
-        ax.set_title(title or f"Exact stability zones: {general.label}" + (f", damping ratio {zeta:g}" if zeta > 0 else ""))
     elif plane == "arnold":
         curves = plot_zones(ax, eps_range, mu_range, show_G=show_G, points=points).data
         header = ["n", "mu", "eps_lo", "eps_hi"]
@@ -425,15 +423,13 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
         ax.plot([x], [y], marker="*", markersize=13, color="gold", markeredgecolor="k", linestyle="none",
                 label=f"{label}: {rep.verdict.split(':')[0].split(' (')[0]}")
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    if general is not None and plane == "physical":
-        caption(fig, f"Shaded: the upright position is stable ({general.describe()}"
-                     + (f", damping ratio {zeta:g}" if zeta > 0 else "")
-                     + rf") for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$. Solid: edges with a 2T-periodic motion; "
-                       r"dashed: with a 4T-periodic one.")
-    elif general is not None:
-        caption(fig, f"Shaded: the upright position is stable ({general.describe()}"
-                     + (f", damping ratio {zeta:g}" if zeta > 0 else "")
-                     + r"); lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$.")
+    if general is not None:
+        damped = f", damping ratio {zeta:g}" if zeta > 0 else ""
+        ax.set_title(title or f"Exact stability zones: {general.label}{damped}")
+        caption(fig, f"Shaded: the upright position is stable ({general.describe()}{damped})" + (
+            rf" for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$. Solid: edges with a 2T-periodic motion; "
+            r"dashed: with a 4T-periodic one." if plane == "physical" else
+            r"; lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$."))
     else:
         ax.set_title(title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
         caption(fig, rf"Shaded: the upright position is stable, {what}. "
