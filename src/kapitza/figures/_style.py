@@ -134,7 +134,10 @@ def save(fig, stem, formats=("png", "svg"), dpi=150):
             fig.savefig(tmp, format=fmt, dpi=dpi)
         paths.append(p)
         if k == 0 and len(formats) > 1 and fig.get_layout_engine() is not None:
-            fig.set_layout_engine("none")
+            # No engine at all, not the "none" placeholder: with any engine set, savefig draws
+            # the whole figure once more before drawing it for real.
+            with plt.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+                fig.set_layout_engine(None)
     return paths
 
 
