@@ -80,16 +80,13 @@ def _bound(r):
     return f"{'≤' if r.sense == '<=' else '>'} {_fmt(r.tolerance)}"
 
 
-#: The checks that take longest (DOP853 integrations, dense scans): started first.
-#: CPU seconds of each task, measured once (2026-11-25, one process, full parameter sets); the
-#: build hands the tasks out longest first, so that the processes finish together. Tasks not
-#: listed take under 0.2 s.
+#: CPU seconds of each task, measured once (2026-11-25, each task alone in a fresh process forked
+#: after the imports, full parameter sets); the build hands the tasks out longest first, so that
+#: the processes finish together. Tasks not listed take under 0.15 s.
 TASK_SECONDS = {
-    "Figure 7": 1.5, "Figure 6": 1.3, "Figure 4": 1.2, "Figure 8": 1.1, "check_thm34_ivp": 1.1,
-    "check_thm33_ivp": 1.0, "Figure 5": 1.0, "Figure 3": 0.9, "Figure 1": 0.75, "Figure 2": 0.73,
-    "check_thm33_only_if": 0.73, "check_polar_map": 0.65, "check_thm34_only_if": 0.56,
-    "check_trace_at_edges": 0.5, "check_interlacing": 0.49, "check_figure7_edges": 0.35,
-    "check_kapitza_velocity": 0.26,
+    "Figure 6": 1.24, "Figure 4": 1.04, "Figure 7": 1.01, "Figure 8": 0.98, "Figure 5": 0.95, "Figure 3": 0.87,
+    "Figure 2": 0.69, "Figure 1": 0.61, "check_thm34_ivp": 0.54, "check_thm33_ivp": 0.51,
+    "check_trace_at_edges": 0.39, "check_interlacing": 0.33, "check_kapitza_velocity": 0.29,
 }
 
 
