@@ -3,8 +3,9 @@
 Run by hand (``python benchmarks/bench_paper.py``); ``--tiny`` is a smoke run (one figure,
 three checks, quick parameter sets). Measured in the same run, one after the other:
 
-* the baseline, as the build was before: one process, figures then checks, each figure laid
-  out again for its SVG after its PNG, each caption line one mathtext string;
+* the baseline, as the figures were saved before: one process, figures then checks, each figure
+  laid out (and drawn once more) again for its SVG after its PNG, each caption line one mathtext
+  string; the checks are the same in both (the baseline measures the saving of the figures);
 * the build as ``kapitza paper`` runs it (:func:`kapitza.paper.build.build_paper`): figures and
   checks side by side in ``--workers`` processes, each figure laid out once.
 
