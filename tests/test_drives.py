@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+import kapitza
 import kapitza.drives as kd
 from kapitza._validate import KapitzaValueError
 from kapitza.drives._piecewise import floquet_product
@@ -155,3 +156,61 @@ def test_thin_zone_of_an_extreme_duty_cycle():
         assert np.any(drive._floquet0(np.array(steps), np.full(257, mu[0])).zone == -1)
     mid = 0.5 * (lo + hi)
     assert drive._floquet0(mid, mu).zone[0] == 2
+
+
+# ---------------------------------------------------------------- where a drive can hold the rod up
+def _plain_trace(drive, eps, mu):
+    """tr M of the undamped drive by the plain product of its phase matrices (no kapitza code): in
+    the time t/T a phase of level s lasts 2 f and has stiffness 8 eps^2 (mu^2 + s), for
+    theta'' = (g + A s)/l theta with eps = T sqrt(A/(8l)), mu = sqrt(g/A)."""
+    M = np.eye(2)
+    for s, f in zip(drive.levels, drive.fractions):
+        q, h = 8.0 * eps * eps * (mu * mu + s), 2.0 * f
+        w = np.sqrt(abs(q))
+        if q > 0:
+            P = np.array([[np.cosh(w * h), np.sinh(w * h) / w], [w * np.sinh(w * h), np.cosh(w * h)]])
+        elif q < 0:
+            P = np.array([[np.cos(w * h), np.sin(w * h) / w], [-w * np.sin(w * h), np.cos(w * h)]])
+        else:
+            P = np.array([[1.0, h], [0.0, 1.0]])
+        M = P @ M
+    return float(np.trace(M))
+
+
+def test_mu_max_is_the_root_of_the_deepest_downward_level():
+    assert kd.SquareWave().mu_max == 1.0 and kd.SineWave().mu_max == 1.0
+    for d in (0.1, 0.3, 0.5, 0.7, 0.8, 0.95):
+        assert kd.RectangularWave(d).mu_max == pytest.approx(np.sqrt(d / (1 - d)), rel=1e-15)
+    assert kd.StepDrive([1.0, -3.0, 1.0], [0.5, 0.25, 0.25]).mu_max == pytest.approx(np.sqrt(3.0))
+
+
+@settings(max_examples=60, deadline=None)
+@given(duty=st.floats(0.05, 0.95), over=st.floats(1.0, 3.0), zeta=st.sampled_from([0.0, 0.05, 0.3]))
+def test_at_and_beyond_mu_max_the_upright_always_falls(duty, over, zeta):
+    """Beyond mu_max the pivot never accelerates down faster than g: unstable at every eps, damped
+    or not (kapitza's verdicts, and the plain trace of the undamped drive)."""
+    drive = kd.RectangularWave(duty)
+    mu = drive.mu_max * over
+    eps = np.linspace(1e-3, 6.0, 400)
+    assert not np.any(kapitza.is_stable(eps, mu, drive=drive, zeta=zeta))
+    assert all(_plain_trace(drive, e, mu) >= 2.0 for e in eps[::20])
+
+
+@pytest.mark.parametrize("duty", [0.6, 0.8, 0.9])
+def test_a_hard_downward_stroke_holds_the_rod_up_below_g(duty):
+    """Duty above one half: zone 0 reaches above mu = 1 (A < g), up to mu_max; its edges there are
+    the roots of the plain trace (|tr M| = 2), found independently by a scan and bisection."""
+    from scipy.optimize import brentq
+
+    drive = kd.RectangularWave(duty)
+    assert drive.mu_max > 1.0
+    for mu in 1.0 + (drive.mu_max - 1.0) * np.array([0.05, 0.4, 0.7]):  # the zone narrows fast towards mu_max
+        lo, hi = kapitza.zone_edges(mu, 0, drive=drive)
+        assert 0 < lo < hi < np.inf
+        e = np.linspace(lo - 1.013 * (hi - lo), hi + 0.987 * (hi - lo), 601)  # no sample on an edge
+        f = np.array([abs(_plain_trace(drive, x, mu)) - 2.0 for x in e])
+        roots = [brentq(lambda x: abs(_plain_trace(drive, x, mu)) - 2.0, e[k], e[k + 1])
+                 for k in np.flatnonzero(np.sign(f[:-1]) != np.sign(f[1:]))]
+        assert len(roots) == 2
+        np.testing.assert_allclose(roots, [lo, hi], rtol=1e-8)
+        assert kapitza.is_stable(0.5 * (lo + hi), mu, drive=drive)

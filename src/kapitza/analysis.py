@@ -486,6 +486,9 @@ def _general_report(eps, mu, drive, zeta, physical, T, A, l, g, c):
         tau_phi = float(np.sign(trace) * np.exp(np.log(abs(float(trace)) / 2.0) + 2.0 * np.sqrt(8.0) * zeta * mu * eps))
     if stable:
         verdict = f"stable (zone {int(zone)})" + (", motions decay" if zeta > 0 else "")
+    elif mu >= drive.mu_max:
+        verdict = (f"always unstable: the pivot never accelerates down faster than g (mu >= {drive.mu_max:.6g}, "
+                   f"the drive's mu_max)")
     elif np.all(np.isnan(lo)) and int(nz) < 0:
         verdict = "always unstable: the drive has no attracting phase at this mu"
     else:

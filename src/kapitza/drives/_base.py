@@ -102,6 +102,23 @@ class Drive:
     #: mean of the squared velocity shape: <v^2> = coefficient * A^2 T^2
     _mean_square_velocity: float = float("nan")
 
+    #: the largest downward acceleration of the shape, ``-min s``, in units of ``A``
+    _trough: float = 1.0
+
+    @property
+    def mu_max(self) -> float:
+        """The ``mu`` at and above which the upright is unstable for every ``T`` and damping.
+
+        ``mu >= mu_max`` means ``A (-min s) <= g``: the pivot never accelerates downward faster
+        than gravity, so ``g + a(t) >= 0`` all period and nothing ever pulls the rod back
+        (the monodromy maps the cone ``theta, theta' >= 0`` into itself and its largest
+        multiplier exceeds 1, with or without damping). ``sqrt(-min s)``: 1 for the square
+        and sine waves; ``sqrt(duty / (1 - duty))`` for a rectangular wave, above 1 for a duty
+        above one half (a short, hard downward stroke holds the rod up with ``A < g``).
+        Stable zones lie at ``mu < mu_max`` only; charts and sweeps accept ``mu`` up to it.
+        """
+        return float(np.sqrt(self._trough))
+
     def _floquet0(self, eps, mu, certify=True) -> Floquet0:  # pragma: no cover - protocol
         raise NotImplementedError
 
