@@ -242,3 +242,30 @@ def test_import_kapitza_does_not_import_matplotlib():
 def test_unwritable_output_is_a_one_line_error(argv, capsys):
     code, out, err = run(argv, capsys)
     assert_one_line_error(code, err, "cannot write")
+
+
+def test_chart_of_a_drive_that_holds_the_rod_up_below_g(tmp_path, capsys):
+    """Duty 0.8: the default window reaches the drive's mu_max = 2 (A = g/4), and zone 0 is drawn
+    above mu = 1 with the library's edges; beyond mu_max a window is refused, for the square wave
+    beyond 1 as before. On the T-A plane the default window starts at A = g / mu_max^2."""
+    drive = K.RectangularWave(0.8)
+    stem = tmp_path / "r08"
+    code, _, err = run(["chart", "--duty", "0.8", "--points", "80", "--out", str(stem)], capsys)
+    assert code == 0, err
+    header, rows = read_csv(stem.with_suffix(".csv"))
+    assert header == ["drive", "zeta", "n", "mu", "eps_lo", "eps_hi"]
+    above = [r for r in rows if int(r[2]) == 0 and 1.0 < float(r[3]) and np.isfinite(float(r[4]))]
+    assert len(above) > 20 and max(float(r[3]) for r in above) > 1.8
+    for r in above[::5]:
+        lo, hi = K.zone_edges(float(r[3]), 0, drive=drive)
+        assert float(r[4]) == pytest.approx(float(lo), rel=1e-9) and float(r[5]) == pytest.approx(float(hi), rel=1e-9)
+    code, _, err = run(["chart", "--duty", "0.8", "--mu-max", "2.5", "--out", str(stem)], capsys)
+    assert_one_line_error(code, err, "mu-max <= 2", "2.5", "always falls")
+    code, _, err = run(["chart", "--mu-max", "1.2", "--out", str(stem)], capsys)
+    assert_one_line_error(code, err, "mu-max <= 1;", "1.2")
+    code, _, err = run(["chart", "--duty", "0.8", "--plane", "physical", "--points", "40", "--out", str(stem)], capsys)
+    assert code == 0, err
+    A = [float(r[1]) for r in read_csv(stem.with_suffix(".csv"))[1]]
+    assert min(A) == pytest.approx(9.81 / 4.0, rel=1e-8)  # sampled to mu_max (1 - 1e-9)
+    code, _, err = run(["chart", "--duty", "0.8", "--plane", "physical", "--A-min", "2", "--out", str(stem)], capsys)
+    assert_one_line_error(code, err, "A_min", "2.4525", "got (2,")

@@ -19,7 +19,7 @@ from .limits import averaging_threshold
 from .parameters import G_EARTH, SQRT8
 from .zones import _edges_eps
 
-__all__ = ["edge_kinds", "window_range", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
+__all__ = ["edge_kinds", "mu_top", "window_range", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
 
 
 def edge_kinds(n) -> tuple[str, str]:
@@ -111,7 +111,8 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     Parameters
     ----------
     eps_range, mu_range : (float, float)
-        The window; ``0 <= eps_min < eps_max``, ``0 <= mu_min < mu_max <= 1``.
+        The window; ``0 <= eps_min < eps_max``, ``0 <= mu_min < mu_max <=`` :func:`mu_top` (1, or the
+        drive's ``mu_max`` where larger: a rectangular wave of duty above one half).
     drive : Drive or str, optional
         The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
     zeta : float
@@ -137,25 +138,38 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     general, _ = _v.general_drive(drive, zeta)
     if general is None:
         return zone_curves(eps_range, mu_range, points, max_zones)
-    e0, e1 = window_range(eps_range, mu_range)
+    top = mu_top(general)
+    e0, e1 = window_range(eps_range, mu_range, top)
     points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
     m0, m1 = (float(v) for v in mu_range)
     # from mu = 1e-3 as kapitza chart draws other drives (the window method and the edge-by-edge
     # solution of a damped zone 0 disagree at mu ~ 1e-9)
-    mu = np.linspace(max(m0, 1e-3), min(m1, 1.0 - 1e-9), points)
+    mu = np.linspace(max(m0, 1e-3), min(m1, top * (1.0 - 1e-9)), points)
     c = drive_curves(general, mu, e1, zeta, eps_min=e0)
     return ZoneCurves(n=c.zones, mu=mu, eps_lo=c.lo, eps_hi=c.hi)
 
 
-def window_range(eps_range, mu_range):
+def mu_top(drive=None) -> float:
+    """The largest ``mu`` a chart of ``drive`` may show: 1 (``A = g``), or the drive's
+    :attr:`~kapitza.drives.Drive.mu_max` where that is larger (a rectangular wave of duty above one
+    half holds the rod up with ``A < g``)."""
+    from .drives import as_drive
+
+    return max(1.0, as_drive(drive).mu_max)
+
+
+def window_range(eps_range, mu_range, mu_top=1.0):
     """``(eps_min, eps_max)`` of a window of Arnold's plane, checked: ``0 <= eps_min < eps_max < inf``,
-    ``0 <= mu_min < mu_max <= 1`` (:class:`kapitza.KapitzaValueError` otherwise)."""
+    ``0 <= mu_min < mu_max <= mu_top`` (:class:`kapitza.KapitzaValueError` otherwise); ``mu_top``:
+    :func:`mu_top` of the drive."""
     e0, e1 = (float(v) for v in eps_range)
     m0, m1 = (float(v) for v in mu_range)
     if not (np.isfinite(e0) and np.isfinite(e1) and 0.0 <= e0 < e1):
         raise _v.KapitzaValueError(f"eps range must satisfy 0 <= eps_min < eps_max < inf; got ({e0:g}, {e1:g})")
-    if not (0.0 <= m0 < m1 <= 1.0):
-        raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= 1; got ({m0:g}, {m1:g})")
+    if not (0.0 <= m0 < m1 <= mu_top):
+        where = "" if mu_top == 1.0 else " (the drive's mu_max: beyond it the upright always falls)"
+        raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= {mu_top:.6g}{where}; "
+                                   f"got ({m0:g}, {m1:g})")
     return e0, e1
 
 
@@ -185,7 +199,8 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
     T_range : (float, float), optional
         Half-periods [s]; default ``(0, 2.5 sqrt(l/g))``.
     A_range : (float, float), optional
-        Acceleration amplitudes [m/s^2], ``g <= A_min < A_max``; default ``(g, 50 g)``.
+        Acceleration amplitudes [m/s^2], ``g / mu_top^2 <= A_min < A_max`` (:func:`mu_top`: ``g`` for
+        the square and sine waves, below which the upright always falls); default ``(g / mu_top^2, 50 g)``.
     l, g : float
         Rod length [m] and gravity [m/s^2].
     points : int
@@ -204,14 +219,18 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
     """
     l = _v.one("l", _v.positive("l", l))
     g = _v.one("g", _v.positive("g", g))
+    top = mu_top(drive)
+    A_low = g / top**2  # below it the upright always falls
     T0, T1 = (0.0, 2.5 * np.sqrt(l / g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
-    A0, A1 = (g, 50.0 * g) if A_range is None else (float(A_range[0]), float(A_range[1]))
+    A0, A1 = (A_low, 50.0 * g) if A_range is None else (float(A_range[0]), float(A_range[1]))
     if not (np.isfinite(T1) and 0.0 <= T0 < T1):
         raise _v.KapitzaValueError(f"T range must satisfy 0 <= T_min < T_max < inf; got ({T0:g}, {T1:g})")
-    if not (np.isfinite(A1) and g <= A0 < A1):
-        raise _v.KapitzaValueError(f"A range must satisfy g <= A_min < A_max < inf (g = {g:g}); got ({A0:g}, {A1:g})")
+    if not (np.isfinite(A1) and A_low <= A0 < A1):
+        low = "g" if top == 1.0 else "g / mu_max^2"
+        raise _v.KapitzaValueError(f"A range must satisfy {low} <= A_min < A_max < inf ({low} = {A_low:g}); "
+                                   f"got ({A0:g}, {A1:g})")
     # eps = T sqrt(A / (8 l)) is largest at (T1, A1); cover the window in (eps, mu).
-    mu_range = (np.sqrt(g / A1), min(np.sqrt(g / A0), 1.0))
+    mu_range = (np.sqrt(g / A1), min(np.sqrt(g / A0), top))
     curves = window_curves((T0 * np.sqrt(A0 / (8.0 * l)), T1 * np.sqrt(A1 / (8.0 * l))), mu_range, drive, zeta,
                            points)
     A = g / curves.mu**2

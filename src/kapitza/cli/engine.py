@@ -56,7 +56,8 @@ def register(sub):
     )
     p.add_argument("--zones", type=int, default=4, metavar="N", help="number of zones (default 4)")
     p.add_argument("--mu-min", type=finite_float, default=0.001, help="smallest mu (default 0.001)")
-    p.add_argument("--mu-max", type=finite_float, default=0.999, help="largest mu (default 0.999)")
+    p.add_argument("--mu-max", type=finite_float, default=0.999,
+                   help="largest mu (default 0.999; below the drive's mu_max where that is above 1)")
     p.add_argument("--points", type=int, default=200, help="mu values (default 200)")
     p.add_argument("--out", metavar="FILE", help="write to FILE (.csv or .json)")
     p.add_argument("--json", action="store_true",
@@ -83,11 +84,14 @@ def register(sub):
                    help="arnold: eps-mu plane (default); physical: half-period T vs amplitude A for the rod --l under --g")
     p.add_argument("--eps-min", type=finite_float, default=0.0, help="arnold plane window (default 0..4)")
     p.add_argument("--eps-max", type=finite_float, default=4.0)
-    p.add_argument("--mu-min", type=finite_float, default=0.0, help="arnold plane window (default 0..1)")
-    p.add_argument("--mu-max", type=finite_float, default=1.0)
+    p.add_argument("--mu-min", type=finite_float, default=0.0,
+                   help="arnold plane window (default 0..1, or up to the drive's mu_max where that is larger: "
+                        "a rectangular wave of duty above 0.5 holds the rod up with A < g)")
+    p.add_argument("--mu-max", type=finite_float, default=None)
     p.add_argument("--T-min", type=finite_float, default=0.0, help="physical plane window in s (default 0 .. 2.5 sqrt(l/g))")
     p.add_argument("--T-max", type=finite_float, default=None)
-    p.add_argument("--A-min", type=finite_float, default=None, help="physical plane window in m/s^2 (default g .. 50 g)")
+    p.add_argument("--A-min", type=finite_float, default=None, help="physical plane window in m/s^2 (default g .. 50 g; from g / mu_max^2 where the drive's mu_max is "
+                        "above 1)")
     p.add_argument("--A-max", type=finite_float, default=None)
     p.add_argument("--no-G", dest="show_G", action="store_false", help="do not draw the curves G_m")
     p.add_argument("--no-magnify", dest="magnify", action="store_false",
@@ -158,12 +162,17 @@ def cmd_zones(args):
     count("--zones", args.zones, 10_000)
     count("--points", args.points, 10_000_000)
     bounded_work("--zones * --points", args.zones * args.points, 2_000_000, what="edges held in memory")
-    if not (0.0 < args.mu_min <= args.mu_max < 1.0):
-        raise CLIError(f"need 0 < mu-min <= mu-max < 1; got mu-min={args.mu_min:g}, mu-max={args.mu_max:g}")
+    from ..curves import mu_top
+
+    drive = drive_from(args)
+    top = mu_top(drive)
+    if not (0.0 < args.mu_min <= args.mu_max < top):
+        where = "" if top == 1.0 else f" (the mu_max of {drive.label}: beyond it the upright always falls)"
+        raise CLIError(f"need 0 < mu-min <= mu-max < {top:.6g}{where}; got mu-min={args.mu_min:g}, "
+                       f"mu-max={args.mu_max:g}")
     if args.out and Path(args.out).suffix.lower() not in (".csv", ".json"):
         raise CLIError(f"--out must end in .csv or .json; got {args.out!r}")
     mu = np.linspace(args.mu_min, args.mu_max, args.points)
-    drive = drive_from(args)
     if args.zeta < 0:
         raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
     n, lo, hi = _zone_rows(args.zones, mu, drive, args.zeta)
@@ -198,6 +207,7 @@ def cmd_zones(args):
 # ------------------------------------------------------------------ chart
 def cmd_chart(args):
     from ..figures._style import save
+    from ..curves import mu_top
     from ..figures.chart import chart_figure
 
     count("--points", args.points, 200_000, minimum=2)
@@ -227,12 +237,16 @@ def cmd_chart(args):
             rep = analyze(T=args.mark_T, A=args.mark_A, l=args.l, g=args.g, drive=drive,
                           damping=damping_of(args.zeta, args.l, args.g))
         mark = (rep, mark[1])
+    top = mu_top(drive)
+    if args.mu_max is None:
+        args.mu_max = top
     if args.plane == "arnold":
         if not (0.0 <= args.eps_min < args.eps_max <= (50.0 if general else np.inf)):
             raise CLIError(f"need 0 <= eps-min < eps-max{' <= 50' if general else ''}; got {args.eps_min:g}, "
                            f"{args.eps_max:g}")
-        if not (0.0 <= args.mu_min < args.mu_max <= 1.0):
-            raise CLIError(f"need 0 <= mu-min < mu-max <= 1; got {args.mu_min:g}, {args.mu_max:g}")
+        if not (0.0 <= args.mu_min < args.mu_max <= top):
+            where = "" if top == 1.0 else f" (the mu_max of {drive.label}: beyond it the upright always falls)"
+            raise CLIError(f"need 0 <= mu-min < mu-max <= {top:.6g}{where}; got {args.mu_min:g}, {args.mu_max:g}")
     elif args.l <= 0 or args.g <= 0:
         raise CLIError(f"--l and --g must be > 0; got l={args.l:g}, g={args.g:g}")
     elif general:  # each edge of another drive is a root solve: bound the largest eps in view, as above

@@ -8,7 +8,7 @@ import numpy as np
 
 from .. import _validate as _v
 from ..parameters import SQRT8
-from ..curves import PhysicalZoneCurves, ZoneCurves, physical_zone_curves, window_range, zone_curves
+from ..curves import PhysicalZoneCurves, ZoneCurves, mu_top, physical_zone_curves, window_range, zone_curves
 from ..zones import _edges_eps
 from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL, Drawn, place_legend
 
@@ -338,6 +338,7 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
         The window of the arnold plane.
     T_range, A_range : (float or None, float or None)
         The window of the physical plane; None: ``T`` up to ``2.5 sqrt(l/g)``, ``A`` from ``g``
+        (``g / mu_max^2`` for a drive that holds the rod up below ``g``, see :func:`kapitza.curves.mu_top`)
         to ``50 g``.
     drive, zeta :
         The pivot's motion and the damping ratio (:func:`kapitza.curves.window_curves`).
@@ -362,14 +363,16 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     zeta = float(zeta)
     if plane not in ("arnold", "physical"):
         raise _v.KapitzaValueError(f"plane must be 'arnold' or 'physical'; got {plane!r}")
+    top = mu_top(general)
     if plane == "arnold":
-        window_range(eps_range, mu_range)
+        window_range(eps_range, mu_range, top)
     physical = None
     if plane == "physical":
         l = _v.one("l", _v.positive("l", l))
         g = _v.one("g", _v.positive("g", g))
         T_range = (T_range[0], T_range[1] if T_range[1] is not None else 2.5 * (l / g) ** 0.5)
-        A_range = (A_range[0] if A_range[0] is not None else g, A_range[1] if A_range[1] is not None else 50.0 * g)
+        A_range = (A_range[0] if A_range[0] is not None else g / top**2,
+                   A_range[1] if A_range[1] is not None else 50.0 * g)
     if general is not None or not magnify:
         magnify = []
     elif plane == "arnold":
@@ -390,7 +393,7 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     elif general is not None:
         from .drives import drive_curves, plot_drive_comparison
 
-        mu_s = np.linspace(max(mu_range[0], 1e-3), min(mu_range[1], 0.999), min(points, 4000))
+        mu_s = np.linspace(max(mu_range[0], 1e-3), min(mu_range[1], 0.999 * top), min(points, 4000))
         curves = drive_curves(general, mu_s, eps_range[1], zeta)
         plot_drive_comparison([curves], ax, eps_range=eps_range, mu_range=mu_range)
         header = ["drive", "zeta", "n", "mu", "eps_lo", "eps_hi"]
@@ -426,10 +429,13 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     if general is not None:
         damped = f", damping ratio {zeta:g}" if zeta > 0 else ""
         ax.set_title(title or f"Exact stability zones: {general.label}{damped}")
+        m = general.mu_max
+        falls = (rf" Below $A = {g / m**2:.4g}$ m/s$^2$" if plane == "physical" else rf" Beyond $\mu = {m:.4g}$") + (
+            r" the upright always falls: the pivot never accelerates down faster than $g$.")
         caption(fig, f"Shaded: the upright position is stable ({general.describe()}{damped})" + (
             rf" for a rod $l$ = {l:g} m under $g$ = {g:g} m/s$^2$. Solid: edges with a 2T-periodic motion; "
             r"dashed: with a 4T-periodic one." if plane == "physical" else
-            r"; lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$."))
+            r"; lines: the exact zone edges; dashed: the averaging criterion $\langle v^2\rangle = g\,l$.") + falls)
     else:
         ax.set_title(title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
         caption(fig, rf"Shaded: the upright position is stable, {what}. "

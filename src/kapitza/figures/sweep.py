@@ -15,11 +15,14 @@ _AXES = {"arnold": (r"$\varepsilon = T\sqrt{A/(8l)}$", r"$\mu = \sqrt{g/A}$"),
 
 def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60, c=0.0):
     """``[(n, y, x_lo, x_hi)]`` of the zones that reach into ``x <= x_max`` (damping ``c`` [1/s])."""
+    from ..curves import mu_top
+
     out = []
+    top = mu_top(drive)  # beyond it no zone: the upright always falls
     if plane == "arnold":
-        y = np.linspace(max(y_range[0], 1e-3), min(y_range[1], 0.999), points)
+        y = np.linspace(max(y_range[0], 1e-3), min(y_range[1], 0.999 * top), points)
     else:
-        y = np.linspace(max(y_range[0], 1.0001 * g), y_range[1], points)
+        y = np.linspace(max(y_range[0], 1.0001 * g / top**2), y_range[1], points)
     if y.size == 0 or y[0] >= y[-1]:
         return out
     for n in range(max_zones):
