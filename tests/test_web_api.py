@@ -97,6 +97,25 @@ def test_chart_other_drive_is_the_library_drive(server):
     assert np.all(~np.isfinite(lo[~shown]) | (lo[~shown] >= 2.0))   # left out only beyond the view
 
 
+def test_chart_of_a_drive_that_holds_the_rod_up_below_g(server):
+    """The chart says where the drive can hold the rod up (mu_max), accepts a view up to it, draws
+    zone 0 above mu = 1 for a duty of 0.8, and refuses a view beyond it with a 422."""
+    d = server.get("/api/chart", params=dict(drive="rectangular:0.8", mu_min=0.9, mu_max=2.0, eps_max=3,
+                                             samples=40)).json()
+    assert d["mu_max"] == pytest.approx(2.0, rel=1e-15)
+    mu = np.array(d["y_values"])
+    z0 = np.array([np.nan if v is None else v for v in d["zones"][0]["lo"]])
+    lo, _ = kapitza.zone_edges(mu, 0, drive=kapitza.RectangularWave(0.8))
+    shown = np.isfinite(z0) & (mu > 1.0)
+    assert shown.sum() > 10
+    np.testing.assert_allclose(z0[shown], lo[shown], rtol=1e-9)
+    assert server.get("/api/chart", params=dict(drive="square")).json()["mu_max"] == 1.0
+    r = server.get("/api/chart", params=dict(drive="rectangular:0.8", mu_max=2.5))
+    assert r.status_code == 422 and "mu_max <= 2" in r.json()["detail"] and "2.5" in r.json()["detail"]
+    phys = server.get("/api/chart", params=dict(plane="physical", drive="rectangular:0.8", samples=40)).json()
+    assert phys["view"]["A_min"] == pytest.approx(9.81 / 4.0, rel=1e-12)
+
+
 def _cli_json(argv):
     out = io.StringIO()
     old, sys.stdout = sys.stdout, out

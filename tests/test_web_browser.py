@@ -204,3 +204,41 @@ def test_other_drive_with_damping_and_an_overlay(site):
     page.wait_for_timeout(1500)
     page.screenshot(path=str(SCREENS / "07-duty-cycle-damped-sine-overlay.png"))
     page.close()
+
+
+def _colour(page, x, y):
+    """RGB of the chart canvas at the data point (x, y)."""
+    return page.evaluate(f"""(() => {{
+        const c = document.getElementById('chart'), r = c.getBoundingClientRect(), p = kapitza.pixel({x!r}, {y!r});
+        const k = c.width / r.width;
+        return Array.from(c.getContext('2d').getImageData(Math.round((p.x - r.left) * k),
+                                                          Math.round((p.y - r.top) * k), 1, 1).data).slice(0, 3);
+    }})()""")
+
+
+def test_a_drive_that_holds_the_rod_up_below_g(site):
+    """A duty cycle of 0.8 holds the rod up with A < g: choosing it, the default view follows the
+    drive up to its mu_max = 2 and zone 0 is drawn above mu = 1. A duty of 0.3 cannot hold it up
+    beyond mu_max = 0.65: that band is greyed as always unstable, as A > g is not."""
+    base, context = site
+    page, errors = _new_page(context, base + "?plane=arnold")
+    page.select_option("#drive", "rectangular")
+    page.fill("#duty", "0.8")
+    page.dispatch_event("#duty", "change")
+    page.wait_for_function("kapitza.chart.data && kapitza.chart.data.drive.includes('0.8')", timeout=120000)
+    _settle(page)
+    assert page.evaluate("kapitza.S.views.arnold") == {"x0": 0, "x1": 4, "y0": 0, "y1": pytest.approx(2.0)}
+    lo, mu = page.evaluate("[kapitza.chart.data.zones[0].lo, kapitza.chart.data.y_values]")
+    assert any(v is not None and m > 1.5 for v, m in zip(lo, mu))
+    page.screenshot(path=str(SCREENS / "08-duty-0.8-below-g.png"))
+    page.fill("#duty", "0.3")
+    page.dispatch_event("#duty", "change")
+    page.wait_for_function("kapitza.chart.data && kapitza.chart.data.drive.includes('0.3')", timeout=120000)
+    _settle(page)
+    assert page.evaluate("kapitza.S.views.arnold.y1") == 1
+    grey = (238, 240, 243)  # COLORS.forbidden
+    assert _colour(page, 1.3, 0.85) == list(grey)     # beyond mu_max = 0.655: always unstable
+    assert _colour(page, 1.3, 0.62) != list(grey)     # below it: not greyed
+    page.screenshot(path=str(SCREENS / "09-duty-0.3-grey-beyond-mu-max.png"))
+    assert not errors
+    page.close()

@@ -189,7 +189,9 @@ def create_app() -> FastAPI:
         """Edges ``lo``, ``hi`` of each zone ``n`` meeting the view, sampled at ``y`` (``mu`` on the
         arnold plane, ``A`` on the physical one); ``x`` is ``eps`` or ``T``. NaN (null) where a zone
         does not exist at a sample; 1e308 for an edge beyond the view. ``lower_edge``/``upper_edge``
-        say which periodic motion lives on each edge (2T or 4T)."""
+        say which periodic motion lives on each edge (2T or 4T). ``mu_max``: at and above it
+        (``A <= g / mu_max^2``) the upright always falls; the view may reach up to the larger of it
+        and 1."""
         return Response(_chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g,
                                     drive, zeta, samples), media_type="application/json")
 
@@ -300,7 +302,7 @@ def _file(body: bytes, name: str) -> Response:
 def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples):
     """The JSON of ``/api/chart``; the last 128 views are kept (each at most a few 100 KiB), so a
     view many users open (the whole chart) is computed once."""
-    from ..curves import edge_kinds, physical_zone_curves, window_curves
+    from ..curves import edge_kinds, mu_top, physical_zone_curves, window_curves
 
     _bounded("samples", samples, LIMITS["samples"], 2)
     d = _drive(drive)
@@ -316,7 +318,7 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
         l = _v.one("l", _v.positive("l", l))
         g = _v.one("g", _v.positive("g", g))
         T_max = 2.5 * np.sqrt(l / g) if T_max is None else T_max
-        A_min = g if A_min is None else A_min
+        A_min = g / mu_top(d) ** 2 if A_min is None else A_min
         A_max = 50.0 * g if A_max is None else A_max
         if np.isfinite(T_max) and np.isfinite(A_max) and A_max > 0:
             _bounded("T_max * sqrt(A_max / (8 l)) (the largest eps in view)",
@@ -328,7 +330,7 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
                   hi=_beyond(hi[i]))
              for i, n in enumerate(c.n)]
     return _json_bytes(dict(plane=plane, x="eps" if plane == "arnold" else "T", y="mu" if plane == "arnold" else "A",
-                            view=view, l=l, g=g, drive=d.describe(), zeta=zeta, samples=int(np.size(y)), y_values=y,
+                            view=view, l=l, g=g, drive=d.describe(), mu_max=d.mu_max, zeta=zeta, samples=int(np.size(y)), y_values=y,
                             zones=zones))
 
 

@@ -8,9 +8,18 @@ const COLORS = { edge2: "#1f4e9c", edge4: "#c0392b", fill: "#9ecae1", overlay: "
   grid: "#e4e8ee", axis: "#34404f", nonlinear: "#1f4e9c", linear: "#8a94a3", forbidden: "#eef0f3" };
 
 // ------------------------------------------------------------------ state
-const DEFAULT_VIEWS = (l, g) => ({
-  arnold: { x0: 0, x1: 4, y0: 0, y1: 1 },
-  physical: { x0: 0, x1: 2.5 * Math.sqrt(l / g), y0: g, y1: 50 * g },
+// The mu at and above which the upright falls whatever T and damping, as kapitza's Drive.mu_max:
+// the square root of the drive's largest downward acceleration in units of A (1 for the square and
+// sine waves; sqrt(duty / (1 - duty)) for a rectangular wave). A chart shows mu up to the larger of
+// it and 1, as kapitza.curves.mu_top.
+const muMax = (drive) => {
+  const m = /^rectangular:(.+)$/.exec(drive || ""), d = m ? parseFloat(m[1]) : NaN;
+  return d > 0 && d < 1 ? Math.sqrt(d / (1 - d)) : 1; // a duty out of range: the server says so
+};
+const muTop = (drive) => Math.max(1, muMax(drive));
+const DEFAULT_VIEWS = (l, g, top = 1) => ({
+  arnold: { x0: 0, x1: 4, y0: 0, y1: top },
+  physical: { x0: 0, x1: 2.5 * Math.sqrt(l / g), y0: g / (top * top), y1: 50 * g },
 });
 const S = {
   plane: "arnold", l: 1, g: 9.81, drive: "square", duty: 0.3, zeta: 0, overlay: "",
@@ -44,10 +53,10 @@ function loadURL() {
   const num = (k) => (p.has(k) && isFinite(parseFloat(p.get(k))) ? parseFloat(p.get(k)) : null);
   if (num("l") > 0) S.l = num("l");
   if (num("g") > 0) S.g = num("g");
-  S.views = DEFAULT_VIEWS(S.l, S.g);
   if (["arnold", "physical"].includes(p.get("plane"))) S.plane = p.get("plane");
   if (["square", "sine", "rectangular"].includes(p.get("drive"))) S.drive = p.get("drive");
   if (num("duty") !== null) S.duty = num("duty");
+  S.views = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
   if (num("zeta") !== null) S.zeta = num("zeta");
   if (p.has("overlay")) S.overlay = p.get("overlay");
   if (num("theta0") !== null) S.theta0 = num("theta0");
@@ -180,8 +189,9 @@ function drawChart() {
   const ax = axes(w, h);
   ctx.clearRect(0, 0, w, h);
   ctx.fillStyle = "#fff"; ctx.fillRect(ax.left, ax.top, ax.right - ax.left, ax.bottom - ax.top);
-  // Where the upright is always unstable (A <= g, mu >= 1): shaded grey.
-  const edge = S.plane === "arnold" ? ax.Y(1) : ax.Y(S.g);
+  // Where the upright is always unstable (mu >= mu_max: A <= g for the square and sine waves): grey.
+  const mMax = muMax(driveText()), edge = S.plane === "arnold" ? ax.Y(mMax) : ax.Y(S.g / (mMax * mMax));
+  const weak = mMax === 1 ? "A ≤ g" : `A ≤ ${fmt(1 / (mMax * mMax), 3)} g`;
   ctx.save(); ctx.beginPath(); ctx.rect(ax.left, ax.top, ax.right - ax.left, ax.bottom - ax.top); ctx.clip();
   ctx.fillStyle = COLORS.forbidden;
   if (S.plane === "arnold" && edge > ax.top) ctx.fillRect(ax.left, ax.top, ax.right - ax.left, edge - ax.top);
@@ -203,8 +213,8 @@ function drawChart() {
   if (chart.overlay) drawZones(ctx, ax, chart.overlay, { fill: "rgba(213,94,0,0.13)", color: COLORS.overlay, width: 2.2 });
   chart.legendBox = legendBox(ctx, ax);
   if (chart.data) zoneLabels(ctx, ax, chart.data);
-  if (S.plane === "arnold" && edge > ax.top + 14) label(ctx, "μ ≥ 1 (A ≤ g): always unstable", ax.left + 8, Math.max(ax.top + 12, edge - 12));
-  if (S.plane === "physical" && edge < ax.bottom - 14) label(ctx, "A ≤ g: always unstable", ax.left + 8, Math.min(ax.bottom - 12, edge + 14));
+  if (S.plane === "arnold" && edge > ax.top + 14) label(ctx, `μ ≥ ${fmt(mMax, 4)} (${weak}): always unstable`, ax.left + 8, Math.max(ax.top + 12, edge - 12));
+  if (S.plane === "physical" && edge < ax.bottom - 14) label(ctx, `${weak}: always unstable`, ax.left + 8, Math.min(ax.bottom - 12, edge + 14));
   // the chosen point
   if (S.point) {
     const { eps, mu } = toArnold(S.point.T, S.point.A, S.l, S.g);
@@ -281,10 +291,13 @@ const shortDrive = (d) => (d || "").replace(/ \(.*\)$/, "");
 function chartParams(drive) {
   // The square wave's edges are closed forms (1000 samples in milliseconds); another drive or
   // damping solves an eigenproblem per edge and sample, so fewer samples keep the view quick.
+  // null: the view lies where this drive cannot hold the rod up (nothing to ask for).
   const samples = drive === "square" && !(S.zeta > 0) ? 1000 : 300;
-  const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples };
-  if (S.plane === "arnold") return { ...base, eps_min: Math.max(0, v.x0), eps_max: v.x1, mu_min: Math.max(0, v.y0), mu_max: Math.min(1, v.y1) };
-  return { ...base, T_min: Math.max(0, v.x0), T_max: v.x1, A_min: Math.max(S.g, v.y0), A_max: v.y1 };
+  const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples }, top = muTop(drive);
+  if (v.x1 <= 0) return null;
+  if (S.plane === "arnold") return v.y0 >= top ? null : { ...base, eps_min: Math.max(0, v.x0), eps_max: v.x1, mu_min: Math.max(0, v.y0), mu_max: Math.min(top, v.y1) };
+  const A_min = Math.max(S.g / (top * top), v.y0);
+  return v.y1 <= A_min ? null : { ...base, T_min: Math.max(0, v.x0), T_max: v.x1, A_min, A_max: v.y1 };
 }
 let chartTimer = null, chartAbort = null, chartSeq = 0;
 function requestChart(delay = 60) {
@@ -297,16 +310,12 @@ async function fetchChart() {
   const seq = ++chartSeq, signal = chartAbort.signal;
   $("busy").hidden = false;
   try {
-    const v = view();
-    if ((S.plane === "arnold" && v.y0 >= 1) || (S.plane === "physical" && v.y1 <= S.g) || v.x1 <= 0) {
-      chart.data = null; chart.overlay = null; chart.error = null;
-    } else {
-      const main = getJSON("/api/chart?" + qs(chartParams(driveText())), signal);
-      const over = S.overlay && S.overlay !== driveText() ? getJSON("/api/chart?" + qs(chartParams(S.overlay)), signal) : null;
-      const [a, b] = await Promise.all([main, over]);
-      if (seq !== chartSeq) return;
-      chart.data = a; chart.overlay = b; chart.error = null;
-    }
+    const p = chartParams(driveText()), po = S.overlay && S.overlay !== driveText() ? chartParams(S.overlay) : null;
+    const main = p ? getJSON("/api/chart?" + qs(p), signal) : null;
+    const over = po ? getJSON("/api/chart?" + qs(po), signal) : null;
+    const [a, b] = await Promise.all([main, over]);
+    if (seq !== chartSeq) return;
+    chart.data = a; chart.overlay = b; chart.error = null;
   } catch (e) {
     if (e.name === "AbortError") return;
     chart.error = String(e.message || e);
@@ -382,9 +391,10 @@ chart.canvas.addEventListener("pointerup", (ev) => {
 chart.canvas.addEventListener("pointerleave", () => { $("hover").hidden = true; });
 
 function clampView() {
-  const v = view(), B = S.plane === "arnold" ? { x0: 0, x1: 12, y0: 0, y1: 1.2 } : { x0: 0, x1: 4 * Math.sqrt(S.l / S.g), y0: 0.3 * S.g, y1: 300 * S.g };
+  const top = muTop(driveText());
+  const v = view(), B = S.plane === "arnold" ? { x0: 0, x1: 12, y0: 0, y1: 1.2 * top } : { x0: 0, x1: 4 * Math.sqrt(S.l / S.g), y0: 0.3 * S.g / (top * top), y1: 300 * S.g };
   const span = Math.min(v.x1 - v.x0, B.x1 - B.x0), ok = (a) => isFinite(a);
-  if (!ok(v.x0) || !ok(v.x1) || !(v.x1 > v.x0)) Object.assign(v, DEFAULT_VIEWS(S.l, S.g)[S.plane]);
+  if (!ok(v.x0) || !ok(v.x1) || !(v.x1 > v.x0)) Object.assign(v, DEFAULT_VIEWS(S.l, S.g, top)[S.plane]);
   if (v.x1 - v.x0 > B.x1 - B.x0) { v.x0 = B.x0; v.x1 = B.x1; }
   if (v.x0 < B.x0) { v.x0 = B.x0; v.x1 = B.x0 + span; }
   if (v.x1 > B.x1) { v.x1 = B.x1; v.x0 = B.x1 - span; }
@@ -435,7 +445,7 @@ async function hoverVerdict() {
   if (hoverNext) setTimeout(hoverVerdict, 30);
 }
 
-$("reset-view").onclick = () => { S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g)[S.plane]; drawChart(); requestChart(0); saveURL(); };
+$("reset-view").onclick = () => { S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()))[S.plane]; drawChart(); requestChart(0); saveURL(); };
 $("zoom-point").onclick = () => {
   if (!S.point) return;
   const v = view(), { eps, mu } = toArnold(S.point.T, S.point.A, S.l, S.g);
@@ -466,6 +476,7 @@ function setInputs() {
   $("drive").value = S.drive; $("duty").value = S.duty; $("duty-l").style.display = S.drive === "rectangular" ? "" : "none";
   $("zeta").value = S.zeta; $("overlay").value = S.overlay; $("theta0").value = S.theta0; $("theta0-s").value = S.theta0;
   $("speed").value = String(S.speed);
+  $("mu-s").max = String(0.999 * muTop(driveText()));
   document.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x.dataset.plane === S.plane));
   setPointInputs();
 }
@@ -505,9 +516,15 @@ for (const id of ["T", "freq", "A", "eps", "mu", "T-s", "A-s", "eps-s", "mu-s"])
   });
 }
 function onRig() {
+  // A view left as the default follows the drive's default (mu up to its mu_max where above 1).
+  const was = DEFAULT_VIEWS(S.l, S.g, muTop(driveText())), keep = {};
+  for (const k of ["arnold", "physical"]) keep[k] = ["x0", "x1", "y0", "y1"].some((c) => S.views[k][c] !== was[k][c]);
   S.l = parseFloat($("l").value) > 0 ? parseFloat($("l").value) : S.l;
   S.g = parseFloat($("g").value) > 0 ? parseFloat($("g").value) : S.g;
   S.drive = $("drive").value; S.duty = parseFloat($("duty").value) || 0.3;
+  const now = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
+  for (const k of ["arnold", "physical"]) if (!keep[k]) S.views[k] = now[k];
+  $("mu-s").max = String(0.999 * muTop(driveText()));
   S.zeta = Math.max(0, parseFloat($("zeta").value) || 0); S.overlay = $("overlay").value;
   $("duty-l").style.display = S.drive === "rectangular" ? "" : "none";
   $("l-s").value = Math.log10(S.l);
