@@ -19,7 +19,7 @@ from .limits import averaging_threshold
 from .parameters import G_EARTH, SQRT8
 from .zones import _edges_eps
 
-__all__ = ["edge_kinds", "mu_top", "window_range", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
+__all__ = ["edge_kinds", "mu_top", "window_range", "physical_window", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
 
 
 def edge_kinds(n) -> tuple[str, str]:
@@ -158,6 +158,17 @@ def mu_top(drive=None) -> float:
     return max(1.0, as_drive(drive).mu_max)
 
 
+def physical_window(T_range=None, A_range=None, l=1.0, g=G_EARTH, drive=None):
+    """``((T_min, T_max), (A_min, A_max))``: a window of the ``T``-``A`` plane with its defaults
+    filled in (either range, or either end of one, may be None): ``T`` from 0 to ``2.5 sqrt(l/g)``,
+    ``A`` from ``g / mu_top^2`` (:func:`mu_top`: ``g`` for the square and sine waves) to ``50 g``.
+    Not checked: :func:`physical_zone_curves` checks it."""
+    T0, T1 = (None, None) if T_range is None else T_range
+    A0, A1 = (None, None) if A_range is None else A_range
+    return ((0.0 if T0 is None else float(T0), 2.5 * float(np.sqrt(l / g)) if T1 is None else float(T1)),
+            (g / mu_top(drive) ** 2 if A0 is None else float(A0), 50.0 * g if A1 is None else float(A1)))
+
+
 def window_range(eps_range, mu_range, mu_top=1.0):
     """``(eps_min, eps_max)`` of a window of Arnold's plane, checked: ``0 <= eps_min < eps_max < inf``,
     ``0 <= mu_min < mu_max <= mu_top`` (:class:`kapitza.KapitzaValueError` otherwise); ``mu_top``:
@@ -221,8 +232,7 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
     g = _v.one("g", _v.positive("g", g))
     top = mu_top(drive)
     A_low = g / top**2  # below it the upright always falls
-    T0, T1 = (0.0, 2.5 * np.sqrt(l / g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
-    A0, A1 = (A_low, 50.0 * g) if A_range is None else (float(A_range[0]), float(A_range[1]))
+    (T0, T1), (A0, A1) = physical_window(T_range, A_range, l, g, drive)
     if not (np.isfinite(T1) and 0.0 <= T0 < T1):
         raise _v.KapitzaValueError(f"T range must satisfy 0 <= T_min < T_max < inf; got ({T0:g}, {T1:g})")
     if not (np.isfinite(A1) and A_low <= A0 < A1):

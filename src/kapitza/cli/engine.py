@@ -250,10 +250,10 @@ def cmd_chart(args):
     elif args.l <= 0 or args.g <= 0:
         raise CLIError(f"--l and --g must be > 0; got l={args.l:g}, g={args.g:g}")
     elif general:  # each edge of another drive is a root solve: bound the largest eps in view, as above
-        T_max = 2.5 * np.sqrt(args.l / args.g) if args.T_max is None else args.T_max
-        A_max = 50.0 * args.g if args.A_max is None else args.A_max
+        from ..curves import physical_window
         from ..parameters import to_arnold
 
+        (_, T_max), (_, A_max) = physical_window((None, args.T_max), (None, args.A_max), args.l, args.g, drive)
         eps_max = float(to_arnold(T_max, A_max, args.l, args.g)[0]) if T_max > 0 and A_max > 0 else 0.0
         if not eps_max <= 50.0:
             raise CLIError(f"need T-max sqrt(A-max / (8 l)) <= 50 (the largest eps in view) for another drive or "

@@ -8,7 +8,8 @@ import numpy as np
 
 from .. import _validate as _v
 from ..parameters import SQRT8
-from ..curves import PhysicalZoneCurves, ZoneCurves, mu_top, physical_zone_curves, window_range, zone_curves
+from ..curves import (PhysicalZoneCurves, ZoneCurves, mu_top, physical_window, physical_zone_curves, window_range,
+                      zone_curves)
 from ..zones import _edges_eps
 from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL, Drawn, place_legend
 
@@ -312,8 +313,7 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
     res = physical_zone_curves(T_range, A_range, l, g, points, drive, zeta)
     if ax is None:
         _, ax = plt.subplots(layout="constrained")
-    T0, T1 = (0.0, 2.5 * np.sqrt(res.l / res.g)) if T_range is None else (float(T_range[0]), float(T_range[1]))
-    A0, A1 = (res.g, 50.0 * res.g) if A_range is None else (float(A_range[0]), float(A_range[1]))
+    (T0, T1), (A0, A1) = physical_window(T_range, A_range, res.l, res.g, drive)
     out = Drawn(ax, _draw_tongues(ax, res.n, res.A, res.T_lo, res.T_hi, (T0, T1), label_zones), data=res)
     ax.set_yscale("log")
     ax.set_xlim(T0, T1)
@@ -370,9 +370,7 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     if plane == "physical":
         l = _v.one("l", _v.positive("l", l))
         g = _v.one("g", _v.positive("g", g))
-        T_range = (T_range[0], T_range[1] if T_range[1] is not None else 2.5 * (l / g) ** 0.5)
-        A_range = (A_range[0] if A_range[0] is not None else g / top**2,
-                   A_range[1] if A_range[1] is not None else 50.0 * g)
+        T_range, A_range = physical_window(T_range, A_range, l, g, general)
     if general is not None or not magnify:
         magnify = []
     elif plane == "arnold":

@@ -302,7 +302,7 @@ def _file(body: bytes, name: str) -> Response:
 def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples):
     """The JSON of ``/api/chart``; the last 128 views are kept (each at most a few 100 KiB), so a
     view many users open (the whole chart) is computed once."""
-    from ..curves import edge_kinds, mu_top, physical_zone_curves, window_curves
+    from ..curves import edge_kinds, physical_window, physical_zone_curves, window_curves
 
     _bounded("samples", samples, LIMITS["samples"], 2)
     d = _drive(drive)
@@ -317,9 +317,7 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
     else:
         l = _v.one("l", _v.positive("l", l))
         g = _v.one("g", _v.positive("g", g))
-        T_max = 2.5 * np.sqrt(l / g) if T_max is None else T_max
-        A_min = g / mu_top(d) ** 2 if A_min is None else A_min
-        A_max = 50.0 * g if A_max is None else A_max
+        (T_min, T_max), (A_min, A_max) = physical_window((T_min, T_max), (A_min, A_max), l, g, d)
         if np.isfinite(T_max) and np.isfinite(A_max) and A_max > 0:
             _bounded("T_max * sqrt(A_max / (8 l)) (the largest eps in view)",
                      float(T_max * np.sqrt(A_max / (8.0 * l))), cap)
