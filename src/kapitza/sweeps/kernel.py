@@ -39,7 +39,7 @@ from ..drives._api import zeta_of
 from ..motion.basins import _ExactPeriod, _IntegratedPeriod, _survival_chunk, exact_path
 from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
-from ..zones import is_stable, stability_margin, zone_index
+from ..zones import stability_margin
 
 __all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii", "period_step"]
 
@@ -195,10 +195,12 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
     dd = None if d.name == "square" else d
     if "linear" in quantities:
         z = float(zeta_of(c, l, g))
-        out["stable"] = is_stable(eps, mu, drive=dd, zeta=z).astype(np.int8)
-        out["zone"] = zone_index(eps, mu, drive=dd, zeta=z).astype(np.int16)
+        # One certified verdict for all three: the margin carries the verdict and its zone.
+        m = stability_margin(eps, mu, drive=dd, zeta=z)
+        out["stable"] = np.asarray(m.stable).astype(np.int8)
+        out["zone"] = np.where(m.stable, m.zone, -1).astype(np.int16)
         out["growth"] = np.asarray(growth_rate(eps, mu, drive=dd, zeta=z), float)
-        out["margin"] = np.asarray(stability_margin(eps, mu, drive=dd, zeta=z).margin, float)
+        out["margin"] = np.asarray(m.margin, float)
     period = period_step(T, A, l, g, c, d, tol)
     if "tilt" in quantities or "radius" in quantities:
         K = directions if "radius" in quantities else 1
