@@ -169,6 +169,11 @@ def physical_window(T_range=None, A_range=None, l=1.0, g=G_EARTH, drive=None):
             (g / mu_top(drive) ** 2 if A0 is None else float(A0), 50.0 * g if A1 is None else float(A1)))
 
 
+def mu_top_note(top: float) -> str:
+    """What an error message adds when a window's ``mu`` bound is a drive's ``mu_max`` (not 1)."""
+    return "" if top == 1.0 else " (the drive's mu_max: beyond it the upright always falls)"
+
+
 def window_range(eps_range, mu_range, mu_top=1.0):
     """``(eps_min, eps_max)`` of a window of Arnold's plane, checked: ``0 <= eps_min < eps_max < inf``,
     ``0 <= mu_min < mu_max <= mu_top`` (:class:`kapitza.KapitzaValueError` otherwise); ``mu_top``:
@@ -178,8 +183,7 @@ def window_range(eps_range, mu_range, mu_top=1.0):
     if not (np.isfinite(e0) and np.isfinite(e1) and 0.0 <= e0 < e1):
         raise _v.KapitzaValueError(f"eps range must satisfy 0 <= eps_min < eps_max < inf; got ({e0:g}, {e1:g})")
     if not (0.0 <= m0 < m1 <= mu_top):
-        where = "" if mu_top == 1.0 else " (the drive's mu_max: beyond it the upright always falls)"
-        raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= {mu_top:.6g}{where}; "
+        raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= {mu_top:.6g}{mu_top_note(mu_top)}; "
                                    f"got ({m0:g}, {m1:g})")
     return e0, e1
 

@@ -162,13 +162,12 @@ def cmd_zones(args):
     count("--zones", args.zones, 10_000)
     count("--points", args.points, 10_000_000)
     bounded_work("--zones * --points", args.zones * args.points, 2_000_000, what="edges held in memory")
-    from ..curves import mu_top
+    from ..curves import mu_top, mu_top_note
 
     drive = drive_from(args)
     top = mu_top(drive)
     if not (0.0 < args.mu_min <= args.mu_max < top):
-        where = "" if top == 1.0 else f" (the mu_max of {drive.label}: beyond it the upright always falls)"
-        raise CLIError(f"need 0 < mu-min <= mu-max < {top:.6g}{where}; got mu-min={args.mu_min:g}, "
+        raise CLIError(f"need 0 < mu-min <= mu-max < {top:.6g}{mu_top_note(top)}; got mu-min={args.mu_min:g}, "
                        f"mu-max={args.mu_max:g}")
     if args.out and Path(args.out).suffix.lower() not in (".csv", ".json"):
         raise CLIError(f"--out must end in .csv or .json; got {args.out!r}")
@@ -207,7 +206,7 @@ def cmd_zones(args):
 # ------------------------------------------------------------------ chart
 def cmd_chart(args):
     from ..figures._style import save
-    from ..curves import mu_top
+    from ..curves import mu_top, mu_top_note
     from ..figures.chart import chart_figure
 
     count("--points", args.points, 200_000, minimum=2)
@@ -245,8 +244,8 @@ def cmd_chart(args):
             raise CLIError(f"need 0 <= eps-min < eps-max{' <= 50' if general else ''}; got {args.eps_min:g}, "
                            f"{args.eps_max:g}")
         if not (0.0 <= args.mu_min < args.mu_max <= top):
-            where = "" if top == 1.0 else f" (the mu_max of {drive.label}: beyond it the upright always falls)"
-            raise CLIError(f"need 0 <= mu-min < mu-max <= {top:.6g}{where}; got {args.mu_min:g}, {args.mu_max:g}")
+            raise CLIError(f"need 0 <= mu-min < mu-max <= {top:.6g}{mu_top_note(top)}; got {args.mu_min:g}, "
+                           f"{args.mu_max:g}")
     elif args.l <= 0 or args.g <= 0:
         raise CLIError(f"--l and --g must be > 0; got l={args.l:g}, g={args.g:g}")
     elif general:  # each edge of another drive is a root solve: bound the largest eps in view, as above
