@@ -347,3 +347,11 @@ def test_phase_flow_refuses_a_scaled_time_beyond_its_accuracy():
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match=r"sqrt\|s\| \|t\| <= 100000"):
             phase_flow(1.7976931348623157e308, 0.1, 0.0, 10.0)
+
+
+def test_simulate_at_a_subnormal_half_period_refuses_without_a_warning():
+    """T = 5e-324 and t = 0.5: t / (2T) overflows to inf; a ValueError naming the duration, no warning."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"t / \(2 T\).*got inf"):
+            simulate(theta0=0.1, dtheta0=0.0, T=5e-324, A=100.0, t=0.5, model="nonlinear")

@@ -121,8 +121,9 @@ def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
                 f"T, A and l must keep w_h T = T sqrt((g + A) / l) <= {MAX_SCALED_PHASE:g} rad for the exact phase "
                 f"flows (one phase of the drive); got {wT:.4g}")
     limit = MAX_TRAJECTORY_PERIODS if method == "exact" else MAX_PERIODS
-    _v.bounded_work("the duration t / (2 T)", float(t_end / (2.0 * np.min(T))), limit,
-                    what="drive periods, each followed phase by phase")
+    with np.errstate(over="ignore"):  # a subnormal T: inf periods, refused below with its number
+        periods = float(t_end / (2.0 * np.min(T)))
+    _v.bounded_work("the duration t / (2 T)", periods, limit, what="drive periods, each followed phase by phase")
     if method == "dop853":
         w = float(np.max(np.sqrt((g + peak * A) / l))) + float(np.max(np.abs(dtheta0)))
         cmax = float(np.max(c))
