@@ -51,9 +51,10 @@ def _refused(fn, *needles):
     (lambda: mathieu.characteristic_a(2, 1e300), "q must satisfy"),
 ])
 def test_large_requests_are_refused_with_the_limit_and_the_way_past_it(call, name):
-    t0 = time.monotonic()
+    # CPU seconds of this process, not wall time: a refusal does no work, however busy the machine is.
+    t0 = time.process_time()
     msg = _refused(call, name)
-    assert time.monotonic() - t0 < 5.0
+    assert time.process_time() - t0 < 5.0
     if "must be <=" in msg:
         assert V.ALLOW_LARGE_ENV + "=1" in msg
 
@@ -159,9 +160,9 @@ def test_messages_name_the_parameter(call, needle):
 ])
 def test_cli_refuses_in_one_line(argv, needles, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    t0 = time.monotonic()
+    t0 = time.process_time()
     code, out, err = run(argv, capsys)
-    assert time.monotonic() - t0 < 20.0
+    assert time.process_time() - t0 < 20.0
     assert_one_line_error(code, err, *needles)
     assert not list(tmp_path.iterdir())
 
