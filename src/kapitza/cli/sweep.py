@@ -145,6 +145,12 @@ def cmd_sweep(args):
     out = Path(args.out)
     run = sweep(spec, out, resume=args.resume, serial=args.serial, workers=args.workers, scheduler=args.scheduler,
                 progress=not args.quiet)
+    for note in run.notes:
+        print(f"kapitza sweep: {note}", file=sys.stderr)
+    if run.damaged:
+        names = ", ".join(f"({iy}, {ix})" for iy, ix in run.damaged[:20]) + (" ..." if len(run.damaged) > 20 else "")
+        print(f"kapitza sweep: {len(run.damaged)} chunk(s) flagged done had missing or damaged data (checksum "
+              f"mismatch or unreadable) and were recomputed: {names}", file=sys.stderr)
     print(f"computed {run.computed} of {run.total} chunks ({run.skipped} already done); store {run.store}",
           file=sys.stderr)
     ds = open_sweep(out).load()
@@ -155,7 +161,7 @@ def cmd_sweep(args):
         stem = args.figure or str(out.with_suffix("") if out.suffix == ".zarr" else out)
         written += [str(p) for p in _draw(ds, spec, stem)]
     summary = {"store": str(out), "chunks": run.total, "computed": run.computed, "skipped": run.skipped,
-               "files": written}
+               "damaged": [list(c) for c in run.damaged], "files": written}
     for name in spec.variables:
         v = ds[name].values
         summary[name] = {"min": float(v.min()), "max": float(v.max()), "mean": float(v.mean())}
