@@ -296,3 +296,16 @@ def test_interrupted_at_a_random_moment_resumes_to_the_same_map(trial, tmp_path,
     if not path.exists():
         assert leftovers(tmp_path) == [] or sig == signal.SIGKILL or sig == signal.SIGTERM
     _resume_equals(path, capsys, reference, extra)
+
+
+def test_leftovers_of_a_dead_creator_are_removed_and_nothing_else(tmp_path):
+    from kapitza.sweeps.store import remove_leftovers
+
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()
+    names = [f".my-map.zarr.creating-{gone.pid}-abcd", f".my-map.zarr.replaced-{gone.pid}-ef01",
+             f".my-map.zarr.creating-{os.getpid()}-live", ".other.zarr.creating-1-x", "my-map.zarr.creating-1-x"]
+    for n in names:
+        (tmp_path / n).mkdir()
+    remove_leftovers(tmp_path / "my-map.zarr")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(names[2:])  # a live creator's, another store's

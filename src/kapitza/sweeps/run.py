@@ -11,7 +11,7 @@ from pathlib import Path
 from .. import _validate as _v
 from .kernel import block_quantities
 from .spec import SweepSpec
-from .store import _remove_stale, create_store, open_store, stored_spec, verified_chunks, write_chunk
+from .store import create_store, open_store, remove_leftovers, stored_spec, verified_chunks, write_chunk
 
 __all__ = ["compute_chunk", "sweep", "SweepRun"]
 
@@ -64,7 +64,7 @@ def _prepare(spec, store, resume):
     import zarr
 
     store = Path(store)
-    _remove_stale(store)
+    remove_leftovers(store)
     if not (store.exists() or store.is_symlink()):
         return create_store(store, spec)
     if not resume:
@@ -79,7 +79,7 @@ def _prepare(spec, store, resume):
     if "chunk_done" not in grp and "chunk_checksum" not in grp:
         # An older kapitza built the store in place and was interrupted before its done flags were
         # written: no chunk was computed yet, so the store is rebuilt from the same settings.
-        aside = store.parent / f".{store.name}.replaced-{os.getpid()}-{uuid.uuid4().hex[:8]}"
+        aside = store.parent / f".{store.name}.replaced-{os.getpid()}-{uuid.uuid4().hex[:8]}"  # see remove_leftovers
         os.rename(store, aside)
         grp = create_store(store, spec)
         shutil.rmtree(aside, ignore_errors=True)

@@ -98,24 +98,26 @@ def chunk_checksum(spec: SweepSpec, values: dict) -> int:
     return crc - (1 << 32) if crc >= 1 << 31 else crc
 
 
-def _tmp_prefix(path: Path) -> str:
-    return f".{path.name}.creating-"
+def _tmp_prefix(path: Path, what="creating") -> str:
+    return f".{path.name}.{what}-"
 
 
-def _remove_stale(path: Path):
-    """Remove what an interrupted creation of ``path`` left beside it (its process is gone)."""
-    prefix = _tmp_prefix(path)
+def remove_leftovers(path: Path):
+    """Remove what an interrupted creation (or rebuild) of the store ``path`` left beside it: the
+    temporary folders whose process is gone."""
+    prefixes = (_tmp_prefix(path), _tmp_prefix(path, "replaced"))
     try:
-        names = [p for p in path.parent.iterdir() if p.name.startswith(prefix)]
+        names = [p for p in path.parent.iterdir() if p.name.startswith(prefixes)]
     except OSError:
         return
     for p in names:
         try:
-            pid = int(p.name[len(prefix):].split("-")[0])
+            rest = next(p.name[len(x):] for x in prefixes if p.name.startswith(x))
+            pid = int(rest.split("-")[0])
             os.kill(pid, 0)
         except ProcessLookupError:  # its creator is gone: a leftover
             shutil.rmtree(p, ignore_errors=True)
-        except (ValueError, PermissionError, OSError):
+        except (ValueError, OSError):
             continue
 
 
@@ -127,7 +129,7 @@ def create_store(path, spec: SweepSpec):
     import zarr
 
     path = Path(path)
-    _remove_stale(path)
+    remove_leftovers(path)
     tmp = path.parent / f"{_tmp_prefix(path)}{os.getpid()}-{uuid.uuid4().hex[:8]}"
     (yn, yu), (xn, xu) = PLANES[spec.plane][1], PLANES[spec.plane][0]
     c = spec.chunk
