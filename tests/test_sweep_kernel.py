@@ -119,3 +119,11 @@ def test_bench_sweep_kernel_tiny_runs():
     for needle in ("compiled kernel", "baseline numpy path", "ratio (numpy / compiled)", "identical values",
                    "extrapolated to 512 x 512", "sine drive:", "zeta = 0.05:"):
         assert needle in proc.stdout, needle
+
+
+def test_the_commands_default_chunk_does_not_punish_small_or_large_maps():
+    from kapitza.cli.sweep import default_chunk
+
+    assert default_chunk(32, 24) == 8  # the default map: 4 x 3 chunks, both cores busy
+    assert default_chunk(512, 512) == 64  # 64 chunks of 4,096 points
+    assert default_chunk(3, 2) == 8 and default_chunk(8192, 8192) == 64
