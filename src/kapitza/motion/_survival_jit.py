@@ -11,7 +11,8 @@ It is one definition of the same mathematics, scalar by scalar:
 * the phase flow of :func:`kapitza.motion._elliptic._phase_step` (the pendulum in half-angle
   variables advanced by the addition theorems of ``sn, cn, dn``; ``docs/theory.md`` section 6),
   with the same branches: the complementary-nome theta series for ``1 - m < 1/2``, the
-  arithmetic-geometric mean (DLMF 22.20(ii), the algorithm of :func:`scipy.special.ellipj`) below,
+  arithmetic-geometric mean (DLMF 22.20(ii), the algorithm of :func:`scipy.special.ellipj`) for
+  ``m <= 1/2``,
   the reciprocal-modulus transformation for rotations and the same quarter-period reductions;
 * the window test of :func:`kapitza.motion.basins._one_period` (end points of each sub-step, and the
   turning amplitude ``2 asin k`` where ``theta'`` changes sign in an elliptic phase);
