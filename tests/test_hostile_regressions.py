@@ -175,21 +175,51 @@ def test_cli_names_the_users_path_not_the_temporary_file(capsys, tmp_path):
     assert "/." not in err.split(str(tmp_path))[-1]
 
 
+def _full_pipe():
+    """``(read end, write end)`` of a pipe whose buffer is already full: a process writing to it blocks
+    until the read end is drained."""
+    r, w = os.pipe()
+    os.set_blocking(w, False)
+    try:
+        while True:
+            os.write(w, b"x" * 4096)
+    except BlockingIOError:
+        pass
+    os.set_blocking(w, True)  # the command must block, not fail, on its first write
+    return r, w
+
+
 def test_ctrl_c_while_the_command_starts_is_one_line_and_130(tmp_path):
     # -X importtime reports each module as it is imported: wait for the first of the package,
-    # then interrupt while numpy and scipy are still being imported.
-    env = dict(os.environ, PYTHONWARNINGS="error")
-    with subprocess.Popen([sys.executable, "-X", "importtime", "-W", "error", "-m", "kapitza", "stability", "--T",
-                           "0.15", "--A", "100"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                          env=env, cwd=tmp_path) as p:
-        seen = []
-        for line in p.stderr:
-            seen.append(line)
-            if "kapitza._interrupt" in line:
-                p.send_signal(signal.SIGINT)
-                break
-        rest = p.stderr.read()
-        code = p.wait(timeout=60)
+    # then interrupt while numpy and scipy are still being imported. The command's standard output
+    # is a full pipe, drained only after the signal: it cannot finish before the interrupt arrives,
+    # however loaded the machine (it may be importing still, or blocked writing its result).
+    import threading
+
+    env = dict(os.environ, PYTHONWARNINGS="error", PYTHONUNBUFFERED="1")
+    r, w = _full_pipe()
+    drained = threading.Thread(target=lambda: [None for _ in iter(lambda: os.read(r, 65536), b"")], daemon=True)
+    try:
+        with subprocess.Popen([sys.executable, "-X", "importtime", "-W", "error", "-m", "kapitza", "stability",
+                               "--T", "0.15", "--A", "100"], stdout=w, stderr=subprocess.PIPE, text=True,
+                              env=env, cwd=tmp_path) as p:
+            os.close(w)
+            w = None
+            seen = []
+            for line in p.stderr:
+                seen.append(line)
+                if "kapitza._interrupt" in line:
+                    p.send_signal(signal.SIGINT)
+                    break
+            drained.start()  # only now can the command write (and exit)
+            rest = p.stderr.read()
+            code = p.wait(timeout=600)
+    finally:
+        if w is not None:
+            os.close(w)
+        if drained.ident is not None:
+            drained.join(timeout=60)
+        os.close(r)
     err = [ln for ln in (seen + rest.splitlines(True)) if "import time:" not in ln]
     assert "Traceback" not in "".join(err)
     assert code == 130 and [ln.strip() for ln in err] == ["kapitza: interrupted"], (code, err)

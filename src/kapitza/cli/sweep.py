@@ -63,7 +63,8 @@ def register(sub):
     r = p.add_argument_group("running")
     r.add_argument("--out", default="kapitza-sweep.zarr", metavar="STORE.zarr", help="Zarr store (default kapitza-sweep.zarr)")
     r.add_argument("--resume", action="store_true", help="continue the interrupted sweep in --out")
-    r.add_argument("--chunk", type=int, default=10, help="grid points per side of a chunk (default 10; 32-64 vectorise better on big maps)")
+    r.add_argument("--chunk", type=int, default=None,
+                   help="grid points per side of a chunk (default: about 16 chunks, 8 to 64 points per side)")
     r.add_argument("--workers", type=int, default=None, help="local Dask workers (default: one per core)")
     r.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
     r.add_argument("--serial", action="store_true", help="no Dask: compute in this process")
@@ -112,6 +113,20 @@ def _damping_from(args, plane):
     return c
 
 
+def default_chunk(nx, ny):
+    """Points per side of a chunk when --chunk is not given: about 16 chunks over the grid (work for
+    every core of a small machine, little lost to an interruption), between 8 and 64 per side (the
+    per-chunk costs -- a task, the store writes, the linear quantities' numpy calls -- stay small).
+    Deterministic in the grid, so a resumed command gets the same chunks."""
+    import math
+
+    try:
+        side = math.ceil(math.sqrt(max(int(nx), 1) * max(int(ny), 1) / 16.0))
+    except (TypeError, ValueError, OverflowError):
+        return 32  # the grid itself is refused with its own message
+    return min(64, max(8, side))
+
+
 def spec_from(args):
     """The :class:`kapitza.sweeps.SweepSpec` of the parsed options."""
     from ..sweeps import SweepSpec
@@ -122,11 +137,12 @@ def spec_from(args):
     res = args.resolution * 2 if len(args.resolution) == 1 else args.resolution
     drive = drive_from(args)
     c = _damping_from(args, plane)
+    chunk = args.chunk if args.chunk is not None else default_chunk(*res)
     return SweepSpec.window(xr, yr, res, plane=plane, l=args.l, g=args.g, drive=drive, c=c,
                             periods=args.periods, tol=args.tol,
                             quantities=tuple(s.strip() for s in args.quantities.split(",") if s.strip()),
                             directions=args.directions, basin_resolution=args.basin_resolution,
-                            accuracy=args.accuracy, floor=args.floor, chunk=args.chunk)
+                            accuracy=args.accuracy, floor=args.floor, chunk=chunk)
 
 
 def cmd_sweep(args):
@@ -145,6 +161,12 @@ def cmd_sweep(args):
     out = Path(args.out)
     run = sweep(spec, out, resume=args.resume, serial=args.serial, workers=args.workers, scheduler=args.scheduler,
                 progress=not args.quiet)
+    for note in run.notes:
+        print(f"kapitza sweep: {note}", file=sys.stderr)
+    if run.damaged:
+        names = ", ".join(f"({iy}, {ix})" for iy, ix in run.damaged[:20]) + (" ..." if len(run.damaged) > 20 else "")
+        print(f"kapitza sweep: {len(run.damaged)} chunk(s) flagged done had missing or damaged data (checksum "
+              f"mismatch or unreadable) and were recomputed: {names}", file=sys.stderr)
     print(f"computed {run.computed} of {run.total} chunks ({run.skipped} already done); store {run.store}",
           file=sys.stderr)
     ds = open_sweep(out).load()
@@ -155,7 +177,7 @@ def cmd_sweep(args):
         stem = args.figure or str(out.with_suffix("") if out.suffix == ".zarr" else out)
         written += [str(p) for p in _draw(ds, spec, stem)]
     summary = {"store": str(out), "chunks": run.total, "computed": run.computed, "skipped": run.skipped,
-               "files": written}
+               "damaged": [list(c) for c in run.damaged], "files": written}
     for name in spec.variables:
         v = ds[name].values
         summary[name] = {"min": float(v.min()), "max": float(v.max()), "mean": float(v.mean())}

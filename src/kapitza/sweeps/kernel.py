@@ -41,7 +41,7 @@ from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
 from ..zones import stability_margin
 
-__all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii", "period_step"]
+__all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii", "period_step", "compiled_available"]
 
 #: Quantities a sweep can compute, and the variables each one writes.
 QUANTITIES = {
@@ -81,7 +81,23 @@ def period_step(T, A, l, g, c, drive, tol):
     return _IntegratedPeriod(T, A, l, g, c, drive, tol, "nonlinear")
 
 
-def ray_radii(T, period, phis, periods, tol, accuracy, floor):
+def compiled_available() -> bool:
+    """Whether the compiled survival kernel (numba, the ``fast`` extra) can be used."""
+    from importlib.util import find_spec
+
+    return find_spec("numba") is not None
+
+
+def _compiled_plan(period, n_points, compiled):
+    """``(S, H, CNT)`` of an exact period for the compiled kernel, or ``None`` for the numpy path."""
+    if not compiled or not isinstance(period, _ExactPeriod) or period.model != "nonlinear":
+        return None
+    from ..motion._survival_jit import pack_plan
+
+    return pack_plan(period.subs, n_points)
+
+
+def ray_radii(T, period, phis, periods, tol, accuracy, floor, compiled=False):
     """Largest safe radius along each direction of ``phis`` for every point.
 
     Every search (point x direction) always has exactly one candidate start in flight; all of
@@ -102,6 +118,11 @@ def ray_radii(T, period, phis, periods, tol, accuracy, floor):
     periods, tol, accuracy, floor :
         ``N``, the window [rad], the relative width of the final bracket, the smallest radius tried.
 
+    compiled : bool
+        Run each search to its end in the compiled kernel (:mod:`kapitza.motion._survival_jit`, the
+        same searches and the same phase flows, one state at a time) where ``period`` is exact;
+        otherwise this numpy loop.
+
     Returns
     -------
     ndarray, shape ``(P, K)``
@@ -112,6 +133,11 @@ def ray_radii(T, period, phis, periods, tol, accuracy, floor):
     point = np.repeat(np.arange(P), K)
     cos, sin = np.tile(np.cos(phis), P), np.tile(np.sin(phis), P)
     omega = 2.0 / T[point]
+    plan = _compiled_plan(period, P, compiled)
+    if plan is not None:
+        from ..motion._survival_jit import ray_radii_compiled
+
+        return ray_radii_compiled(point, cos, sin * omega, *plan, periods, tol, accuracy, floor).reshape(P, K)
     lo = np.zeros(M)
     hi = np.full(M, np.inf)
     scanning = np.ones(M, dtype=bool)  # 1. r = tol, tol/2, ... down to the first survivor, 2. bisection
@@ -150,7 +176,7 @@ def ray_radii(T, period, phis, periods, tol, accuracy, floor):
     return lo.reshape(P, K)
 
 
-def _basin_grid(T, period, n, periods, tol):
+def _basin_grid(T, period, n, periods, tol, compiled=False):
     """``(area, median escape)`` of each point over the ``n x n`` start grid of :func:`kapitza.basin`."""
     P = T.size
     th = np.linspace(-tol, tol, n)
@@ -161,7 +187,13 @@ def _basin_grid(T, period, n, periods, tol):
     point = np.repeat(np.arange(P), half)
     theta0 = np.tile(th_q, P)
     dtheta0 = np.tile(om_unit, P) / T[point]
-    got = _survival_chunk(theta0, dtheta0, period, periods, tol, idx=point).reshape(P, half)
+    plan = _compiled_plan(period, P, compiled)
+    if plan is not None:
+        from ..motion._survival_jit import survival_compiled
+
+        got = survival_compiled(theta0, dtheta0, point, *plan, periods, tol).reshape(P, half)
+    else:
+        got = _survival_chunk(theta0, dtheta0, period, periods, tol, idx=point).reshape(P, half)
     full = np.concatenate([got, got[:, : n * n - half][:, ::-1]], axis=1)
     area = np.mean(full >= periods, axis=1)
     median = np.median(full, axis=1).astype(float)
@@ -169,8 +201,12 @@ def _basin_grid(T, period, n, periods, tol):
 
 
 def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, directions, basin_resolution,
-                     accuracy, floor, c=0.0):
+                     accuracy, floor, c=0.0, compiled=None):
     """Every requested variable on the grid ``y x x`` (rows ``y``: mu or A; columns ``x``: eps or T).
+
+    ``compiled``: on the exact path, run the searches in the compiled kernel (numba) -- ``None``:
+    where numba is installed; ``True``: required; ``False``: the numpy loops. The two agree to
+    rounding (:mod:`kapitza.motion._survival_jit`).
 
     ``c``: viscous damping [1/s] (trusted, ``>= 0``); the linear quantities take the damping ratio
     ``zeta = c / (2 sqrt(g/l))``. An undamped piecewise-constant drive takes the exact path, the
@@ -202,13 +238,17 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
         out["growth"] = np.asarray(growth_rate(eps, mu, drive=dd, zeta=z), float)
         out["margin"] = np.asarray(m.margin, float)
     period = period_step(T, A, l, g, c, d, tol)
+    if compiled is None:
+        compiled = compiled_available()
+    elif compiled and not compiled_available():
+        raise ImportError("the compiled survival kernel needs numba: pip install 'kapitza[fast]'")
     if "tilt" in quantities or "radius" in quantities:
         K = directions if "radius" in quantities else 1
-        radii = ray_radii(T, period, np.pi * np.arange(K) / K, periods, tol, accuracy, floor)
+        radii = ray_radii(T, period, np.pi * np.arange(K) / K, periods, tol, accuracy, floor, compiled)
         if "tilt" in quantities:
             out["max_safe_tilt"] = radii[:, 0]
         if "radius" in quantities:
             out["max_safe_radius"] = radii.min(axis=1)
     if "basin" in quantities:
-        out["basin_area"], out["median_escape"] = _basin_grid(T, period, basin_resolution, periods, tol)
+        out["basin_area"], out["median_escape"] = _basin_grid(T, period, basin_resolution, periods, tol, compiled)
     return {k: v.reshape(shape) for k, v in out.items()}

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 import sys
 import uuid
 from dataclasses import dataclass
@@ -10,7 +11,7 @@ from pathlib import Path
 from .. import _validate as _v
 from .kernel import block_quantities
 from .spec import SweepSpec
-from .store import create_store, done_chunks, open_store, stored_spec, write_chunk
+from .store import create_store, open_store, remove_leftovers, stored_spec, verified_chunks, write_chunk
 
 __all__ = ["compute_chunk", "sweep", "SweepRun"]
 
@@ -27,13 +28,21 @@ class SweepRun:
     computed : int
         Chunks computed by this call (on a resume: only the unfinished ones).
     skipped : int
-        Chunks found finished in the store and not recomputed.
+        Chunks found finished in the store, their data checked against their checksums, and not
+        recomputed.
+    damaged : tuple of (int, int)
+        Chunks flagged finished whose data was missing, unreadable or not what was written:
+        recomputed (they count in ``computed``).
+    notes : tuple of str
+        Store-wide repairs made before resuming (a lost coordinate, unreadable flags).
     """
 
     store: Path
     total: int
     computed: int
     skipped: int
+    damaged: tuple = ()
+    notes: tuple = ()
 
     def open(self):
         """The result as an :class:`xarray.Dataset`."""
@@ -52,18 +61,33 @@ def compute_chunk(spec: SweepSpec, iy: int, ix: int) -> dict:
 
 
 def _prepare(spec, store, resume):
+    import zarr
+
     store = Path(store)
-    if store.exists():
-        if not resume:
-            raise _v.KapitzaValueError(f"store must be a new path, or resumed (resume=True, --resume); got "
-                                       f"{str(store)!r}, which exists")
-        old = stored_spec(store)
-        if old != spec:
-            diff = [k for k, v in spec.as_dict().items() if old.as_dict()[k] != v]
-            raise _v.KapitzaValueError(f"resume must use the store's own settings; {str(store)!r} differs in "
-                                       f"{', '.join(diff)}")
-        return open_store(store)
-    return create_store(store, spec)
+    remove_leftovers(store)
+    if not (store.exists() or store.is_symlink()):
+        return create_store(store, spec)
+    if not resume:
+        raise _v.KapitzaValueError(f"store must be a new path, or resumed (resume=True, --resume); got "
+                                   f"{str(store)!r}, which exists")
+    old = stored_spec(store)
+    if old != spec:
+        diff = [k for k, v in spec.as_dict().items() if old.as_dict()[k] != v]
+        raise _v.KapitzaValueError(f"resume must use the store's own settings; {str(store)!r} differs in "
+                                   f"{', '.join(diff)}")
+    grp = open_store(store)
+    if "chunk_done" not in grp and "chunk_checksum" not in grp:
+        # An older kapitza built the store in place and was interrupted before its done flags were
+        # written: no chunk was computed yet, so the store is rebuilt from the same settings.
+        aside = store.parent / f".{store.name}.replaced-{os.getpid()}-{uuid.uuid4().hex[:8]}"  # see remove_leftovers
+        os.rename(store, aside)
+        grp = create_store(store, spec)
+        shutil.rmtree(aside, ignore_errors=True)
+        return grp
+    if not (store / ".zmetadata").exists():  # copied without it: readers want it back
+        zarr.consolidate_metadata(str(store))
+        grp = open_store(store)
+    return grp
 
 
 def sweep(spec: SweepSpec, store, *, resume=False, serial=False, workers=None, scheduler=None, client=None,
@@ -76,8 +100,9 @@ def sweep(spec: SweepSpec, store, *, resume=False, serial=False, workers=None, s
     store : path
         Zarr store (a folder) to create, or to complete with ``resume=True``.
     resume : bool
-        Continue a store made by an interrupted sweep with the same ``spec``: only chunks whose
-        done flag is unset are computed.
+        Continue a store made by an interrupted sweep with the same ``spec``: every chunk flagged
+        finished is read back and checked against its checksum; the rest, and any whose data is
+        missing or damaged, are computed (``SweepRun.damaged`` names those).
     serial : bool
         Compute in this process, without Dask (same numbers bit for bit).
     workers : int, optional
@@ -98,7 +123,8 @@ def sweep(spec: SweepSpec, store, *, resume=False, serial=False, workers=None, s
     if not isinstance(spec, SweepSpec):
         raise _v.KapitzaValueError(f"spec must be a SweepSpec; got {type(spec).__name__}")
     grp = _prepare(spec, store, resume)
-    done = done_chunks(grp)
+    check = verified_chunks(grp, spec)
+    done = check.done
     todo = [c for c in spec.all_chunks() if not done[c]]
     total = len(spec.all_chunks())
     skipped = total - len(todo)
@@ -124,7 +150,8 @@ def sweep(spec: SweepSpec, store, *, resume=False, serial=False, workers=None, s
             _run_dask(spec, todo, finished, workers, scheduler, client)
     finally:
         bar.close()
-    return SweepRun(store=Path(store), total=total, computed=len(todo), skipped=skipped)
+    return SweepRun(store=Path(store), total=total, computed=len(todo), skipped=skipped,
+                    damaged=tuple(check.damaged), notes=tuple(check.notes))
 
 
 def _run_dask(spec, todo, finished, workers, scheduler, client):

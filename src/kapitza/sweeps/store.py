@@ -1,14 +1,27 @@
-"""The sweep's Zarr store: pre-created arrays, one region write per finished chunk, done flags.
+"""The sweep's Zarr store: pre-created arrays, one region write per finished chunk, checksummed.
 
 Layout (an xarray Dataset in Zarr form): every variable of :data:`kapitza.sweeps.kernel.VARIABLES`
 that was asked for, on the dimensions ``(mu, eps)`` or ``(A, T)`` with their coordinates and
-units, chunked exactly as the work is; ``chunk_done`` on ``(chunk_y, chunk_x)``, set to 1 only
-after a chunk's values are all written. An interrupted sweep therefore leaves finished chunks
-marked and everything else recomputable; the attributes hold the settings (``sweep_spec``, JSON),
-the kapitza version and the accuracy of each quantity.
+units, chunked exactly as the work is; ``chunk_checksum`` and ``chunk_done`` on
+``(chunk_y, chunk_x)``. A finished chunk's values are written into their region, then the CRC-32
+of exactly those values (:func:`chunk_checksum`), then its done flag. A point not yet computed
+holds a fill value no result can take (NaN for the real variables, -2 for ``zone``, -1 for
+``stable``; the ``_FillValue`` attribute of each).
+
+Integrity. The store is built under a temporary name beside its path and renamed into place
+when complete, so an interrupt at any moment leaves nothing at the path or a store that resumes.
+Resuming never trusts a done flag alone: each flagged chunk is read back and its checksum
+compared (:func:`verified_chunks`), and a chunk whose data is missing (a lost chunk file reads as
+the fill value), truncated (unreadable) or different is recomputed and named. The attributes
+hold the settings (``sweep_spec``, JSON), the kapitza version and the accuracy of each quantity.
 """
 from __future__ import annotations
 
+import os
+import shutil
+import uuid
+import warnings
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -20,9 +33,14 @@ from ..motion.basins import INTEGRATED_ATOL, INTEGRATED_RTOL, MIN_SAMPLES, SAMPL
 from .kernel import VARIABLES
 from .spec import PLANES, SweepSpec
 
-__all__ = ["create_store", "open_store", "write_chunk", "done_chunks", "open_sweep", "to_netcdf"]
+__all__ = ["create_store", "open_store", "write_chunk", "done_chunks", "verified_chunks", "chunk_checksum",
+           "open_sweep", "to_netcdf", "StoreCheck"]
 
-_INT = {"stable": "int8", "zone": "int16"}
+#: Integer variables, their dtype and their fill: a value no result takes (``stable`` is 0 or 1,
+#: ``zone`` is ``n >= 0`` or -1 where unstable).
+_INT = {"stable": ("int8", -1), "zone": ("int16", -2)}
+#: The store layout's version: 2 added ``chunk_checksum`` and fills that are not data.
+LAYOUT = 2
 
 
 def _attrs(spec: SweepSpec) -> dict:
@@ -67,69 +85,239 @@ def _attrs(spec: SweepSpec) -> dict:
     }
 
 
+def _dtype(name):
+    return _INT[name][0] if name in _INT else "float64"
+
+
+def chunk_checksum(spec: SweepSpec, values: dict) -> int:
+    """CRC-32 of one chunk's values, every variable of ``spec`` in order, as stored (dtype, C order),
+    as a signed 32-bit integer (NetCDF 3 has no unsigned or 64-bit integers)."""
+    crc = 0
+    for name in spec.variables:
+        crc = zlib.crc32(np.ascontiguousarray(values[name], dtype=_dtype(name)).tobytes(), crc)
+    return crc - (1 << 32) if crc >= 1 << 31 else crc
+
+
+def _tmp_prefix(path: Path, what="creating") -> str:
+    return f".{path.name}.{what}-"
+
+
+def remove_leftovers(path: Path):
+    """Remove what an interrupted creation (or rebuild) of the store ``path`` left beside it: the
+    temporary folders whose process is gone."""
+    prefixes = (_tmp_prefix(path), _tmp_prefix(path, "replaced"))
+    try:
+        names = [p for p in path.parent.iterdir() if p.name.startswith(prefixes)]
+    except OSError:
+        return
+    for p in names:
+        try:
+            rest = next(p.name[len(x):] for x in prefixes if p.name.startswith(x))
+            pid = int(rest.split("-")[0])
+            os.kill(pid, 0)
+        except ProcessLookupError:  # its creator is gone: a leftover
+            shutil.rmtree(p, ignore_errors=True)
+        except (ValueError, OSError):
+            continue
+
+
 def create_store(path, spec: SweepSpec):
-    """Create the store with every array pre-allocated (nothing computed yet)."""
+    """Create the store with every array pre-allocated (nothing computed yet), atomically: it is
+    built under a temporary name beside ``path`` and renamed into place once complete."""
     import dask.array as da
     import xarray as xr
+    import zarr
 
+    path = Path(path)
+    remove_leftovers(path)
+    tmp = path.parent / f"{_tmp_prefix(path)}{os.getpid()}-{uuid.uuid4().hex[:8]}"
     (yn, yu), (xn, xu) = PLANES[spec.plane][1], PLANES[spec.plane][0]
     c = spec.chunk
     data, enc = {}, {}
     for name in spec.variables:
         long, units = VARIABLES[name]
-        dt = _INT.get(name, "float64")
-        fill = 0 if name in _INT else np.nan
+        dt = _dtype(name)
+        fill = _INT[name][1] if name in _INT else np.nan
         data[name] = (spec.dims, da.full(spec.shape, fill, dtype=dt, chunks=(c, c)), {"long_name": long, "units": units})
-        enc[name] = {"chunks": (c, c), "_FillValue": None if name in _INT else np.nan}
-    data["chunk_done"] = (("chunk_y", "chunk_x"), da.zeros(spec.chunk_shape, dtype="int8", chunks=spec.chunk_shape),
-                          {"long_name": "1 once every value of this chunk is written", "units": "1"})
-    enc["chunk_done"] = {"_FillValue": None}
+        enc[name] = {"chunks": (c, c), "_FillValue": fill}
+    flags = {"chunk_checksum": ("int32", "CRC-32 of the chunk's values as written (every variable in order)"),
+             "chunk_done": ("int8", "1 once every value of this chunk and its checksum are written")}
+    for name, (dt, long) in flags.items():
+        data[name] = (("chunk_y", "chunk_x"), da.zeros(spec.chunk_shape, dtype=dt, chunks=spec.chunk_shape),
+                      {"long_name": long, "units": "1"})
+        enc[name] = {"_FillValue": None}
     coords = {yn: (yn, np.asarray(spec.y), {"units": yu}), xn: (xn, np.asarray(spec.x), {"units": xu})}
-    ds = xr.Dataset(data, coords=coords, attrs=_attrs(spec))
-    ds.to_zarr(str(path), mode="w-", compute=False, encoding=enc, consolidated=True, zarr_format=2)
-    grp = open_store(path)
-    grp["chunk_done"][...] = np.zeros(spec.chunk_shape, dtype="int8")
-    return grp
+    ds = xr.Dataset(data, coords=coords, attrs={**_attrs(spec), "store_layout": LAYOUT})
+    try:
+        ds.to_zarr(str(tmp), mode="w-", compute=False, encoding=enc, consolidated=False, zarr_format=2)
+        grp = zarr.open_group(str(tmp), mode="r+", use_consolidated=False)
+        for name, (dt, _) in flags.items():
+            grp[name][...] = np.zeros(spec.chunk_shape, dtype=dt)
+        zarr.consolidate_metadata(str(tmp))
+        try:
+            os.rename(tmp, path)  # atomic: the store appears complete or not at all
+        except OSError:
+            if path.exists():
+                raise _v.KapitzaValueError(f"store must be a new path, or resumed (resume=True, --resume); got "
+                                           f"{str(path)!r}, which exists") from None
+            raise
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return open_store(path)
 
 
 def open_store(path):
-    """The store's Zarr group, open for writing."""
+    """The store's Zarr group, open for writing (consolidated metadata when it is there)."""
     import zarr
 
-    return zarr.open_group(str(path), mode="r+")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return zarr.open_group(str(path), mode="r+", use_consolidated=(Path(path) / ".zmetadata").exists())
+
+
+def _incomplete(path, why):
+    return _v.KapitzaValueError(
+        f"store must be a complete kapitza sweep store; {str(path)!r} {why}: delete it (nothing in it can be "
+        f"trusted) or give another path")
 
 
 def stored_spec(path) -> SweepSpec:
     """The settings a store was created with."""
+    path = Path(path)
+    if not path.is_dir():
+        raise _incomplete(path, "is not a folder")
+    if not (path / ".zgroup").exists() and not (path / ".zmetadata").exists():
+        raise _incomplete(path, "has no Zarr metadata (.zgroup, .zattrs: copied without its dot files, or its "
+                                "creation was interrupted by an older kapitza)")
     try:
         text = open_store(path).attrs.get("sweep_spec")
-    except Exception:  # not a Zarr group at all
+    except Exception:  # not a readable Zarr group
         text = None
     if text is None:
-        raise _v.KapitzaValueError(f"store must be a kapitza sweep store; got {str(path)!r} (no sweep_spec attribute)")
-    return SweepSpec.from_json(text)
+        raise _incomplete(path, "has no readable sweep_spec attribute")
+    try:
+        return SweepSpec.from_json(text)
+    except (ValueError, TypeError) as exc:
+        raise _incomplete(path, f"has unreadable settings ({str(exc).splitlines()[0]})") from None
 
 
 def write_chunk(grp, spec: SweepSpec, iy, ix, values: dict):
-    """Write one finished chunk into its region, then set its done flag."""
+    """Write one finished chunk into its region, then its checksum, then its done flag."""
     ys, xs = spec.chunk_slices(iy, ix)
     for name in spec.variables:
-        grp[name][ys, xs] = values[name]
+        grp[name][ys, xs] = np.asarray(values[name], dtype=_dtype(name))
+    grp["chunk_checksum"][iy, ix] = chunk_checksum(spec, values)
     grp["chunk_done"][iy, ix] = 1
 
 
 def done_chunks(grp) -> np.ndarray:
-    """Boolean ``(chunk_y, chunk_x)`` array of the finished chunks."""
+    """Boolean ``(chunk_y, chunk_x)`` array of the chunks flagged finished (flags only: resuming
+    checks each one's data, :func:`verified_chunks`)."""
     return np.asarray(grp["chunk_done"][...]) == 1
 
 
+class StoreCheck:
+    """What :func:`verified_chunks` found: ``done`` (bool per chunk: flagged and its data checked),
+    ``damaged`` (chunks flagged finished whose data is missing, unreadable or not what was written),
+    ``notes`` (store-wide repairs, one phrase each)."""
+
+    def __init__(self, done, damaged, notes):
+        self.done, self.damaged, self.notes = done, damaged, notes
+
+
+def _read(arr, sel=Ellipsis):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return np.asarray(arr[sel])
+
+
+def _rewrite(grp, name, value):
+    """Overwrite a whole small array, first removing a damaged chunk file that would be read back."""
+    try:
+        grp[name][...] = value
+    except Exception:
+        for f in (Path(grp.store.root) / name).iterdir():
+            if not f.name.startswith("."):
+                f.unlink()
+        grp[name][...] = value
+
+
+def verified_chunks(grp, spec: SweepSpec) -> StoreCheck:
+    """Check every chunk flagged finished against its checksum, and repair what is store-wide.
+
+    The coordinates are compared with ``spec`` and rewritten if lost or damaged; unreadable done
+    flags or checksums are reset (every chunk is then recomputed). A flagged chunk whose values
+    cannot be read (a truncated chunk file) or whose CRC-32 differs from the one stored (a lost
+    chunk file reads as the fill value) is reported in ``damaged`` and its flag cleared.
+    """
+    notes = []
+    if "chunk_checksum" not in grp or "chunk_done" not in grp:
+        raise _v.KapitzaValueError(
+            "store must carry per-chunk checksums to be resumed; "
+            f"{str(grp.store.root)!r} was made by an older kapitza without them, so its finished chunks cannot be "
+            "verified: run the sweep again into a new store")
+    yn, xn = spec.dims
+    for name, want in ((yn, np.asarray(spec.y)), (xn, np.asarray(spec.x))):
+        try:
+            ok = np.array_equal(_read(grp[name]), want)
+        except Exception:
+            ok = False
+        if not ok:
+            _rewrite(grp, name, want)
+            notes.append(f"coordinate {name} rewritten")
+    try:
+        flags = _read(grp["chunk_done"]) == 1
+        sums = _read(grp["chunk_checksum"])
+    except Exception:
+        flags = np.zeros(spec.chunk_shape, dtype=bool)
+        sums = np.zeros(spec.chunk_shape, dtype=np.int32)
+        notes.append("done flags or checksums unreadable: every chunk recomputed")
+        _rewrite(grp, "chunk_checksum", sums)
+        _rewrite(grp, "chunk_done", np.zeros(spec.chunk_shape, dtype="int8"))
+    damaged = []
+    for iy, ix in zip(*np.nonzero(flags)):
+        ys, xs = spec.chunk_slices(iy, ix)
+        try:
+            values = {name: _read(grp[name], (ys, xs)) for name in spec.variables}
+            good = chunk_checksum(spec, values) == int(sums[iy, ix])
+        except Exception:  # a truncated or otherwise unreadable chunk file
+            good = False
+        if not good:
+            flags[iy, ix] = False
+            damaged.append((int(iy), int(ix)))
+    if damaged:
+        for iy, ix in damaged:
+            grp["chunk_done"][iy, ix] = 0
+            _drop_chunk_files(grp, spec, iy, ix)
+    return StoreCheck(flags, damaged, notes)
+
+
+def _drop_chunk_files(grp, spec, iy, ix):
+    """Remove the chunk files of a damaged chunk so that its rewrite never reads them back."""
+    root = Path(grp.store.root)
+    for name in spec.variables:
+        f = root / name / f"{iy}.{ix}"
+        try:
+            f.unlink()
+        except FileNotFoundError:
+            pass
+
+
 def open_sweep(path):
-    """The sweep as an :class:`xarray.Dataset` (lazy, backed by the Zarr store)."""
+    """The sweep as an :class:`xarray.Dataset` (lazy, backed by the Zarr store).
+
+    Values are as stored (no masking): a point not computed holds its variable's ``_FillValue``
+    (NaN, or -2 for ``zone``, -1 for ``stable``), so the integer variables keep their dtype."""
     import xarray as xr
 
-    if not Path(path).exists():
+    path = Path(path)
+    if not path.exists():
         raise _v.KapitzaValueError(f"store must be an existing sweep store; got {str(path)!r} (no such path)")
-    return xr.open_zarr(str(path))
+    stored_spec(path)  # a clear error for what is not a complete store
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return xr.open_zarr(str(path), consolidated=(path / ".zmetadata").exists(), mask_and_scale=False)
 
 
 def to_netcdf(ds, path):
