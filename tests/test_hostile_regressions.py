@@ -355,3 +355,50 @@ def test_simulate_at_a_subnormal_half_period_refuses_without_a_warning():
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match=r"t / \(2 T\).*got inf"):
             simulate(theta0=0.1, dtheta0=0.0, T=5e-324, A=100.0, t=0.5, model="nonlinear")
+
+
+# ------------------------------------------------------------------ far ends of the doubles
+def test_huge_eps_and_rod_give_no_overflow_warning():
+    # 2 sqrt(2) eps overflowed in phase_angles; 8 l / A overflowed in period_edges and boundary_periods
+    from kapitza import periodic
+
+    _refused(lambda: K.phase_angles(1e308, 0.5), "eps must be <= 1e+307", "1e+308")
+    far = np.array(K.period_edges(100.0, 2, l=1e308))
+    assert np.allclose(far / np.array(K.period_edges(100.0, 2)), 1e154, rtol=1e-14)
+    assert np.allclose(periodic.boundary_periods(100.0, 3, l=1e308)[1] / periodic.boundary_periods(100.0, 3)[1],
+                       1e154, rtol=1e-14)
+    # w_h T = inf: tanh and coth at their limit 1
+    two_atan_D = 2.0 * np.arctan(np.sqrt(109.81 / 90.19))
+    assert periodic.alpha(1e308, 100.0) == pytest.approx(two_atan_D, rel=1e-15)
+    assert periodic.beta(1e308, 100.0) == pytest.approx(two_atan_D, rel=1e-15)
+    _refused(lambda: K.period_map_taylor(1e308, 0.5), "eps must keep w_h T")
+
+
+def test_h_at_a_huge_angle_has_no_warning_and_the_identity_of_the_double_angle():
+    from kapitza import phase_plane
+
+    phi = 1e308
+    c2 = (np.cos(phi) - np.sin(phi)) * (np.cos(phi) + np.sin(phi))
+    assert phase_plane.h(phi, 0.5) == pytest.approx(abs(c2) / (np.cos(phi) ** 2 + 0.25 * np.sin(phi) ** 2), rel=1e-12)
+    assert phase_plane.h(np.pi / 8, 0.5) == pytest.approx(np.cos(np.pi / 4) / (1 - 0.75 * np.sin(np.pi / 8) ** 2))
+
+
+@pytest.mark.parametrize("eps, mu", [(1e-200, 1e-300), (1e-300, 5e-324), (1e-310, 5e-324)])
+def test_normal_form_at_tiny_eps_and_subnormal_mu_has_no_warning(eps, mu):
+    # the double-precision pass divided by m12 sin w = 0 before the extended-precision redo
+    from kapitza import normal_form
+
+    assert np.isfinite(K.twist_coefficient(eps, mu))
+    assert np.isfinite(normal_form.birkhoff_normal_form(eps, mu).twist)
+    assert "rho_0" in str(K.nonlinear_stability(eps, mu))
+
+
+@pytest.mark.parametrize("value, kind", [
+    (np.datetime64("2020-01-01"), "date"), (np.timedelta64(5, "s"), "duration"),
+    (np.array([1, 2], dtype="m8[s]"), "duration"), (np.array(["2020-01-01"], dtype="M8[D]"), "date"),
+    (np.array([np.timedelta64(1, "s")], dtype=object), "date or duration"),
+])
+def test_dates_and_durations_are_refused_by_name_not_read_as_counts(value, kind):
+    # numpy read them as counts of their unit: is_stable(datetime64('2020-01-01'), 0.3) answered False
+    _refused(lambda: K.is_stable(value, 0.3), "eps must be a real number", kind)
+    _refused(lambda: K.boundary_periods(100.0, value), "count must be an integer", kind)
