@@ -402,3 +402,48 @@ def test_dates_and_durations_are_refused_by_name_not_read_as_counts(value, kind)
     # numpy read them as counts of their unit: is_stable(datetime64('2020-01-01'), 0.3) answered False
     _refused(lambda: K.is_stable(value, 0.3), "eps must be a real number", kind)
     _refused(lambda: K.boundary_periods(100.0, value), "count must be an integer", kind)
+
+
+# ------------------------------------------------------------------ memory of a chart with many zones
+def test_refined_chart_of_many_zones_stays_within_its_sample_budget():
+    # Each of the 54 zones crossing eps 59..60 added `points` samples a pass to the one mu axis that
+    # all zones share: 54 x 57,886 edges at points = 1000 (2.6 GB), MemoryError at --points 20000.
+    import tracemalloc
+
+    from kapitza.curves import zone_curves
+
+    tracemalloc.start()
+    try:
+        c = zone_curves((59.0, 60.0), (0.0, 1.0), 400)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert c.n.size == 54 and c.mu.size <= 4 * 400
+    assert peak < 100e6, peak
+    # still exact at every sample, and still refined where an edge crosses the window
+    lo, hi = K.zone_edges(c.mu[None, :], c.n[:, None])
+    assert np.array_equal(lo, c.eps_lo) and np.array_equal(hi, c.eps_hi)
+    assert c.mu.size > 400
+    d = zone_curves((59.0, 60.0), (0.0, 1.0), 400, max_samples=500)
+    assert 400 <= d.mu.size <= 500
+
+
+def test_zoom_on_one_thin_tongue_is_refined_as_before():
+    from kapitza.curves import zone_curves
+
+    lo, hi = (float(v) for v in K.zone_edges(0.7, 3))
+    w = hi - lo
+    c = zone_curves((lo - 2 * w, hi + 2 * w), (0.7 - 1e-9, 0.7 + 1e-9), 400)
+    inside = (c.eps_lo[c.n == 3][0] >= lo - 2 * w) & (c.eps_lo[c.n == 3][0] <= hi + 2 * w)
+    assert inside.sum() >= 100 and c.mu.size <= 1600
+
+
+@pytest.mark.slow
+def test_chart_command_of_many_zones_at_20000_points_fits_in_memory(tmp_path):
+    # kapitza chart --eps-min 59 --eps-max 60 --points 20000 died of MemoryError (~0.46 GB per 1000 points)
+    code = ("import resource, sys; resource.setrlimit(resource.RLIMIT_AS, (6 << 30, 6 << 30)); "
+            "from kapitza.cli import main; sys.exit(main(sys.argv[1:]))")
+    res = subprocess.run([sys.executable, "-c", code, "chart", "--eps-min", "59", "--eps-max", "60", "--points", "20000",
+                          "--out", str(tmp_path / "c")], capture_output=True, text=True, timeout=3600)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert (tmp_path / "c.png").stat().st_size > 0
