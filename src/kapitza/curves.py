@@ -131,7 +131,7 @@ def _edges_blocked(mu, n, block=1 << 16):
 
 
 def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.0, points=1200, max_zones=400,
-                  max_samples=None):
+                  max_samples=None, check=None):
     """The edges of every zone of any drive, with damping, that meets a window of Arnold's plane.
 
     Parameters
@@ -149,6 +149,9 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
         Refuse windows that would need more zones than this (square wave).
     max_samples : int, optional
         The most ``mu`` samples after the refinement of :func:`zone_curves` (default ``4 * points``).
+    check : callable, optional
+        Called with no argument before each block of samples of another drive or damping (each
+        edge an eigenproblem): a caller bounding the work (a deadline, a client gone) raises from it.
 
     Returns
     -------
@@ -173,8 +176,25 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     # from mu = 1e-3 as kapitza chart draws other drives (the window method and the edge-by-edge
     # solution of a damped zone 0 disagree at mu ~ 1e-9)
     mu = np.linspace(max(m0, 1e-3), min(m1, top * (1.0 - 1e-9)), points)
-    c = drive_curves(general, mu, e1, zeta, eps_min=e0)
-    return ZoneCurves(n=c.zones, mu=mu, eps_lo=c.lo, eps_hi=c.hi)
+    if check is None:
+        c = drive_curves(general, mu, e1, zeta, eps_min=e0)
+        return ZoneCurves(n=c.zones, mu=mu, eps_lo=c.lo, eps_hi=c.hi)
+    # block by block (each mu sample is independent of the others): the same curves
+    parts = []
+    for j in range(0, mu.size, _BLOCK):
+        check()
+        parts.append(drive_curves(general, mu[j:j + _BLOCK], e1, zeta, eps_min=e0))
+    zones = np.unique(np.concatenate([c.zones for c in parts]))
+    lo = np.full((zones.size, mu.size), np.nan)
+    hi = np.full((zones.size, mu.size), np.nan)
+    for j, c in zip(range(0, mu.size, _BLOCK), parts):
+        k = np.searchsorted(zones, c.zones)
+        lo[k, j:j + c.mu.size], hi[k, j:j + c.mu.size] = c.lo, c.hi
+    return ZoneCurves(n=zones, mu=mu, eps_lo=lo, eps_hi=hi)
+
+
+#: mu samples of another drive computed between two calls of window_curves' ``check``.
+_BLOCK = 8
 
 
 def mu_top(drive=None) -> float:
@@ -235,7 +255,7 @@ class PhysicalZoneCurves:
                 yield int(n), a, self.T_lo[i, j], self.T_hi[i, j]
 
 def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=1200, drive=None, zeta=0.0,
-                         max_samples=None):
+                         max_samples=None, check=None):
     """The edges of every zone visible in a window of the physical ``T``-``A`` plane.
 
     Parameters
@@ -253,6 +273,8 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
         As in :func:`window_curves` (``zeta = c / (2 sqrt(g/l))`` is the same over the plane).
     max_samples : int, optional
         The most ``A`` samples after refinement (default ``4 * points``).
+    check : callable, optional
+        As in :func:`window_curves`.
 
     Returns
     -------
@@ -277,7 +299,7 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
     # eps = T sqrt(A / (8 l)) is largest at (T1, A1); cover the window in (eps, mu).
     mu_range = (np.sqrt(g / A1), min(np.sqrt(g / A0), top))
     curves = window_curves((T0 * np.sqrt(A0 / (8.0 * l)), T1 * np.sqrt(A1 / (8.0 * l))), mu_range, drive, zeta,
-                           points, max_samples=max_samples)
+                           points, max_samples=max_samples, check=check)
     A = g / curves.mu**2
     scale = np.sqrt(8.0 * l / A)
     return PhysicalZoneCurves(n=curves.n, A=A, T_lo=curves.eps_lo * scale, T_hi=curves.eps_hi * scale, l=l, g=g)
