@@ -217,6 +217,9 @@ def test_physical_export_applies_the_eps_cap(served):
     for path in ("api/chart", "api/export/chart.csv"):
         r = httpx.get(base + path, params=dict(plane="physical", T_max=100, A_max=1e4), timeout=60)
         assert r.status_code == 422 and "the largest eps in view" in r.json()["detail"], path
+    # the export's figure refines up to 4 x its samples: it may ask for a quarter of the cap
+    r = httpx.get(base + "api/export/chart.csv", params=dict(samples=2000), timeout=60)
+    assert r.status_code == 422 and "samples <= 1000" in r.json()["detail"]
 
 
 def test_view_cache_is_bounded_in_bytes(monkeypatch):

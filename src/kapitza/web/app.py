@@ -47,6 +47,7 @@ STATIC = Path(__file__).with_name("static")
 LIMITS = dict(
     samples=4000,          # mu (or A) samples per edge of a chart, refinement included
     general_samples=400,   # ... with another drive or damping (each an eigenproblem per edge)
+    export_samples=1000,   # samples asked of a chart export (the figure refines up to 4 times as many)
     chart_cpu_seconds=10.0,  # CPU seconds one chart of another drive or damping may use
     cache_bytes=64 << 20,  # the JSON of recent views kept
     eps_max=60.0,          # the largest eps a view of Arnold's plane may reach
@@ -269,9 +270,10 @@ def create_app(hosts=None) -> FastAPI:
 
     # -------------------------------------------------------------- motion
     @app.get("/api/motion", response_class=_JSON, summary="linear and nonlinear motion, sampled for animation")
-    async def motion(request: Request, T: float | None = None, A: float | None = None, eps: float | None = None, mu: float | None = None,
-               l: float = 1.0, g: float = G_EARTH, drive: str = "square", zeta: float = 0.0,
-               theta0: float = 0.1, dtheta0: float = 0.0, periods: float = 20.0, points_per_period: int = 60):
+    async def motion(request: Request, T: float | None = None, A: float | None = None, eps: float | None = None,
+                     mu: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
+                     zeta: float = 0.0, theta0: float = 0.1, dtheta0: float = 0.0, periods: float = 20.0,
+                     points_per_period: int = 60):
         """The motion from ``(theta0, dtheta0)`` at ``t = 0``, nonlinear and linear (the library's
         :func:`kapitza.simulate`), the pivot's height, and the stroboscopic points at ``t = 2kT``."""
         return await _worker(request, lambda check: _JSON(_motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0,
@@ -281,10 +283,11 @@ def create_app(hosts=None) -> FastAPI:
     @app.get("/api/export/chart.{fmt}", summary="the chart as kapitza chart writes it: PNG, SVG or its CSV",
              response_class=Response)
     async def export_chart(request: Request, fmt: Literal["png", "svg", "csv"], plane: Plane = "arnold",
-                     eps_min: float = 0.0, eps_max: float = 4.0, mu_min: float = 0.0, mu_max: float = 1.0,
-                     T_min: float = 0.0, T_max: float | None = None, A_min: float | None = None,
-                     A_max: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
-                     zeta: float = 0.0, samples: int | None = None, T: float | None = None, A: float | None = None):
+                           eps_min: float = 0.0, eps_max: float = 4.0, mu_min: float = 0.0, mu_max: float = 1.0,
+                           T_min: float = 0.0, T_max: float | None = None, A_min: float | None = None,
+                           A_max: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
+                           zeta: float = 0.0, samples: int | None = None, T: float | None = None,
+                           A: float | None = None):
         """The figure of ``kapitza chart`` for this view (PNG or SVG) or the curves drawn (CSV),
         with the point ``(T, A)`` marked when given."""
         return await _worker(request, _export_chart, fmt, plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max,
@@ -297,7 +300,9 @@ def create_app(hosts=None) -> FastAPI:
 
         d, zeta, general, samples, (T_min, T_max), (A_min, A_max), l, g = _view(
             plane, eps_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples)
-        if general is not None:
+        if general is None:  # the figure's refinement takes up to 4 x samples: at most LIMITS["samples"]
+            _bounded("samples", samples, LIMITS["export_samples"], 2)
+        else:
             # the figure computes its curves in one call: first make sure they fit the CPU budget
             _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta,
                         samples, check)
@@ -320,10 +325,10 @@ def create_app(hosts=None) -> FastAPI:
                 plt.close(fig)
 
     @app.get("/api/export/motion.{fmt}", summary="the motion as kapitza simulate writes it", response_class=Response)
-    async def export_motion(request: Request, fmt: Literal["png", "svg", "csv", "json"], T: float | None = None, A: float | None = None,
-                      eps: float | None = None, mu: float | None = None, l: float = 1.0, g: float = G_EARTH,
-                      drive: str = "square", zeta: float = 0.0, theta0: float = 0.1, dtheta0: float = 0.0,
-                      periods: float = 20.0, points_per_period: int = 60):
+    async def export_motion(request: Request, fmt: Literal["png", "svg", "csv", "json"], T: float | None = None,
+                            A: float | None = None, eps: float | None = None, mu: float | None = None, l: float = 1.0,
+                            g: float = G_EARTH, drive: str = "square", zeta: float = 0.0, theta0: float = 0.1,
+                            dtheta0: float = 0.0, periods: float = 20.0, points_per_period: int = 60):
         """``kapitza simulate --out``'s files: the motion as CSV, its summary as JSON, the time
         series (nonlinear with the linear one) as PNG or SVG."""
         return await _worker(request, _export_motion, fmt, T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods,
