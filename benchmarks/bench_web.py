@@ -193,7 +193,7 @@ def mixed(args):
         codes = sorted({s for s, _, _ in answers})
         bad = sum(s >= 500 for s, _, _ in answers)
         print(f"  {kind:6s}: {t.size:4d} requests, p50 {1e3 * np.percentile(t, 50):8.1f} ms, "
-              f"p99 {1e3 * np.percentile(t, 99):8.1f} ms, statuses {codes}, server errors {bad}")
+              f"p99 {1e3 * np.percentile(t, 99):8.1f} ms, statuses {codes}, 5xx answers: {bad}")
     print(f"  server resident memory: {before:.0f} MiB after the warm-up, {after:.0f} MiB after the load "
           f"({after - before:+.0f} MiB)")
     try:
