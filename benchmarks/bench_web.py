@@ -7,13 +7,16 @@ in the same run:
 * the time from starting ``kapitza serve`` to its first answered request (median of 3 starts);
 * p50 / p99 latency at 1, 10 and 50 concurrent clients (threads, each with its own keep-alive
   connection) for: the full chart view the page asks for first (every zone in ``0 <= eps <= 4``,
-  ``0 <= mu <= 1`` at 1000 samples; the server keeps the last 128 views, so repeats of it are
-  answered from memory), the same view moved by 1e-12 at every request (computed every time), a
+  ``0 <= mu <= 1`` at 1000 samples; the server keeps recent views, up to 64 MiB of them, so
+  repeats of it are answered from memory), the same view moved by 1e-12 at every request (computed every time), a
   deep-zoom view of zone 2 (1e-5 wide), and the stability report of one point (what
   ``kapitza stability --json`` prints);
 * the baseline: the same library call in this process, without HTTP (the chart's curves and
   their JSON; ``analyze``), median over repeats; the ratio of the 1-client p50 to it is the
-  cost of the web layer.
+  cost of the web layer;
+* a class at once: ``--mixed-clients`` (50) clients for ``--seconds``, each sending charts,
+  points and motions of four drives in turn (the mix of ``tests/test_web_load.py``): p50 / p99
+  per kind, server errors, and the server's resident memory after a warm-up and after the load.
 
 Every level is bounded in requests (``--requests``) and time (``--seconds``).
 """
@@ -126,10 +129,12 @@ def main():
     ap.add_argument("--levels", default="1,10,50", help="concurrent clients (default 1,10,50)")
     ap.add_argument("--starts", type=int, default=3, help="starts of kapitza serve timed (default 3)")
     ap.add_argument("--workers", type=int, default=1, help="server processes (kapitza serve --workers; default 1)")
+    ap.add_argument("--mixed-clients", type=int, default=50, help="clients of the mixed load (default 50)")
+    ap.add_argument("--only-mixed", action="store_true", help="run the mixed load only")
     ap.add_argument("--tiny", action="store_true", help="a smoke run: few requests, 1 and 2 clients")
     args = ap.parse_args()
     if args.tiny:
-        args.requests, args.seconds, args.levels, args.starts = 6, 10.0, "1,2", 1
+        args.requests, args.seconds, args.levels, args.starts, args.mixed_clients = 6, 10.0, "1,2", 1, 4
     levels = [int(x) for x in args.levels.split(",")]
 
     print(f"bench_web  {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
@@ -139,6 +144,8 @@ def main():
         print(f"  load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f} at start")
     except OSError:
         pass
+    if args.only_mixed:
+        return mixed(args)
     firsts = first_response(args.starts)
     wall = [w for w, _ in firsts]
     print(f"kapitza serve: first request answered {statistics.median(wall):.3f} s after start "
@@ -158,6 +165,41 @@ def main():
                 ratio = f"; p50 / baseline {p50 / (1e3 * med):.2f}x" if c == 1 else ""
                 print(f"  {c:3d} clients: {t.size:4d} requests in {wall:5.1f} s ({t.size / wall:6.1f}/s), "
                       f"p50 {p50:7.1f} ms, p99 {p99:7.1f} ms, errors {err}{ratio}")
+    mixed(args)
+
+
+def mixed(args):
+    """The mixed load of tests/test_web_load.py: latencies per kind, errors, memory."""
+    import psutil
+    from test_web_load import mixed_load
+
+    def rss(proc):
+        p = psutil.Process(proc.pid)
+        return sum(q.memory_info().rss for q in [p, *p.children(recursive=True)]) / 2**20
+
+    with running_server(*(["--workers", str(args.workers)] if args.workers > 1 else [])) as (base, _, proc):
+        mixed_load(base, clients=6, seconds=0.0, seed=1)  # warm-up
+        before = rss(proc)
+        t0 = time.perf_counter()
+        result = mixed_load(base, clients=args.mixed_clients, seconds=args.seconds if not args.tiny else 2.0)
+        wall = time.perf_counter() - t0
+        after = rss(proc)
+    n = sum(len(v) for v in result.values())
+    print(f"\nmixed load: {args.mixed_clients} clients sending for {args.seconds if not args.tiny else 2.0:g} s "
+          f"(each finishing its last request): {n} requests in {wall:.1f} s ({n / wall:.1f}/s), "
+          f"server --workers {args.workers}")
+    for kind, answers in sorted(result.items()):
+        t = np.array([dt for _, dt, _ in answers])
+        codes = sorted({s for s, _, _ in answers})
+        bad = sum(s >= 500 for s, _, _ in answers)
+        print(f"  {kind:6s}: {t.size:4d} requests, p50 {1e3 * np.percentile(t, 50):8.1f} ms, "
+              f"p99 {1e3 * np.percentile(t, 99):8.1f} ms, statuses {codes}, 5xx answers: {bad}")
+    print(f"  server resident memory: {before:.0f} MiB after the warm-up, {after:.0f} MiB after the load "
+          f"({after - before:+.0f} MiB)")
+    try:
+        print(f"  load average {os.getloadavg()[0]:.2f} at the end")
+    except OSError:
+        pass
 
 
 if __name__ == "__main__":

@@ -131,7 +131,8 @@ def _masked():
 HOSTILE = [NAN, INF, -INF, -0.0, 0.0, 1e-300, 1e300, 5e-324, -1.0, -1e-300, 10**12, -10**12, 10**400, 2**63,
            True, "1.5", b"1", "", None, 1 + 2j, np.complex128(0.5 + 0j), [0.5, 0.6], [[0.5], [0.6, 0.7]],
            np.array([0.5, 0.6, 0.7]), np.ones((2, 3)), [], np.array([]), object(), np.float32(0.5),
-           np.int64(-3), np.uint64(2**63 + 5), "masked"]
+           np.int64(-3), np.uint64(2**63 + 5), "masked", np.datetime64("2020-01-01"), np.timedelta64(3, "s"),
+           np.array([1, 2], dtype="m8[ms]")]
 TEXT_HOSTILE = ["", "nonsense", "square:1", "rectangular:2", "steps:1,-1:0.5", "steps:1:1", "sine:3", 3.0, None,
                 ["square"], b"square", "rectangular:nan"]
 
@@ -571,3 +572,20 @@ def _print_summary(calls, table, write=print):
         write(f"  {target:44s} {sum(c.values()):6d}  " + "; ".join(f"{o} {k}" for o, k in c.most_common()))
     for f in FAILURES[:20]:
         write(f"  FAILED {f[0]} {f[1]} {f[2][:300]}")
+
+
+@pytest.mark.parametrize("value", [np.datetime64("2020-01-01"), np.timedelta64(3, "s")], ids=["datetime64", "timedelta64"])
+def test_dates_and_durations_are_refused_by_every_target(value):
+    """A date or a duration is never read as a count of its unit, by any public function."""
+    refused = []
+    for fname, fn, sig in TARGETS:
+        kwargs = _base_kwargs(fname, sig)
+        if fname.rsplit(".", 1)[1] in UNIT_MU and "mu" in kwargs:
+            kwargs["mu"] = 0.3
+        for name in [n for n in kwargs if n not in NON_NUMERIC and n != "progress"]:
+            if check_call(fname, fn, {**kwargs, name: NAN}, [name]) != "refused, naming the parameter":
+                continue  # a parameter this call does not read (periods beside t, rtol of the exact flows)
+            outcome = check_call(fname, fn, {**kwargs, name: value}, [name])
+            assert outcome == "refused, naming the parameter", (fname, name, outcome)
+            refused.append((fname, name))
+    assert len(refused) > 50

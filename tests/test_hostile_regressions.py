@@ -386,3 +386,95 @@ def test_simulate_at_a_subnormal_half_period_refuses_without_a_warning():
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match=r"t / \(2 T\).*got inf"):
             simulate(theta0=0.1, dtheta0=0.0, T=5e-324, A=100.0, t=0.5, model="nonlinear")
+
+
+# ------------------------------------------------------------------ far ends of the doubles
+def test_huge_eps_and_rod_give_no_overflow_warning():
+    # 2 sqrt(2) eps overflowed in phase_angles; 8 l / A overflowed in period_edges and boundary_periods
+    from kapitza import periodic
+
+    _refused(lambda: K.phase_angles(1e308, 0.5), "eps must be <= 1e+307", "1e+308")
+    far = np.array(K.period_edges(100.0, 2, l=1e308))
+    assert np.allclose(far / np.array(K.period_edges(100.0, 2)), 1e154, rtol=1e-14)
+    assert np.allclose(periodic.boundary_periods(100.0, 3, l=1e308)[1] / periodic.boundary_periods(100.0, 3)[1],
+                       1e154, rtol=1e-14)
+    # w_h T = inf: tanh and coth at their limit 1
+    two_atan_D = 2.0 * np.arctan(np.sqrt(109.81 / 90.19))
+    assert periodic.alpha(1e308, 100.0) == pytest.approx(two_atan_D, rel=1e-15)
+    assert periodic.beta(1e308, 100.0) == pytest.approx(two_atan_D, rel=1e-15)
+    _refused(lambda: K.period_map_taylor(1e308, 0.5), "eps must keep w_h T")
+
+
+def test_h_at_a_huge_angle_has_no_warning_and_the_identity_of_the_double_angle():
+    from kapitza import phase_plane
+
+    phi = 1e308
+    c2 = (np.cos(phi) - np.sin(phi)) * (np.cos(phi) + np.sin(phi))
+    assert phase_plane.h(phi, 0.5) == pytest.approx(abs(c2) / (np.cos(phi) ** 2 + 0.25 * np.sin(phi) ** 2), rel=1e-12)
+    assert phase_plane.h(np.pi / 8, 0.5) == pytest.approx(np.cos(np.pi / 4) / (1 - 0.75 * np.sin(np.pi / 8) ** 2))
+
+
+@pytest.mark.parametrize("eps, mu", [(1e-200, 1e-300), (1e-300, 5e-324), (1e-310, 5e-324)])
+def test_normal_form_at_tiny_eps_and_subnormal_mu_has_no_warning(eps, mu):
+    # the double-precision pass divided by m12 sin w = 0 before the extended-precision redo
+    from kapitza import normal_form
+
+    assert np.isfinite(K.twist_coefficient(eps, mu))
+    assert np.isfinite(normal_form.birkhoff_normal_form(eps, mu).twist)
+    assert "rho_0" in str(K.nonlinear_stability(eps, mu))
+
+
+@pytest.mark.parametrize("value, kind", [
+    (np.datetime64("2020-01-01"), "date"), (np.timedelta64(5, "s"), "duration"),
+    (np.array([1, 2], dtype="m8[s]"), "duration"), (np.array(["2020-01-01"], dtype="M8[D]"), "date"),
+    (np.array([np.timedelta64(1, "s")], dtype=object), "date or duration"),
+])
+def test_dates_and_durations_are_refused_by_name_not_read_as_counts(value, kind):
+    # numpy read them as counts of their unit: is_stable(datetime64('2020-01-01'), 0.3) answered False
+    _refused(lambda: K.is_stable(value, 0.3), "eps must be a real number", kind)
+    _refused(lambda: K.boundary_periods(100.0, value), "count must be an integer", kind)
+
+
+# ------------------------------------------------------------------ memory of a chart with many zones
+def test_refined_chart_of_many_zones_stays_within_its_sample_budget():
+    # Each of the 54 zones crossing eps 59..60 added `points` samples a pass to the one mu axis that
+    # all zones share: 54 x 57,886 edges at points = 1000 (2.6 GB), MemoryError at --points 20000.
+    import tracemalloc
+
+    from kapitza.curves import zone_curves
+
+    tracemalloc.start()
+    try:
+        c = zone_curves((59.0, 60.0), (0.0, 1.0), 400)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert c.n.size == 54 and c.mu.size <= 4 * 400
+    assert peak < 100e6, peak
+    # still exact at every sample, and still refined where an edge crosses the window
+    lo, hi = K.zone_edges(c.mu[None, :], c.n[:, None])
+    assert np.array_equal(lo, c.eps_lo) and np.array_equal(hi, c.eps_hi)
+    assert c.mu.size > 400
+    d = zone_curves((59.0, 60.0), (0.0, 1.0), 400, max_samples=500)
+    assert 400 <= d.mu.size <= 500
+
+
+def test_zoom_on_one_thin_tongue_is_refined_as_before():
+    from kapitza.curves import zone_curves
+
+    lo, hi = (float(v) for v in K.zone_edges(0.7, 3))
+    w = hi - lo
+    c = zone_curves((lo - 2 * w, hi + 2 * w), (0.7 - 1e-9, 0.7 + 1e-9), 400)
+    inside = (c.eps_lo[c.n == 3][0] >= lo - 2 * w) & (c.eps_lo[c.n == 3][0] <= hi + 2 * w)
+    assert inside.sum() >= 100 and c.mu.size <= 1600
+
+
+@pytest.mark.slow
+def test_chart_command_of_many_zones_at_20000_points_fits_in_memory(tmp_path):
+    # kapitza chart --eps-min 59 --eps-max 60 --points 20000 died of MemoryError (~0.46 GB per 1000 points)
+    code = ("import resource, sys; resource.setrlimit(resource.RLIMIT_AS, (6 << 30, 6 << 30)); "
+            "from kapitza.cli import main; sys.exit(main(sys.argv[1:]))")
+    res = subprocess.run([sys.executable, "-c", code, "chart", "--eps-min", "59", "--eps-max", "60", "--points", "20000",
+                          "--out", str(tmp_path / "c")], capture_output=True, text=True, timeout=3600)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert (tmp_path / "c.png").stat().st_size > 0

@@ -44,6 +44,7 @@ def _as_float(name: str, value) -> np.ndarray:
     if isinstance(value, np.ma.MaskedArray) and np.ma.is_masked(value):
         raise KapitzaValueError(f"{what}; got a masked array with masked entries")
     raw = _asarray(name, value, what)
+    _no_time(name, value, raw, what)
     if raw.dtype.kind == "b":
         raise KapitzaValueError(f"{what}; got a truth value {_short(value)}")
     if raw.dtype.kind == "c":
@@ -93,6 +94,19 @@ def in_range(name: str, value, lo: float, hi: float, *, lo_open=True, hi_open=Tr
     return arr
 
 
+def _no_time(name: str, value, raw: np.ndarray, what: str) -> None:
+    """Refuse dates and durations (numpy's ``datetime64``/``timedelta64``, Python's ``datetime``
+    types): numpy would read them as counts of their unit, a number the user never wrote."""
+    import datetime as _dt
+
+    kinds = {"M": "a date (datetime64)", "m": "a duration (timedelta64)"}
+    if raw.dtype.kind in kinds:
+        raise KapitzaValueError(f"{what}; got {kinds[raw.dtype.kind]} {_short(value)}")
+    if raw.dtype.kind == "O" and any(isinstance(v, (np.datetime64, np.timedelta64, _dt.date, _dt.time,
+                                                    _dt.timedelta)) for v in raw.ravel().tolist()[:10000]):
+        raise KapitzaValueError(f"{what}; got a date or duration {_short(value)}")
+
+
 def _asarray(name: str, value, what: str) -> np.ndarray:
     """``np.asarray(value)``; a ragged nesting of lists is refused by name."""
     try:
@@ -107,6 +121,7 @@ def nonnegative_int(name: str, value, *, minimum: int = 0) -> np.ndarray:
     arr = _asarray(name, value, f"{name} must be an integer >= {minimum} or an array of them")
     if arr.size == 0:
         raise KapitzaValueError(f"{name} must not be empty")
+    _no_time(name, value, arr, f"{name} must be an integer >= {minimum}")
     if isinstance(value, (str, bytes)) or arr.dtype.kind in "bcUS":
         raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(value)}")
     if arr.dtype.kind not in "iu":
@@ -278,6 +293,8 @@ def bounded_count(name: str, value, limit: int, *, minimum: int = 0, what: str =
     the machine; ``KAPITZA_ALLOW_LARGE=1`` lifts it (the lower bound stays).
     Integers beyond int64 are refused with the value shortened, never wrapped.
     """
+    if isinstance(value, (np.datetime64, np.timedelta64)):  # np.timedelta64 is an np.integer
+        _no_time(name, value, np.asarray(value), f"{name} must be an integer >= {minimum}")
     if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) and abs(int(value)) >= 2**62:
         if int(value) < minimum:
             raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(int(value))}")

@@ -48,7 +48,7 @@ class ZoneCurves:
                 yield int(n), m, self.eps_lo[i, j], self.eps_hi[i, j]
 
 
-def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zones=400):
+def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zones=400, max_samples=None):
     """Sample the edges of every zone that meets the window.
 
     Parameters
@@ -60,6 +60,9 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
         every sample; nothing is interpolated on a pixel grid.
     max_zones : int
         Refuse windows that would need more zones than this.
+    max_samples : int, optional
+        The most ``mu`` samples the result may hold, the refinement where edges cross a narrow
+        window included (default ``4 * points``; at least ``points``).
 
     Returns
     -------
@@ -68,10 +71,11 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
     e0, e1 = window_range(eps_range, mu_range)
     m0, m1 = (float(v) for v in mu_range)
     points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
+    budget = 4 * points if max_samples is None else max(points, int(max_samples))
     tiny = 1e-9
     # Cluster samples towards the ends where the edges bend fastest (mu -> 0, mu -> 1).
     s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, points))
-    mu = np.clip(m0 + (m1 - m0) * s, tiny, 1.0 - tiny)
+    mu = np.unique(np.clip(m0 + (m1 - m0) * s, tiny, 1.0 - tiny))
     q = np.sqrt((1.0 - mu) * (1.0 + mu))
     n_hi = int(np.floor(SQRT8 * q.max() * e1 / np.pi))
     # Zone n needs eps >= n pi / (SQRT8 q) at least; the lowest zone that can reach e0:
@@ -81,15 +85,18 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
             f"the window holds {n_hi - n_lo + 1} zones (more than {max_zones}); narrow eps range or mu range"
         )
     n = np.arange(n_lo, n_hi + 1)
-    lo, hi = _edges_eps(mu[None, :], n[:, None])
+    lo, hi = _edges_blocked(mu, n)
     # Edges are continuous in mu: a zone meets the window if its eps range overlaps the window's,
     # even when it crosses the window between two samples (the resampling below then finds it).
     visible = (hi.max(axis=1) >= e0) & (lo.min(axis=1) <= e1)
     n, lo, hi = n[visible], lo[visible], hi[visible]
     # In a narrow eps window an edge may cross the window within a few mu samples; resample
     # each zone's crossing densely (still exact at every sample) so the zoom shows a curve.
-    for _ in range(3):  # each pass zooms on the crossings by a factor ~ points / 4
-        extra = []
+    # The new samples of a pass are shared by every zone (one mu axis), so they come out of one
+    # budget: at most `points` a pass in all, and `budget` in the end. (Giving each of k zones
+    # `points` of its own made k^2 * points edges: 54 zones at eps ~ 60 ran out of memory.)
+    for _ in range(3):  # each pass zooms on the crossings
+        spans = []
         for i in range(n.size):
             inside = ((lo[i] >= e0) & (lo[i] <= e1)) | ((hi[i] >= e0) & (hi[i] <= e1)) | ((lo[i] < e0) & (hi[i] > e1))
             idx = np.flatnonzero(inside)
@@ -97,15 +104,34 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
                 k = np.flatnonzero(np.diff(np.sign(lo[i] - e0)) != 0)
                 idx = k if k.size else np.flatnonzero(np.diff(np.sign(hi[i] - e1)) != 0)
             if idx.size and idx.size < points // 4:
-                extra.append(np.linspace(mu[max(idx[0] - 1, 0)], mu[min(idx[-1] + 1, mu.size - 1)], points))
-        if not extra:
+                spans.append((mu[max(idx[0] - 1, 0)], mu[min(idx[-1] + 1, mu.size - 1)]))
+        each = min(points, (budget - mu.size) // max(len(spans), 1))
+        if not spans or each < 4:
             break
-        mu = np.unique(np.concatenate([mu, *extra]))
-        lo, hi = _edges_eps(mu[None, :], n[:, None])
+        new = np.setdiff1d(np.concatenate([np.linspace(a, b, each) for a, b in set(spans)]), mu)
+        if not new.size:
+            break
+        new_lo, new_hi = _edges_blocked(new, n)
+        order = np.argsort(np.concatenate([mu, new]), kind="stable")
+        mu = np.concatenate([mu, new])[order]
+        lo = np.concatenate([lo, new_lo], axis=1)[:, order]
+        hi = np.concatenate([hi, new_hi], axis=1)[:, order]
     return ZoneCurves(n=n, mu=mu, eps_lo=lo, eps_hi=hi)
 
 
-def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.0, points=1200, max_zones=400):
+def _edges_blocked(mu, n, block=1 << 16):
+    """:func:`kapitza.zones._edges_eps` of every zone ``n`` at every ``mu``, a block of columns at a
+    time (the kernel's temporaries are some hundred bytes an edge: bounded by the block)."""
+    lo = np.empty((n.size, mu.size))
+    hi = np.empty((n.size, mu.size))
+    step = max(1, block // max(n.size, 1))
+    for j in range(0, mu.size, step):
+        lo[:, j:j + step], hi[:, j:j + step] = _edges_eps(mu[None, j:j + step], n[:, None])
+    return lo, hi
+
+
+def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.0, points=1200, max_zones=400,
+                  max_samples=None, check=None):
     """The edges of every zone of any drive, with damping, that meets a window of Arnold's plane.
 
     Parameters
@@ -121,6 +147,11 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
         ``mu`` samples (>= 2).
     max_zones : int
         Refuse windows that would need more zones than this (square wave).
+    max_samples : int, optional
+        The most ``mu`` samples after the refinement of :func:`zone_curves` (default ``4 * points``).
+    check : callable, optional
+        Called with no argument before each block of samples of another drive or damping (each
+        edge an eigenproblem): a caller bounding the work (a deadline, a client gone) raises from it.
 
     Returns
     -------
@@ -137,7 +168,7 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     zeta = _v.one("zeta", _v.nonnegative("zeta", zeta))
     general, _ = _v.general_drive(drive, zeta)
     if general is None:
-        return zone_curves(eps_range, mu_range, points, max_zones)
+        return zone_curves(eps_range, mu_range, points, max_zones, max_samples)
     top = mu_top(general)
     e0, e1 = window_range(eps_range, mu_range, top)
     points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
@@ -145,8 +176,25 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     # from mu = 1e-3 as kapitza chart draws other drives (the window method and the edge-by-edge
     # solution of a damped zone 0 disagree at mu ~ 1e-9)
     mu = np.linspace(max(m0, 1e-3), min(m1, top * (1.0 - 1e-9)), points)
-    c = drive_curves(general, mu, e1, zeta, eps_min=e0)
-    return ZoneCurves(n=c.zones, mu=mu, eps_lo=c.lo, eps_hi=c.hi)
+    if check is None:
+        c = drive_curves(general, mu, e1, zeta, eps_min=e0)
+        return ZoneCurves(n=c.zones, mu=mu, eps_lo=c.lo, eps_hi=c.hi)
+    # block by block (each mu sample is independent of the others): the same curves
+    parts = []
+    for j in range(0, mu.size, _BLOCK):
+        check()
+        parts.append(drive_curves(general, mu[j:j + _BLOCK], e1, zeta, eps_min=e0))
+    zones = np.unique(np.concatenate([c.zones for c in parts]))
+    lo = np.full((zones.size, mu.size), np.nan)
+    hi = np.full((zones.size, mu.size), np.nan)
+    for j, c in zip(range(0, mu.size, _BLOCK), parts):
+        k = np.searchsorted(zones, c.zones)
+        lo[k, j:j + c.mu.size], hi[k, j:j + c.mu.size] = c.lo, c.hi
+    return ZoneCurves(n=zones, mu=mu, eps_lo=lo, eps_hi=hi)
+
+
+#: mu samples of another drive computed between two calls of window_curves' ``check``.
+_BLOCK = 8
 
 
 def mu_top(drive=None) -> float:
@@ -206,7 +254,8 @@ class PhysicalZoneCurves:
             for j, a in enumerate(self.A):
                 yield int(n), a, self.T_lo[i, j], self.T_hi[i, j]
 
-def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=1200, drive=None, zeta=0.0):
+def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=1200, drive=None, zeta=0.0,
+                         max_samples=None, check=None):
     """The edges of every zone visible in a window of the physical ``T``-``A`` plane.
 
     Parameters
@@ -222,6 +271,10 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
         ``A`` samples per edge (>= 2; more where the edges cross a narrow window).
     drive, zeta :
         As in :func:`window_curves` (``zeta = c / (2 sqrt(g/l))`` is the same over the plane).
+    max_samples : int, optional
+        The most ``A`` samples after refinement (default ``4 * points``).
+    check : callable, optional
+        As in :func:`window_curves`.
 
     Returns
     -------
@@ -246,7 +299,7 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
     # eps = T sqrt(A / (8 l)) is largest at (T1, A1); cover the window in (eps, mu).
     mu_range = (np.sqrt(g / A1), min(np.sqrt(g / A0), top))
     curves = window_curves((T0 * np.sqrt(A0 / (8.0 * l)), T1 * np.sqrt(A1 / (8.0 * l))), mu_range, drive, zeta,
-                           points)
+                           points, max_samples=max_samples, check=check)
     A = g / curves.mu**2
     scale = np.sqrt(8.0 * l / A)
     return PhysicalZoneCurves(n=curves.n, A=A, T_lo=curves.eps_lo * scale, T_hi=curves.eps_hi * scale, l=l, g=g)

@@ -258,7 +258,8 @@ def period_map_taylor(eps, mu):
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     eps, mu = np.broadcast_arrays(eps, mu)
     # The cubic terms grow like exp(3 w_h T): beyond w_h T = 200 they leave a double.
-    x = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 + mu * mu)
+    with np.errstate(over="ignore"):  # eps = 1e308: x = inf, refused below
+        x = 2.0 * np.sqrt(2.0) * eps * np.sqrt(1.0 + mu * mu)
     if np.any(x > 200.0):
         bad = x > 200.0
         raise _v.KapitzaValueError(
@@ -411,7 +412,10 @@ def _normal_form(eps, mu, defect_max=_DEFECT_MP):
     w = _w_of(theta, n)
     lam = np.exp(1j * w)
     m12 = M[..., 0, 1]
-    coef = _coefficients(M, C, lam)
+    # At tiny eps with a subnormal mu, m12 sin w underflows to 0 in doubles: those points are
+    # redone in extended precision below (eps < _EPS_TINY), so the double pass may divide by 0.
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        coef = _coefficients(M, C, lam)
     r21 = coef[..., 1] / lam
     with np.errstate(invalid="ignore", divide="ignore"):
         defect = np.abs(r21.real) / np.where(np.abs(r21) > 0, np.abs(r21), 1.0)

@@ -170,7 +170,7 @@ def phase_angles(eps, mu):
     ``docs/theory.md`` section 2. ``1 - mu^2`` is formed as ``(1 - mu)(1 + mu)``
     so that ``u`` and ``D`` keep full relative accuracy as ``mu -> 1``.
     """
-    eps = _v.positive("eps", eps)
+    eps, _ = _v.arnold(eps, 0.5, together=False)  # eps <= EPS_MAX: x and u stay doubles
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     return _phase_angles(eps, mu)
 

@@ -44,6 +44,14 @@ def _check_A(A, g):
         )
 
 
+def _time_scale(l, A):
+    """``sqrt(8 l / A)`` (``T`` per unit ``eps``), formed where ``8 l / A`` leaves the doubles
+    (``l = 1e308``) as ``sqrt(8) sqrt(l) / sqrt(A)``."""
+    with np.errstate(over="ignore", under="ignore"):
+        r = 8.0 * l / A
+        return np.where(np.isfinite(r) & (r > 1e-300), np.sqrt(r), np.sqrt(8.0) * (np.sqrt(l) / np.sqrt(A)))
+
+
 def _xD(T, A, l, g):
     """``(x, u, D)`` of validated physical parameters with ``A > g``."""
     T, A, l, g = (_v.positive(n, v) for n, v in zip("TAlg", (T, A, l, g)))
@@ -51,7 +59,8 @@ def _xD(T, A, l, g):
     _check_A(A, g)
     w_h = np.sqrt((A + g) / l)
     w_e = np.sqrt((A - g) / l)
-    return w_h * T, w_e * T, w_h / w_e
+    with np.errstate(over="ignore"):  # w_h T = inf (T = 1e308): tanh and coth take their limit 1
+        return w_h * T, w_e * T, w_h / w_e
 
 
 @_v.shapes_named
@@ -134,7 +143,7 @@ def boundary_periods(A, count, l=1.0, g=G_EARTH):
     n = np.arange(count)
     mu = np.sqrt(g / A)[..., None]
     lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A)[..., None])  # A - g is exact as A -> g
-    scale = np.sqrt(8.0 * l / A)[..., None]
+    scale = _time_scale(l, A)[..., None]
     lo, hi = lo * scale, hi * scale
     even = n % 2 == 0
     return np.where(even, lo, hi), np.where(even, hi, lo)

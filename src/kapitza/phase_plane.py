@@ -181,7 +181,12 @@ def h(phi, D):
     phi = _v.finite("phi", phi)
     D = _ratio("D", D)
     # 1 + (D^2 - 1) sin^2 phi = f(phi; D)^2, formed without cancellation (D < 1, phi near pi/2)
-    return np.abs(np.cos(2.0 * phi)) / _f(phi, D) ** 2
+    with np.errstate(over="ignore"):
+        two_phi = 2.0 * phi
+    # beyond 9e307, 2 phi overflows: cos 2 phi = (cos phi - sin phi)(cos phi + sin phi) there
+    c2 = np.where(np.isfinite(two_phi), np.cos(np.where(np.isfinite(two_phi), two_phi, 0.0)),
+                  (np.cos(phi) - np.sin(phi)) * (np.cos(phi) + np.sin(phi)))
+    return np.abs(c2) / _f(phi, D) ** 2
 
 
 @_v.shapes_named

@@ -667,7 +667,7 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
         mu = np.sqrt(g / A)
     if drive is not None:
         lo, hi = _drv.edges(mu, n, drive, _drv.zeta_of(c, l, g))
-        scale = np.sqrt(8.0 * l / A)
+        scale = _time_scale(l, A)
         return lo * scale, hi * scale
     if np.any(mu >= 1.0):
         bad = np.broadcast_to(A, mu.shape)[mu >= 1.0].flat[0]
@@ -675,11 +675,17 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
             f"A must exceed g (A > g) for stability zones to exist; got A={bad!r} with g={float(np.max(g))!r}"
         )
     lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A))  # A - g is exact as A -> g
-    with np.errstate(under="ignore"):
-        scale = np.sqrt(8.0 * l / A)
-        # 8 l / A leaves the normal doubles before T does (l = 1e-100, A = 1e250: T_lo ~ 1e-299)
-        scale = np.where(8.0 * l / A > 1e-300, scale, SQRT8 * (np.sqrt(l) / np.sqrt(A)))
+    scale = _time_scale(l, A)
     return lo * scale, hi * scale
+
+
+def _time_scale(l, A):
+    """``sqrt(8 l / A)``, the half-period per unit ``eps``. ``8 l / A`` leaves the normal doubles
+    before ``T`` does (``l = 1e-100, A = 1e250``: ``T_lo ~ 1e-299``; ``l = 1e308``: it overflows):
+    there it is formed as ``sqrt(8) sqrt(l) / sqrt(A)``."""
+    with np.errstate(over="ignore", under="ignore"):
+        r = 8.0 * l / A
+        return np.where(np.isfinite(r) & (r > 1e-300), np.sqrt(r), SQRT8 * (np.sqrt(l) / np.sqrt(A)))
 
 
 def _kappa(T, l, g):

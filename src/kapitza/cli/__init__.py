@@ -57,9 +57,9 @@ def build_parser() -> Parser:
 
 
 def main(argv=None) -> int:
-    from .._interrupt import done
+    from .._interrupt import Terminated, done
 
-    done()  # the imports are over: a Ctrl-C from here on is caught below
+    done()  # the imports are over: a Ctrl-C (or SIGTERM) from here on is caught below
     parser = build_parser()
     args = parser.parse_args(argv)
     if getattr(args, "func", None) is None:
@@ -82,12 +82,34 @@ def main(argv=None) -> int:
         print(f"kapitza {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:  # an output path that cannot be created or written
-        where = f": {exc.filename}" if getattr(exc, "filename", None) else ""
-        print(f"kapitza {args.command}: error: cannot write{where} ({exc.strerror or exc})", file=sys.stderr)
+        print(f"kapitza {args.command}: error: {_cannot_write(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("kapitza: interrupted", file=sys.stderr)
         return 130
+    except Terminated:  # SIGTERM (a CI timeout, systemctl stop): files stay atomic, as for Ctrl-C
+        print("kapitza: terminated", file=sys.stderr)
+        return 143
+
+
+def _cannot_write(exc: OSError) -> str:
+    """One line: the path as given (control characters escaped, bytes that are not UTF-8 shown as
+    ``\\xff``) and the reason."""
+    import os
+
+    from .._io import shown_path
+
+    name = getattr(exc, "filename", None)
+    reason = str(exc.strerror or exc).splitlines()[0] if str(exc.strerror or exc) else type(exc).__name__
+    if not name:
+        return f"cannot write ({reason})"
+    text = os.fsdecode(name) if isinstance(name, bytes) else str(name)
+    note = ""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        note = "; the name is not valid UTF-8"
+    return f"cannot write: {shown_path(text)} ({reason}{note})"
 
 
 if __name__ == "__main__":  # pragma: no cover

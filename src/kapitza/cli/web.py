@@ -58,7 +58,7 @@ def cmd_serve(args):
 
         webbrowser.open(url)
     try:
-        serve(sock, workers=args.workers)
+        serve(sock, workers=args.workers, host=args.host)
     finally:
         sock.close()
     return 0

@@ -4,13 +4,23 @@ Each route parses its query, makes one call into the library and returns JSON (o
 Bad input is the library's own :class:`kapitza.KapitzaValueError`, answered with status 422
 and ``{"detail": message}``; the sizes a request may ask for (samples, periods, the span of
 a view) are bounded here, with the same kind of message, so no request computes for minutes.
+
+Work is done in worker threads (one per CPU). A request whose client has gone is not started,
+and a chart of another drive or of damping (an eigenproblem per edge and sample) stops between
+blocks of samples when its client goes or when it has used ``LIMITS["chart_cpu_seconds"]`` of
+CPU time (then a 422 says so). Only requests whose ``Host`` names this machine's loopback, or
+the name the server was started with, are answered (a web page cannot reach the explorer by
+DNS rebinding). See ``docs/robustness.md``.
 """
 from __future__ import annotations
 
+import collections
 import contextlib
 import functools
 import json
+import os
 import threading
+import time
 from pathlib import Path
 from typing import Literal
 
@@ -22,6 +32,7 @@ from fastapi.responses import FileResponse, JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
 
 from .. import __version__, _io
+from .server import HOSTS_ENV
 from .. import _validate as _v
 from ..analysis import analyze
 from ..drives import parse_drive
@@ -34,7 +45,11 @@ STATIC = Path(__file__).with_name("static")
 
 #: What one request may ask for.
 LIMITS = dict(
-    samples=4000,          # mu (or A) samples per edge of a chart
+    samples=4000,          # mu (or A) samples per edge of a chart, refinement included
+    general_samples=400,   # ... with another drive or damping (each an eigenproblem per edge)
+    export_samples=1000,   # samples asked of a chart export (the figure refines up to 4 times as many)
+    chart_cpu_seconds=60.0,  # CPU seconds one chart of another drive or damping may use
+    cache_bytes=64 << 20,  # the JSON of recent views kept
     eps_max=60.0,          # the largest eps a view of Arnold's plane may reach
     general_eps_max=12.0,  # ... with another drive or damping (each edge a Floquet eigenproblem)
     periods=200.0,         # drive periods 2T of a motion
@@ -47,6 +62,8 @@ LIMITS = dict(
 )
 
 Plane = Literal["arnold", "physical"]
+
+LOOPBACK_NAMES = ("127.0.0.1", "localhost", "::1")
 
 
 # ------------------------------------------------------------------ JSON
@@ -117,20 +134,42 @@ def _physical_point(T, A, eps, mu, l, g):
     return T, A
 
 
-class _BoundedRequests:
-    """Refuse a path and query longer than ``LIMITS['url']`` (414) and any request body (413)."""
+def allowed_hosts(extra=None) -> frozenset:
+    """The host names the explorer answers to: the loopback names and those of ``HOSTS_ENV``."""
+    names = os.environ.get(HOSTS_ENV, "") if extra is None else ",".join(extra)
+    return frozenset(LOOPBACK_NAMES) | {h.strip().lower().strip("[]") for h in names.split(",") if h.strip()}
 
-    def __init__(self, app):
+
+def host_name(header: bytes) -> str:
+    """The name of a ``Host`` header without its port (``[::1]:8000`` -> ``::1``), lower case."""
+    text = header.decode("latin-1").strip().lower()
+    if text.startswith("["):  # an IPv6 literal
+        return text[1:text.find("]")] if "]" in text else text
+    return text.rsplit(":", 1)[0] if text.count(":") == 1 else text
+
+
+class _BoundedRequests:
+    """Refuse a ``Host`` the explorer does not serve (421), a path and query longer than
+    ``LIMITS['url']`` (414) and any request body (413)."""
+
+    def __init__(self, app, hosts=None):
         self.app = app
+        self.hosts = allowed_hosts() if hosts is None else frozenset(hosts)
 
     async def __call__(self, scope, receive, send):
         if scope["type"] == "http":
             size = len(scope.get("raw_path") or b"") + len(scope.get("query_string") or b"")
-            body = dict(scope.get("headers") or ()).get(b"content-length", b"0")
+            headers = dict(scope.get("headers") or ())
+            body = headers.get(b"content-length", b"0")
+            host = host_name(headers.get(b"host", b""))
             status, detail = None, None
-            if size > LIMITS["url"]:
+            if host not in self.hosts:
+                # DNS rebinding: a page of another site, its name pointed at this machine
+                status, detail = 421, (f"this explorer answers to {', '.join(sorted(self.hosts))}, not to the "
+                                       f"host {host[:100]!r} (start it with --host NAME to serve another name)")
+            elif size > LIMITS["url"]:
                 status, detail = 414, f"request path and query must be at most {LIMITS['url']} characters"
-            elif body.strip() not in (b"", b"0"):
+            elif body.strip() not in (b"", b"0") or b"transfer-encoding" in headers:
                 status, detail = 413, "the explorer takes no request bodies"
             if status:
                 return await _JSON(status_code=status, content={"detail": detail})(scope, receive, send)
@@ -138,8 +177,10 @@ class _BoundedRequests:
 
 
 # ------------------------------------------------------------------ the app
-def create_app() -> FastAPI:
-    """The explorer: the page at ``/``, the JSON API under ``/api``, its schema at ``/openapi.json``."""
+def create_app(hosts=None) -> FastAPI:
+    """The explorer: the page at ``/``, the JSON API under ``/api``, its schema at ``/openapi.json``.
+
+    ``hosts``: the names it answers to (default :func:`allowed_hosts`: loopback and ``HOSTS_ENV``)."""
     @contextlib.asynccontextmanager
     async def lifespan(app):
         # The routes compute with numpy: more threads than CPUs only take turns at the GIL, and
@@ -158,6 +199,10 @@ def create_app() -> FastAPI:
     async def _value_error(request: Request, exc: _v.KapitzaValueError):
         return _JSON(status_code=422, content={"detail": str(exc).splitlines()[0]})
 
+    @app.exception_handler(_Cancelled)
+    async def _gone(request: Request, exc: _Cancelled):
+        return Response(status_code=499)  # the client closed the connection; nobody reads this
+
     @app.exception_handler(OverflowError)
     async def _overflow(request: Request, exc: OverflowError):
         return _JSON(status_code=422, content={"detail": f"the result exceeds a double: {exc}"})
@@ -171,7 +216,8 @@ def create_app() -> FastAPI:
             parts.append(f"{name}: {e.get('msg', 'invalid')}" + (f"; got {got!r}" if got is not None else ""))
         return _JSON(status_code=422, content={"detail": "; ".join(parts)})
 
-    app.add_middleware(_BoundedRequests)
+    app.add_middleware(_BoundedRequests, hosts=hosts)
+    app.openapi = functools.partial(_openapi, app)
 
     @app.get("/", include_in_schema=False)
     def index():
@@ -181,26 +227,37 @@ def create_app() -> FastAPI:
 
     # -------------------------------------------------------------- chart
     @app.get("/api/chart", response_class=_JSON, summary="exact edges of every zone in a view")
-    def chart(plane: Plane = "arnold",
-              eps_min: float = 0.0, eps_max: float = 4.0, mu_min: float = 0.0, mu_max: float = 1.0,
-              T_min: float = 0.0, T_max: float | None = None, A_min: float | None = None, A_max: float | None = None,
-              l: float = 1.0, g: float = G_EARTH, drive: str = "square", zeta: float = 0.0,
-              samples: int = Query(1000, description="samples per edge (at most 4000)")):
+    async def chart(request: Request, plane: Plane = "arnold",
+                    eps_min: float = 0.0, eps_max: float = 4.0, mu_min: float = 0.0, mu_max: float = 1.0,
+                    T_min: float = 0.0, T_max: float | None = None, A_min: float | None = None,
+                    A_max: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
+                    zeta: float = 0.0,
+                    samples: int | None = Query(None, description="samples per edge, refinement included (default "
+                                                                  "1000, at most 4000; with another drive or damping "
+                                                                  "default 300, at most 400)")):
         """Edges ``lo``, ``hi`` of each zone ``n`` meeting the view, sampled at ``y`` (``mu`` on the
         arnold plane, ``A`` on the physical one); ``x`` is ``eps`` or ``T``. NaN (null) where a zone
         does not exist at a sample; 1e308 for an edge beyond the view. ``lower_edge``/``upper_edge``
         say which periodic motion lives on each edge (2T or 4T). ``mu_max``: at and above it
         (``A <= g / mu_max^2``) the upright always falls; the view may reach up to the larger of it
         and 1."""
-        return Response(_chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g,
-                                    drive, zeta, samples), media_type="application/json")
+        key = (plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples)
+        body = _VIEWS.get(key)
+        if body is None:
+            body = await _worker(request, _chart_json, *key)
+            _VIEWS.put(key, body)
+        return Response(body, media_type="application/json")
 
     # -------------------------------------------------------------- point
     @app.get("/api/point", response_class=_JSON, summary="the stability report at one parameter set")
-    def point(eps: float | None = None, mu: float | None = None, T: float | None = None, A: float | None = None,
-              l: float = 1.0, g: float = G_EARTH, drive: str = "square", zeta: float = 0.0):
+    async def point(request: Request, eps: float | None = None, mu: float | None = None, T: float | None = None,
+                    A: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
+                    zeta: float = 0.0):
         """What ``kapitza stability --json`` prints (the same keys and numbers), with ``lines``: the
         table's rows. Given ``T`` and ``A`` the damping ratio ``zeta`` becomes ``c = 2 zeta sqrt(g/l)``."""
+        return await _worker(request, _point, eps, mu, T, A, l, g, drive, zeta)
+
+    def _point(eps, mu, T, A, l, g, drive, zeta, check):
         d = _drive(drive)
         if T is not None or A is not None:
             if eps is not None or mu is not None:
@@ -213,32 +270,42 @@ def create_app() -> FastAPI:
 
     # -------------------------------------------------------------- motion
     @app.get("/api/motion", response_class=_JSON, summary="linear and nonlinear motion, sampled for animation")
-    def motion(T: float | None = None, A: float | None = None, eps: float | None = None, mu: float | None = None,
-               l: float = 1.0, g: float = G_EARTH, drive: str = "square", zeta: float = 0.0,
-               theta0: float = 0.1, dtheta0: float = 0.0, periods: float = 20.0, points_per_period: int = 60):
+    async def motion(request: Request, T: float | None = None, A: float | None = None, eps: float | None = None,
+                     mu: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
+                     zeta: float = 0.0, theta0: float = 0.1, dtheta0: float = 0.0, periods: float = 20.0,
+                     points_per_period: int = 60):
         """The motion from ``(theta0, dtheta0)`` at ``t = 0``, nonlinear and linear (the library's
         :func:`kapitza.simulate`), the pivot's height, and the stroboscopic points at ``t = 2kT``."""
-        pair, _ = _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period)
-        return _JSON(pair.as_dict())
+        return await _worker(request, lambda check: _JSON(_motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0,
+                                                                  periods, points_per_period)[0].as_dict()))
 
     # -------------------------------------------------------------- exports
     @app.get("/api/export/chart.{fmt}", summary="the chart as kapitza chart writes it: PNG, SVG or its CSV",
              response_class=Response)
-    def export_chart(fmt: Literal["png", "svg", "csv"], plane: Plane = "arnold",
-                     eps_min: float = 0.0, eps_max: float = 4.0, mu_min: float = 0.0, mu_max: float = 1.0,
-                     T_min: float = 0.0, T_max: float | None = None, A_min: float | None = None,
-                     A_max: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
-                     zeta: float = 0.0, samples: int = 1000, T: float | None = None, A: float | None = None):
+    async def export_chart(request: Request, fmt: Literal["png", "svg", "csv"], plane: Plane = "arnold",
+                           eps_min: float = 0.0, eps_max: float = 4.0, mu_min: float = 0.0, mu_max: float = 1.0,
+                           T_min: float = 0.0, T_max: float | None = None, A_min: float | None = None,
+                           A_max: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
+                           zeta: float = 0.0, samples: int | None = None, T: float | None = None,
+                           A: float | None = None):
         """The figure of ``kapitza chart`` for this view (PNG or SVG) or the curves drawn (CSV),
         with the point ``(T, A)`` marked when given."""
+        return await _worker(request, _export_chart, fmt, plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max,
+                             A_min, A_max, l, g, drive, zeta, samples, T, A)
+
+    def _export_chart(fmt, plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta,
+                      samples, T, A, check):
         from ..figures._style import figure_bytes
         from ..figures.chart import chart_figure
 
-        _bounded("samples", samples, LIMITS["samples"], 2)
-        d = _drive(drive)
-        zeta = _zeta(zeta)
-        general, _ = _v.general_drive(d, zeta)
-        _bounded("eps_max", eps_max, LIMITS["eps_max" if general is None else "general_eps_max"])
+        d, zeta, general, samples, (T_min, T_max), (A_min, A_max), l, g = _view(
+            plane, eps_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples)
+        if general is None:  # the figure's refinement takes up to 4 x samples: at most LIMITS["samples"]
+            _bounded("samples", samples, LIMITS["export_samples"], 2)
+        else:
+            # the figure computes its curves in one call: first make sure they fit the CPU budget
+            _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta,
+                        samples, check)
         mark = None
         if T is not None or A is not None:
             rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=_damping(zeta, l, g))
@@ -258,13 +325,16 @@ def create_app() -> FastAPI:
                 plt.close(fig)
 
     @app.get("/api/export/motion.{fmt}", summary="the motion as kapitza simulate writes it", response_class=Response)
-    def export_motion(fmt: Literal["png", "svg", "csv", "json"], T: float | None = None, A: float | None = None,
-                      eps: float | None = None, mu: float | None = None, l: float = 1.0, g: float = G_EARTH,
-                      drive: str = "square", zeta: float = 0.0, theta0: float = 0.1, dtheta0: float = 0.0,
-                      periods: float = 20.0, points_per_period: int = 60):
+    async def export_motion(request: Request, fmt: Literal["png", "svg", "csv", "json"], T: float | None = None,
+                            A: float | None = None, eps: float | None = None, mu: float | None = None, l: float = 1.0,
+                            g: float = G_EARTH, drive: str = "square", zeta: float = 0.0, theta0: float = 0.1,
+                            dtheta0: float = 0.0, periods: float = 20.0, points_per_period: int = 60):
         """``kapitza simulate --out``'s files: the motion as CSV, its summary as JSON, the time
         series (nonlinear with the linear one) as PNG or SVG."""
+        return await _worker(request, _export_motion, fmt, T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods,
+                             points_per_period)
 
+    def _export_motion(fmt, T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period, check):
         pair, d = _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period)
         if fmt == "csv":
             header, cols, comments = pair.table()
@@ -298,22 +368,117 @@ def _file(body: bytes, name: str) -> Response:
                     headers={"Content-Disposition": f'attachment; filename="{name}"'})
 
 
-@functools.lru_cache(maxsize=128)
-def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples):
-    """The JSON of ``/api/chart``; the last 128 views are kept (each at most a few 100 KiB), so a
-    view many users open (the whole chart) is computed once."""
-    from ..curves import edge_kinds, physical_window, physical_zone_curves, window_curves
+class _Cancelled(Exception):
+    """The client went away: the work stops and nobody is answered."""
 
-    _bounded("samples", samples, LIMITS["samples"], 2)
+
+class _ViewCache:
+    """The JSON of the views most recently asked for, least recently used dropped first, bounded
+    by its size in bytes (``LIMITS["cache_bytes"]``), not by a count: a view many users open
+    (the whole chart) is computed once, and no mix of large views can grow the server."""
+
+    def __init__(self):
+        self._items = collections.OrderedDict()
+        self._bytes = 0
+        self._lock = threading.Lock()
+
+    def get(self, key):
+        with self._lock:
+            body = self._items.get(key)
+            if body is not None:
+                self._items.move_to_end(key)
+            return body
+
+    def put(self, key, body: bytes):
+        limit = LIMITS["cache_bytes"]
+        if len(body) > limit // 8:  # one view may not push out most of the others
+            return
+        with self._lock:
+            if key in self._items:
+                return
+            self._items[key] = body
+            self._bytes += len(body)
+            while self._bytes > limit:
+                _, old = self._items.popitem(last=False)
+                self._bytes -= len(old)
+
+    @property
+    def nbytes(self) -> int:
+        return self._bytes
+
+
+_VIEWS = _ViewCache()
+
+
+async def _worker(request: Request, fn, *args):
+    """``fn(*args, check)`` in a worker thread. ``check()`` raises :class:`_Cancelled` once the
+    client has gone; a request whose client left while it waited for a thread is not started."""
+    import anyio
+
+    gone = threading.Event()
+
+    def check():
+        if gone.is_set():
+            raise _Cancelled
+
+    async def watch():
+        while not await request.is_disconnected():
+            await anyio.sleep(0.25)
+        gone.set()
+
+    def run():
+        check()  # the client left while the request waited for a thread: nothing to do
+        try:
+            return fn(*args, check), None
+        except Exception as exc:  # noqa: BLE001 - raised below, outside the task group
+            return None, exc
+
+    if await request.is_disconnected():
+        raise _Cancelled
+    async with anyio.create_task_group() as tasks:
+        tasks.start_soon(watch)
+        try:
+            result, error = await anyio.to_thread.run_sync(run)
+        finally:
+            tasks.cancel_scope.cancel()
+    if error is not None:
+        raise error
+    return result
+
+
+class _Budget:
+    """A check for :func:`kapitza.curves.window_curves`: the client still there, and the CPU time of
+    this thread within ``LIMITS["chart_cpu_seconds"]`` (CPU, not wall time: a loaded machine does
+    not shrink what a view may compute)."""
+
+    def __init__(self, check):
+        self.check = check
+        self.start = time.thread_time()
+
+    def __call__(self):
+        if self.check is not None:
+            self.check()
+        used = time.thread_time() - self.start
+        if used > LIMITS["chart_cpu_seconds"]:
+            raise _v.KapitzaValueError(
+                f"this view takes more than {LIMITS['chart_cpu_seconds']:g} s of computing (another drive or damping "
+                f"solves an eigenproblem per edge and sample): ask fewer samples or a smaller eps range")
+
+
+def _view(plane, eps_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples):
+    """The bounds every view obeys, for the chart and its exports alike: samples, eps of the
+    view (on the physical plane the largest ``eps = T_max sqrt(A_max / (8 l))``)."""
+    from ..curves import physical_window
+
     d = _drive(drive)
     zeta = _zeta(zeta)
     general, _ = _v.general_drive(d, zeta)
+    if samples is None:
+        samples = 1000 if general is None else 300
+    _bounded("samples", samples, LIMITS["samples" if general is None else "general_samples"], 2)
     cap = LIMITS["eps_max" if general is None else "general_eps_max"]
     if plane == "arnold":
         _bounded("eps_max", eps_max, cap)
-        c = window_curves((eps_min, eps_max), (mu_min, mu_max), d, zeta, samples)
-        y, lo, hi = c.mu, c.eps_lo, c.eps_hi
-        view = dict(eps_min=eps_min, eps_max=eps_max, mu_min=mu_min, mu_max=mu_max)
     else:
         l = _v.one("l", _v.positive("l", l))
         g = _v.one("g", _v.positive("g", g))
@@ -321,15 +486,63 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
         if np.isfinite(T_max) and np.isfinite(A_max) and A_max > 0:
             _bounded("T_max * sqrt(A_max / (8 l)) (the largest eps in view)",
                      float(T_max * np.sqrt(A_max / (8.0 * l))), cap)
-        c = physical_zone_curves((T_min, T_max), (A_min, A_max), l, g, samples, d, zeta)
+    return d, zeta, general, samples, (T_min, T_max), (A_min, A_max), l, g
+
+
+def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples,
+                check=None):
+    """The JSON of ``/api/chart``. Every size is bounded after the narrow-window refinement: at
+    most ``LIMITS["samples"]`` samples in all, for the at most ~55 zones of an ``eps <= 60`` view."""
+    from ..curves import edge_kinds, physical_zone_curves, window_curves
+
+    d, zeta, general, samples, (T_min, T_max), (A_min, A_max), l, g = _view(
+        plane, eps_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples)
+    budget = _Budget(check)
+    most = LIMITS["samples" if general is None else "general_samples"]
+    if plane == "arnold":
+        c = window_curves((eps_min, eps_max), (mu_min, mu_max), d, zeta, samples, max_samples=most, check=budget)
+        y, lo, hi = c.mu, c.eps_lo, c.eps_hi
+        view = dict(eps_min=eps_min, eps_max=eps_max, mu_min=mu_min, mu_max=mu_max)
+    else:
+        c = physical_zone_curves((T_min, T_max), (A_min, A_max), l, g, samples, d, zeta, max_samples=most,
+                                 check=budget)
         y, lo, hi = c.A, c.T_lo, c.T_hi
         view = dict(T_min=T_min, T_max=T_max, A_min=A_min, A_max=A_max)
+    if np.size(y) > most:  # the library keeps max_samples; a size cap is checked on what is sent
+        raise _v.KapitzaValueError(f"the view needs {np.size(y)} samples after refinement (at most {most})")
     zones = [dict(n=int(n), lower_edge=edge_kinds(n)[0], upper_edge=edge_kinds(n)[1], lo=_beyond(lo[i]),
                   hi=_beyond(hi[i]))
              for i, n in enumerate(c.n)]
     return _json_bytes(dict(plane=plane, x="eps" if plane == "arnold" else "T", y="mu" if plane == "arnold" else "A",
                             view=view, l=l, g=g, drive=d.describe(), mu_max=d.mu_max, zeta=zeta, samples=int(np.size(y)), y_values=y,
                             zones=zones))
+
+
+def _openapi(app):
+    """The schema FastAPI generates, with the 422 body as sent: ``{"detail": "text"}`` (FastAPI
+    describes its own list of validation errors, which the explorer does not send)."""
+    from fastapi.openapi.utils import get_openapi
+
+    if app.openapi_schema:
+        return app.openapi_schema
+    schema = get_openapi(title=app.title, version=app.version, description=app.description, routes=app.routes)
+    components = schema.setdefault("components", {}).setdefault("schemas", {})
+    components.pop("HTTPValidationError", None)
+    components.pop("ValidationError", None)
+    components["Error"] = {"title": "Error", "type": "object", "required": ["detail"],
+                           "properties": {"detail": {"title": "Detail", "type": "string",
+                                                     "description": "one line naming the parameter, its value "
+                                                                    "and the allowed range"}}}
+    error = {"content": {"application/json": {"schema": {"$ref": "#/components/schemas/Error"}}}}
+    for path in schema.get("paths", {}).values():
+        for op in path.values():
+            responses = op.setdefault("responses", {})
+            responses["422"] = {"description": "bad input or a size beyond the explorer's limits", **error}
+            responses["421"] = {"description": "a Host the explorer does not answer to", **error}
+            responses["413"] = {"description": "a request with a body", **error}
+            responses["414"] = {"description": "a path and query longer than the limit", **error}
+    app.openapi_schema = schema
+    return schema
 
 
 def _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period):
