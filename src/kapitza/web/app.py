@@ -237,7 +237,7 @@ def create_app() -> FastAPI:
         _bounded("samples", samples, LIMITS["samples"], 2)
         d = _drive(drive)
         zeta = _zeta(zeta)
-        general, _ = _v.general_drive(d, zeta)
+        general = None if d.closed_form(zeta) else d
         _bounded("eps_max", eps_max, LIMITS["eps_max" if general is None else "general_eps_max"])
         mark = None
         if T is not None or A is not None:
@@ -307,7 +307,7 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
     _bounded("samples", samples, LIMITS["samples"], 2)
     d = _drive(drive)
     zeta = _zeta(zeta)
-    general, _ = _v.general_drive(d, zeta)
+    general = None if d.closed_form(zeta) else d
     cap = LIMITS["eps_max" if general is None else "general_eps_max"]
     if plane == "arnold":
         _bounded("eps_max", eps_max, cap)
