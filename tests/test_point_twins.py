@@ -385,7 +385,7 @@ def test_plain_numbers_are_refused_as_before(kw):
 
 
 def test_array_fallback_of_the_nonlinear_line_prints_what_nonlinear_stability_prints():
-    # where the scalar twin declines, analyze takes normal_form._sentence_of: the same kernels
+    # where the scalar twin declines, analyze takes normal_form.sentence_of: the same kernels
     # without the validation and the repeated side evaluations -- the same text, exactly
     ze, zm = zone_points(13, 300)
     ee, em = edge_points(14, 12)
@@ -393,7 +393,7 @@ def test_array_fallback_of_the_nonlinear_line_prints_what_nonlinear_stability_pr
     stable = _floquet(eps, mu)[3]
     assert np.count_nonzero(stable) > 250
     for e, m in zip(eps[stable].tolist(), mu[stable].tolist()):
-        assert NF._sentence_of(e, m) == str(NF.nonlinear_stability(e, m)), (e, m)
+        assert NF.sentence_of(e, m) == str(NF.nonlinear_stability(e, m)), (e, m)
 
 
 def test_series_of_the_jets_at_one_point_are_those_of_an_array():

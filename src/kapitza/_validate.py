@@ -230,7 +230,7 @@ def damping(damping, zeta, l, g):
         return np.zeros(()), np.zeros(())
     c = nonnegative("damping", damping)
     with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-        ratio = np.where(c > 0, 0.5 * c * np.sqrt(l) / np.sqrt(g), 0.0)
+        ratio = np.where(c > 0, 0.5 * c * (np.sqrt(l) / np.sqrt(g)), 0.0)  # l / g may overflow
     if np.any(ratio > ZETA_MAX):
         bad = np.broadcast_to(c, np.shape(ratio))
         raise KapitzaValueError(
@@ -304,8 +304,8 @@ def bounded_count(name: str, value, limit: int, *, minimum: int = 0, what: str =
         if not allow_large():
             raise _over_limit(name, int(value), limit, what)
         raise KapitzaValueError(f"{name} must be an integer below 2**62; got {_short(int(value))}")
-    if isinstance(value, (float, np.floating)) and np.isfinite(value) and abs(value) >= 2.0**62:
-        if value < minimum:
+    if isinstance(value, (float, np.floating)) and np.isfinite(value) and abs(float(value)) >= 2.0**62:
+        if float(value) < minimum:
             raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(value)}")
         if not allow_large():
             raise _over_limit(name, value, limit, what)

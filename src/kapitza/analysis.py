@@ -148,25 +148,27 @@ class StabilityReport(Summary):
             rows.append(("nonlinear", self.nonlinear))
         if self.nearest_zone >= 0:
             where = "in" if self.stable else "nearest"
-            rows.append((f"zone ({where})", f"n = {self.nearest_zone}: {_fmt(self.eps_lo)} < eps < {_fmt(self.eps_hi)}"))
+            rows.append((f"zone ({where})",
+                         f"n = {self.nearest_zone}: {_fmt(self.eps_lo)} < eps < {_fmt(self.eps_hi)}"))
             if self.T_lo is not None:
                 rows.append(("", f"{_fmt(self.T_lo)} < T < {_fmt(self.T_hi)} s at this A"))
                 rows.append(("", f"{_fmt(self.A_lo)} < A < {_fmt(self.A_hi)} m/s^2 at this T"))
             if self.frequency_lo is not None:
                 f = self.frequency
-                if np.isfinite(self.frequency_hi):
+                if self.frequency_hi is not None and np.isfinite(self.frequency_hi):
                     rows.append(("", f"{_fmt(self.frequency_lo, 6)} < frequency < {_fmt(self.frequency_hi, 6)} Hz at "
                                      f"this stroke ({_pct(self.frequency_lo, f)} / {_pct(self.frequency_hi, f)})"))
                 else:
                     rows.append(("", f"frequency > {_fmt(self.frequency_lo, 6)} Hz at this stroke "
                                      f"({_pct(self.frequency_lo, f)}; no upper limit)"))
-            if self.stroke_lo is not None:
+            if self.stroke_lo is not None and self.stroke_hi is not None:
                 st = self.stroke
                 rows.append(("", f"{_fmt(1e3 * self.stroke_lo, 6)} < stroke < {_fmt(1e3 * self.stroke_hi, 6)} mm at "
                                  f"this frequency ({_pct(self.stroke_lo, st)} / {_pct(self.stroke_hi, st)})"))
             pct = 100.0 * self.margin
             if self.stable:
-                rows.append(("margin", f"{pct:.4g}% (T may change by this fraction at fixed A before stability is lost)"))
+                rows.append(("margin",
+                             f"{pct:.4g}% (T may change by this fraction at fixed A before stability is lost)"))
             else:
                 rows.append(("margin", f"{pct:.4g}% (T must change by this fraction at fixed A to reach zone "
                                        f"{self.nearest_zone})"))
@@ -289,26 +291,37 @@ def _plain_zero(v):
     return (type(v) is float or type(v) is int) and v == 0
 
 
+def _plain_ratio(v):
+    """``v`` as a float if it is a Python number with ``0 <= v < inf``, else None."""
+    if _plain_zero(v):
+        return 0.0
+    return _plain(v)
+
+
 def _plain_point(eps, mu, T, A, l, g, damping, zeta):
     """:func:`_validated_point` when every argument is a plain Python number that the validation
-    would pass as it is (the common call, undamped), or None: then the full validation runs. Saves
-    the dozen array conversions of the validation, a good part of a one-point answer."""
-    if not ((damping is None or _plain_zero(damping)) and (zeta is None or _plain_zero(zeta))):
-        return None
+    would pass as it is (the common call), or None: then the full validation runs. Saves the dozen
+    array conversions of the validation, a good part of a one-point answer."""
     if T is None and A is None:
         e, m = _plain(eps), _plain(mu)
-        if e is None or m is None or type(l) not in (float, int) or type(g) not in (float, int):
+        z = 0.0 if zeta is None else _plain_ratio(zeta)
+        if (e is None or m is None or z is None or z > _v.ZETA_MAX or not (damping is None or _plain_zero(damping))
+                or type(l) not in (float, int) or type(g) not in (float, int)):
             return None
-        return e, m, 0.0, False, None, None, l, g, None
-    if eps is not None or mu is not None:
+        return e, m, z, False, None, None, l, g, None
+    if eps is not None or mu is not None or zeta is not None:
         return None
     T, A, l, g = _plain(T), _plain(A), _plain(l), _plain(g)
-    if T is None or A is None or l is None or g is None or not math.isfinite(l / g):
+    c = 0.0 if damping is None else _plain_ratio(damping)
+    if T is None or A is None or l is None or g is None or c is None or not math.isfinite(l / g):
         return None
     e, m = T * math.sqrt(A / (8.0 * l)), math.sqrt(g / A)  # kapitza.to_arnold, where it needs no split
     if not (0.0 < e < math.inf and 0.0 < m < math.inf):
         return None
-    return e, m, 0.0, True, T, A, l, g, 0.0
+    z = 0.5 * c * (math.sqrt(l) / math.sqrt(g)) if c > 0 else 0.0  # as _validate.damping
+    if not z <= _v.ZETA_MAX:
+        return None
+    return e, m, z, True, T, A, l, g, c
 
 
 def _report(drive, eps, mu, zeta, physical, T, A, l, g, c, pointwise=True):
@@ -325,8 +338,7 @@ def _report(drive, eps, mu, zeta, physical, T, A, l, g, c, pointwise=True):
         if nz >= 0:
             phys.update(drive.point_intervals(eps, mu, nz, zeta, T, A, l, g, c, pointwise, (eps_lo, eps_hi)))
         else:
-            with np.errstate(over="ignore"):  # inf beyond the doubles, as the report says
-                phys["stroke"] = float(drive.stroke(T, A))
+            phys["stroke"] = drive.point_stroke(T, A)
     nonlinear = drive.point_nonlinear(eps, mu, zeta, theta, zone, exact_theta, pointwise) if stable else None
     return StabilityReport(
         eps=float(eps), mu=float(mu), stable=stable, verdict=verdict,

@@ -28,7 +28,7 @@ __all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "D
            "parse_drive", "text_forms"]
 
 #: Drive classes by the name the command line, the web API and the reports use (:func:`register` adds one).
-DRIVES: dict[str, type] = {}
+DRIVES: dict[str, type[Drive]] = {}
 
 
 def register(cls=None, *, name=None):
@@ -61,7 +61,7 @@ _SQUARE = SquareWave()
 
 def text_forms() -> list[str]:
     """The text forms of the registered drives (``square``, ``rectangular:DUTY``, ...), for help texts."""
-    return [c.text_form if getattr(c, "text_form", None) else key for key, c in DRIVES.items()]
+    return [c.text_form or key for key, c in DRIVES.items()]
 
 
 def as_drive(drive) -> Drive:

@@ -412,10 +412,10 @@ def along_amplitude(T, n, l, g, drive, c):
         ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
     else:
         hi = ladder[-1:]
-    _, A_hi = search_bits(lambda A: reached(A, n + 1, False), np.zeros(1), hi,
-                          certified=lambda A: reached(A, n + 1, False, True))
-    A_lo, _ = search_bits(lambda A: reached(A, n, True), np.zeros(1), A_hi,
-                          certified=lambda A: reached(A, n, True, True))
+    _, A_hi = search_bits(lambda A, _: reached(A, n + 1, False), np.zeros(1), hi,
+                          certified=lambda A, _: reached(A, n + 1, False, True))
+    A_lo, _ = search_bits(lambda A, _: reached(A, n, True), np.zeros(1), A_hi,
+                          certified=lambda A, _: reached(A, n, True, True))
     return float(A_lo[0]), float(A_hi[0])
 
 
@@ -442,15 +442,80 @@ def rig_margins(eps, mu, zone, drive, zeta, T, stroke):
     f = 0.5 / T
     out = dict(stroke=float(stroke))
     above = level(lo)[0] < zone + 1   # still in the zone (or below it) at the smallest mu
-    mu_lo = lo if above else search_bits(lambda m: level(m, False) < zone + 1, lo, hi,
-                                         certified=lambda m: level(m) < zone + 1)[0]
+    mu_lo = lo if above else search_bits(lambda m, _: level(m, False) < zone + 1, lo, hi,
+                                         certified=lambda m, _: level(m) < zone + 1)[0]
     if level(hi)[0] <= zone:
-        mu_hi = search_bits(lambda m: level(m, False) <= zone, lo, hi, certified=lambda m: level(m) <= zone)[1]
+        mu_hi = search_bits(lambda m, _: level(m, False) <= zone, lo, hi,
+                            certified=lambda m, _: level(m) <= zone)[1]
     else:
         mu_hi = hi
     if mu_lo[0] < mu_hi[0]:
         out.update(frequency_lo=float(f * mu / mu_hi[0]),
                    frequency_hi=float("inf") if above else float(f * mu / mu_lo[0]))
+    return out
+
+
+def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
+    """Zone ``zone`` of one physical point along ``A`` (at this ``T``) and along the frequency
+    (at this stroke): ``A_lo, A_hi`` and, where the zone is reached, ``frequency_lo, frequency_hi``.
+
+    The four edges are searched together (:func:`search_bits`, one call of the drive per step for
+    all four): along ``A`` the zone index read from the rotation angle rises with ``A`` at fixed
+    ``T`` (:func:`along_amplitude`); at a fixed stroke ``eps`` is fixed and ``mu`` falls like
+    ``1/f``, the index falling as ``mu`` grows (:func:`rig_margins`).
+    """
+    n = zone
+    z1 = np.array([zeta])
+
+    def levels(e, m, certify):
+        _, _, theta, st, zn, _ = drive._floquet(e, m, np.broadcast_to(z1, e.shape), certify)
+        return np.where(st, zn + 0.5, np.rint(theta / PI))
+
+    def along_A(A_):
+        return T * np.sqrt(A_ / (8.0 * l)), np.sqrt(g / A_)
+
+    # where the searches start: the first 2^k max(g, 1) past zone n + 1 along A (eight rungs a
+    # call), and whether the zone is still reached at the ends of the frequency search
+    mu_ends = np.array([1e-6, 4.0])
+    ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
+    for _ in range(138):
+        e_l, m_l = along_A(ladder)
+        k = levels(np.concatenate([e_l, np.full(2, eps)]), np.concatenate([m_l, mu_ends]), True)
+        up = np.flatnonzero(k[:-2] >= n + 1)
+        ends = k[-2:]
+        if up.size:
+            top = ladder[up[0]]
+            break
+        ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
+    else:
+        top = ladder[-1]
+    above = ends[0] < n + 1     # still in the zone (or below it) at the smallest mu
+    capped = not ends[1] <= n   # not yet out of it at the largest
+
+    def pred(x, rows, certify=False):
+        x = np.asarray(x, float)
+        along = (rows < 2)[:, None]        # rows 0, 1 search A; rows 2, 3 search mu
+        with np.errstate(invalid="ignore", divide="ignore"):
+            e_A, m_A = along_A(np.where(along, x, 1.0))
+        e = np.where(along, e_A, eps)
+        m = np.where(along, m_A, x)
+        k = levels(e.ravel(), m.ravel(), certify).reshape(x.shape)
+        r = rows[:, None]
+        return np.where(r == 0, k >= n + 1,       # A_hi: first A past the zone
+                        np.where(r == 1, k > n,    # A_lo: first A in it (or beyond)
+                                 np.where(r == 2, k < n + 1,   # mu_lo: first mu back in the zone or below
+                                          k <= n)))            # mu_hi: first mu below the zone
+
+    # (a search whose answer is not needed gets an empty bracket)
+    lo = np.array([0.0, 0.0, 1e-6, 1e-6])
+    hi = np.array([top, top, 1e-6 if above else 4.0, 1e-6 if capped else 4.0])
+    a, b = search_bits(pred, lo, hi, certified=lambda x, rows: pred(x, rows, True))
+    out = dict(A_lo=float(a[1]), A_hi=float(b[0]))
+    mu_lo = 1e-6 if above else float(a[2])
+    mu_hi = 4.0 if capped else float(b[3])
+    if mu_lo < mu_hi:
+        f = 0.5 / T
+        out.update(frequency_lo=float(f * mu / mu_hi), frequency_hi=float("inf") if above else float(f * mu / mu_lo))
     return out
 
 
@@ -618,36 +683,50 @@ def bisect_bits(pred, lo, hi):
 def search_bits(pred, lo, hi, ways=64, certified=None):
     """:func:`bisect_bits` taking ``ways - 1`` points per row at each step: the same pair of
     adjacent doubles (for a predicate that changes once, False below and True above) in about
-    ``64 / log2(ways)`` calls of ``pred`` instead of 64. ``pred`` is elementwise on any shape
-    (here ``(rows, ways - 1)``): a call on a few dozen points costs about what a call on one does.
+    ``64 / log2(ways)`` calls of ``pred`` instead of 64. ``pred(x, rows)`` is elementwise, ``x`` of
+    shape ``(len(rows), k)`` holding points of the rows ``rows`` (indices into ``lo``): a call on a
+    few dozen points costs about what a call on one does.
+
     ``certified``: the same predicate decided to the last bit (``pred`` may err within a few ulp of
-    its change, at a fraction of the cost); the final pair is checked with it, and where it is not
-    False below and True above, the search is finished with it from 2^12 ulp either side.
+    its change, at a fraction of the cost). The final pair is checked with it; where it is not
+    False below and True above, the change is searched with it (by halves: each of its points may
+    cost an extended-precision product) within 64 ulp either side, and kept where found there.
     """
     a = lo.view(np.int64).copy()
     b = hi.view(np.int64).copy()
     j = np.arange(1, ways, dtype=np.int64)
     for _ in range(70):
-        live = b - a > 1
-        if not live.any():
+        live = np.flatnonzero(b - a > 1)
+        if not live.size:
             break
-        step = np.maximum((b - a) // ways, 1)
-        m = np.minimum(a[:, None] + step[:, None] * j[None, :], np.maximum(b - 1, a)[:, None])
-        ok = np.asarray(pred(m.view(np.float64)), bool)
+        al, bl = a[live], b[live]
+        step = np.maximum((bl - al) // ways, 1)
+        m = np.minimum(al[:, None] + step[:, None] * j[None, :], (bl - 1)[:, None])
+        ok = np.asarray(pred(m.view(np.float64), live), bool)
         first = np.argmax(ok, axis=1)
-        hit = ok[np.arange(a.size), first]
-        nb = np.where(hit, m[np.arange(a.size), first], b)
-        na = np.where(hit, np.where(first > 0, m[np.arange(a.size), np.maximum(first - 1, 0)], a), m[:, -1])
-        a = np.where(live, np.maximum(na, a), a)
-        b = np.where(live, nb, b)
-    if certified is not None:
-        ends = np.asarray(certified(np.stack([a, b], axis=1).view(np.float64)), bool)
-        bad = ends[:, 0] | ~ends[:, 1]
-        if bad.any():
-            a0 = lo.view(np.int64)
-            b0 = hi.view(np.int64)
-            wa, wb = np.maximum(a - 4096, a0), np.minimum(b + 4096, b0)
-            ca, cb = search_bits(certified, wa[bad].view(np.float64), wb[bad].view(np.float64), ways)
-            a, b = a.copy(), b.copy()
-            a[bad], b[bad] = ca.view(np.int64), cb.view(np.int64)
+        r = np.arange(live.size)
+        hit = ok[r, first]
+        b[live] = np.where(hit, m[r, first], bl)
+        a[live] = np.maximum(np.where(hit, np.where(first > 0, m[r, np.maximum(first - 1, 0)], al), m[:, -1]), al)
+    if certified is None:
+        return a.view(np.float64), b.view(np.float64)
+    lo_i, hi_i = lo.view(np.int64), hi.view(np.int64)
+    inner = np.flatnonzero(b > a)
+    ends = np.asarray(certified(np.stack([a[inner], b[inner]], axis=1).view(np.float64), inner), bool)
+    # (an end of the given bracket carries no claim: the predicate may hold all the way)
+    bad = inner[(ends[:, 0] & (a[inner] > lo_i[inner])) | (~ends[:, 1] & (b[inner] < hi_i[inner]))]
+    if bad.size:
+        wa, wb = np.maximum(a[bad] - 64, lo_i[bad]), np.minimum(b[bad] + 64, hi_i[bad])
+        w_ends = np.asarray(certified(np.stack([wa, wb], axis=1).view(np.float64), bad), bool)
+        keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
+        rows, wa, wb = bad[keep], wa[keep], wb[keep]
+        for _ in range(10):
+            live = wb - wa > 1
+            if not live.any():
+                break
+            mid = wa + (wb - wa) // 2
+            ok = np.asarray(certified(mid[live, None].view(np.float64), rows[live]), bool)[:, 0]
+            wb[live] = np.where(ok, mid[live], wb[live])
+            wa[live] = np.where(ok, wa[live], mid[live])
+        a[rows], b[rows] = wa, wb
     return a.view(np.float64), b.view(np.float64)

@@ -368,20 +368,23 @@ class Drive:
         frequency), ``frequency_lo, frequency_hi`` (at this stroke); and the ``stroke``.
         ``eps_edges``: the zone's edges in ``eps`` at this ``mu``, when known (``T`` is ``eps``
         times ``sqrt(8 l / A)`` at this ``A``: no second solve)."""
-        with np.errstate(over="ignore"):
-            stroke = float(self.stroke(T, A))
+        stroke = self.point_stroke(T, A)
         if eps_edges is not None:
             scale = np.sqrt(8.0 * np.asarray(l, float) / np.asarray(A, float))
             Tlo, Thi = eps_edges[0] * scale, eps_edges[1] * scale
         else:
             Tlo, Thi = self.period_edges(np.asarray(A, float), np.asarray(zone), np.asarray(l, float),
                                          np.asarray(g, float), np.asarray(c, float))
-        Alo, Ahi = self.amplitude_edges(np.asarray(T, float), np.asarray(zone), np.asarray(l, float),
-                                        np.asarray(g, float), np.asarray(c, float))
-        out = dict(T_lo=float(Tlo), T_hi=float(Thi), A_lo=float(Alo), A_hi=float(Ahi),
-                   stroke_lo=stroke * float(Alo) / A, stroke_hi=stroke * float(Ahi) / A)
-        out.update(_api.rig_margins(eps, mu, zone, self, zeta, T, stroke))
+        out = dict(T_lo=float(Tlo), T_hi=float(Thi))
+        rig = _api.rig_intervals(eps, mu, zone, self, zeta, T, A, l, g)
+        out.update(A_lo=rig["A_lo"], A_hi=rig["A_hi"], stroke_lo=stroke * rig["A_lo"] / A,
+                   stroke_hi=stroke * rig["A_hi"] / A, stroke=stroke)
+        out.update({k: v for k, v in rig.items() if k.startswith("frequency")})
         return out
+
+    def point_stroke(self, T, A) -> float:
+        """:meth:`stroke` of one validated point (Python floats; ``inf`` beyond the doubles)."""
+        return float(self._stroke_coefficient) * A * T * T
 
     def point_sentence(self, mu, zeta, zone, eps_lo):
         """Why an unstable point can never be stable, in words, or None (then the way it is

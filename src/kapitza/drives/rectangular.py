@@ -23,7 +23,8 @@ class RectangularWave(PiecewiseConstant):
     @classmethod
     def from_text(cls, parameters, text=None):
         if not parameters:
-            raise _v.KapitzaValueError(f"drive 'rectangular' needs its duty cycle, e.g. 'rectangular:0.3'; got {text!r}")
+            raise _v.KapitzaValueError(
+                f"drive 'rectangular' needs its duty cycle, e.g. 'rectangular:0.3'; got {text!r}")
         return cls(_v.number_text("duty", parameters))
 
     def __init__(self, duty):
