@@ -347,7 +347,8 @@ def _chebyshev_pair(k, tau, growth, theta, stable):
         sgn = np.where(tau < 0, -1.0, 1.0)
         with np.errstate(over="ignore", invalid="ignore"):
             st = np.sin(theta)
-            s_stab = np.where(np.abs(st) > 1e-300, np.sin(m * theta) / np.where(st == 0, 1.0, st), m * np.cos((m - 1) * theta))
+            s_stab = np.where(np.abs(st) > 1e-300, np.sin(m * theta) / np.where(st == 0, 1.0, st),
+                              m * np.cos((m - 1) * theta))
             sh = np.sinh(growth)
             s_uns = np.where(growth > 0, np.sinh(m * growth) / np.where(sh > 0, sh, 1.0), m) * sgn ** (m - 1)
         return np.where(stable, s_stab, s_uns)

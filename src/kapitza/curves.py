@@ -19,7 +19,8 @@ from .limits import averaging_threshold
 from .parameters import G_EARTH, SQRT8
 from ._square import _edges_eps
 
-__all__ = ["edge_kinds", "mu_top", "window_range", "physical_window", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
+__all__ = ["edge_kinds", "mu_top", "window_range", "physical_window", "ZoneCurves", "zone_curves", "window_curves",
+           "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
 
 
 def edge_kinds(n) -> tuple[str, str]:

@@ -83,7 +83,8 @@ def threshold_table(mu, drives, zeta=0.0):
         with np.errstate(divide="ignore", invalid="ignore"):  # eps_exact underflows to 0 for mu near 1e-300
             rel = eps_k / lo - 1.0
         for m, ek, el, re_ in zip(mu, eps_k, lo, rel):
-            rows.append(ThresholdRow(drive=d.label, description=d.describe(), mu=float(m), eps_averaging=float(ek), eps_exact=float(el),
+            rows.append(ThresholdRow(drive=d.label, description=d.describe(), mu=float(m), eps_averaging=float(ek),
+                                     eps_exact=float(el),
                                      relative_error=float(re_),
                                      rms_velocity_shape=float(np.sqrt(d._mean_square_velocity))))
     return rows
