@@ -383,6 +383,74 @@ def margin(eps, mu, drive, zeta):
     return (stable, b_zone.reshape(shape), b_lo.reshape(shape), b_hi.reshape(shape), best.reshape(shape))
 
 
+def point_margin(drive, eps, mu, zeta):
+    """:func:`margin` of one point (floats), the edges found together by :func:`search_bits` on the
+    zone index read from the rotation angle (one call of the drive per step for all of them, each
+    final pair decided to the last bit), or None where that search cannot answer (no zone within
+    reach, or a fast predicate off by more than the certified search's window): then
+    :func:`margin` does.
+
+    Along ``eps`` at fixed ``mu`` the level ``n + 1/2`` on zone ``n``, ``k`` in the gap ``theta = k pi``,
+    rises: zone ``n``'s lower edge is the last ``eps`` with level ``<= n``, its upper edge the
+    first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
+    """
+    z1 = np.array([zeta], float)
+
+    def level(x, certify):
+        x = np.asarray(x, float)
+        _, _, theta, st, zn, _ = drive._floquet(x.ravel(), np.full(x.size, mu), np.broadcast_to(z1, (x.size,)),
+                                                certify)
+        return np.where(st, zn + 0.5, np.rint(theta / PI)).reshape(x.shape)
+
+    L0 = float(level(np.array([eps]), True)[0])
+    if L0 != L0:
+        return None
+    stable = L0 != np.rint(L0)
+    k = int(np.floor(L0)) if stable else int(L0)
+    zones = [k] if stable else ([k - 1, k] if k >= 1 else [k])
+    # rows: (zone, upper edge?, searched above eps?)
+    rows = []
+    for n in zones:
+        above = not stable and n == k
+        rows += [(n, False, above), (n, True, above or stable)]
+    # a top past the highest zone's upper edge, eight doublings a call
+    need = zones[-1] + 1
+    top = None
+    ladder = eps * 2.0 ** np.arange(1.0, 9.0)
+    for _ in range(128):
+        up = np.flatnonzero(level(ladder, False) >= need)
+        if up.size:
+            top = ladder[up[0]]
+            break
+        ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
+    if top is None or not np.isfinite(top):
+        return None
+    n_of = np.array([r[0] for r in rows], float)
+    upper = np.array([r[1] for r in rows])
+    lo = np.array([eps if r[2] else 0.0 for r in rows])
+    hi = np.array([top if r[2] else eps for r in rows])
+
+    def pred(x, idx, certify=False):
+        lv = level(x, certify)
+        n = n_of[idx][:, None]
+        return np.where(upper[idx][:, None], lv >= n + 1, lv > n)
+
+    a, b = search_bits(pred, lo, hi, certified=lambda x, idx: pred(x, idx, True))
+    idx = np.arange(len(rows))
+    ends = pred(np.stack([a, b], axis=1), idx, True)
+    if ends[:, 0].any() or not ends[:, 1].all():
+        return None
+    edge = np.where(upper, b, a)   # the unstable side: below a lower edge, at or above an upper one
+    best = None
+    for i, n in enumerate(zones):
+        e_lo, e_hi = float(edge[2 * i]), float(edge[2 * i + 1])
+        d = min(eps - e_lo, e_hi - eps) / eps
+        if best is None or d > best[3]:
+            best = (n, e_lo, e_hi, d)
+    n, e_lo, e_hi, d = best
+    return stable, int(n), e_lo, e_hi, float(d)
+
+
 def along_amplitude(T, n, l, g, drive, c):
     """``(A_lo, A_hi)`` of zone ``n`` at fixed half-period ``T`` (scalars; bisection on the zone).
 

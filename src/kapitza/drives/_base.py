@@ -254,6 +254,10 @@ class Drive:
     #: The drive finds every zone of a window of ``eps`` at once (:meth:`_window0`).
     _windowed = False
 
+    #: One point's searches (margin, rig intervals) may ask the drive for many points of a row at
+    #: once, spread over decades of ``eps`` and ``A`` (:func:`kapitza.drives._api.point_margin`).
+    _batched_points = False
+
     def _window0(self, mu, e_a, e_b):
         """``(rows, zone, lo, hi)``: the undamped zones meeting ``[e_a[i], e_b[i]]`` at ``mu[i]``
         (flat arrays, one entry per zone found), for a drive with :attr:`_windowed`."""
@@ -357,7 +361,12 @@ class Drive:
                 int(zone), 2.0 * PI * float(rho), True)
 
     def point_margin(self, eps, mu, zeta, pointwise=True):
-        """:meth:`margin` of one point as ``(stable, zone, eps_lo, eps_hi, margin)`` Python numbers."""
+        """:meth:`margin` of one point as ``(stable, zone, eps_lo, eps_hi, margin)`` Python numbers
+        (``pointwise``: from one batched search of its zones' edges where it answers)."""
+        if pointwise and self._batched_points:
+            found = _api.point_margin(self, eps, mu, zeta)
+            if found is not None:
+                return found
         st, zone, lo, hi, m = (np.asarray(a)[()] for a in self.margin(
             np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float)))
         return bool(st), int(zone), float(lo), float(hi), float(m)
@@ -376,7 +385,12 @@ class Drive:
             Tlo, Thi = self.period_edges(np.asarray(A, float), np.asarray(zone), np.asarray(l, float),
                                          np.asarray(g, float), np.asarray(c, float))
         out = dict(T_lo=float(Tlo), T_hi=float(Thi))
-        rig = _api.rig_intervals(eps, mu, zone, self, zeta, T, A, l, g)
+        if self._batched_points:
+            rig = _api.rig_intervals(eps, mu, zone, self, zeta, T, A, l, g)
+        else:
+            Alo, Ahi = self.amplitude_edges(*(np.asarray(v, float) for v in (T, zone, l, g, c)))
+            rig = dict(A_lo=float(Alo), A_hi=float(Ahi))
+            rig.update(_api.rig_margins(eps, mu, zone, self, zeta, T, stroke))
         out.update(A_lo=rig["A_lo"], A_hi=rig["A_hi"], stroke_lo=stroke * rig["A_lo"] / A,
                    stroke_hi=stroke * rig["A_hi"] / A, stroke=stroke)
         out.update({k: v for k, v in rig.items() if k.startswith("frequency")})

@@ -260,6 +260,7 @@ class PiecewiseConstant(Drive):
         return sampled_edges(self, mu, n)
 
     _windowed = True
+    _batched_points = True
 
     def _window0(self, mu, e_a, e_b):
         return window_zones(self, mu, e_a, e_b)
