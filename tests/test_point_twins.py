@@ -25,7 +25,7 @@ import kapitza as K
 from kapitza import _point as P
 from kapitza import analysis
 from kapitza import normal_form as NF
-from kapitza import zones as Z
+from kapitza import _square as Z
 from kapitza._square import _floquet
 
 EPS = np.finfo(float).eps
