@@ -361,18 +361,27 @@ def margin(eps, mu, drive, zeta):
     _, _, theta, stable, zone, _ = drive._floquet(eps, mu, zeta)
     e, m, z = eps.ravel(), mu.ravel(), zeta.ravel()
     st, zn = stable.ravel(), np.asarray(zone).ravel()
-    with np.errstate(invalid="ignore"):
-        k = np.rint(np.nan_to_num(theta.ravel()) / PI).astype(np.int64)
+    turns = np.nan_to_num(theta.ravel()) / PI
+    # past 2^50 zones the doubles near eps are wider than a zone: none is resolvable (the square
+    # wave's closed forms stop at a phase of 2^52 alike); such points get no zone and margin -inf
+    far = ~(np.abs(turns) < 2.0**50)
+    k = np.rint(np.where(far, 0.0, turns)).astype(np.int64)
     upper = np.where(st, zn, np.maximum(k, 0))   # the zone itself, or the one above the gap
     lower = k - 1                                  # the one below the gap (unstable points)
-    two = ~st & (lower >= 0)
-    rows = np.concatenate([np.arange(e.size), np.flatnonzero(two)])
-    nn = np.concatenate([upper, lower[two]])
-    lo, hi = drive._edges(m[rows], nn, z[rows])
+    two = ~st & (lower >= 0) & ~far
+    rows = np.concatenate([np.flatnonzero(~far), np.flatnonzero(two)])
+    nn = np.concatenate([upper[~far], lower[two]])
+    lo_r, hi_r = drive._edges(m[rows], nn, z[rows]) if rows.size else (np.zeros(0), np.zeros(0))
+    N = e.size
+    near = np.flatnonzero(~far)
+    lo = np.full(N + np.count_nonzero(two), np.nan)
+    hi = lo.copy()
+    lo[near], hi[near] = lo_r[:near.size], hi_r[:near.size]
+    lo[N:], hi[N:] = lo_r[near.size:], hi_r[near.size:]
+    rows = np.concatenate([np.arange(N), np.flatnonzero(two)])
     with np.errstate(invalid="ignore", over="ignore"):
         d = np.minimum(e[rows] - lo, hi - e[rows]) / e[rows]
     d = np.where(np.isfinite(d), d, -np.inf)
-    N = e.size
     best, b_zone, b_lo, b_hi = d[:N].copy(), upper.copy(), lo[:N].copy(), hi[:N].copy()
     idx = np.flatnonzero(two)
     better = d[N:] > best[idx]
@@ -381,6 +390,10 @@ def margin(eps, mu, drive, zeta):
     # the containing zone wins (its margin is the one a user asks for); no zone in reach: -1
     b_zone = np.where(st, zn, np.where(np.isfinite(b_lo) | np.isfinite(b_hi), b_zone, -1))
     return (stable, b_zone.reshape(shape), b_lo.reshape(shape), b_hi.reshape(shape), best.reshape(shape))
+
+
+#: The largest value a one-point search's ladder of doublings climbs to (8 eps^2 and the products stay doubles).
+_LADDER_TOP = 1e150
 
 
 def point_margin(drive, eps, mu, zeta):
@@ -403,7 +416,7 @@ def point_margin(drive, eps, mu, zeta):
         return np.where(st, zn + 0.5, np.rint(theta / PI)).reshape(x.shape)
 
     L0 = float(level(np.array([eps]), True)[0])
-    if L0 != L0:
+    if not abs(L0) < 2.0**50:  # no zone resolvable so far out (see margin): the array margin says so
         return None
     stable = L0 != np.rint(L0)
     k = int(np.floor(L0)) if stable else int(L0)
@@ -417,13 +430,13 @@ def point_margin(drive, eps, mu, zeta):
     need = zones[-1] + 1
     top = None
     ladder = eps * 2.0 ** np.arange(1.0, 9.0)
-    for _ in range(128):
+    while ladder[-1] <= _LADDER_TOP:
         up = np.flatnonzero(level(ladder, False) >= need)
         if up.size:
             top = ladder[up[0]]
             break
         ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
-    if top is None or not np.isfinite(top):
+    if top is None:  # not within the doubles' comfortable range: the array margin answers
         return None
     n_of = np.array([r[0] for r in rows], float)
     upper = np.array([r[1] for r in rows])
@@ -547,12 +560,17 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
     mu_ends = np.array([1e-6, 4.0])
     ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
     for _ in range(138):
+        if ladder[-1] > _LADDER_TOP:  # (as far as along_amplitude goes: the last rung)
+            ladder = ladder[-1:]
         e_l, m_l = along_A(ladder)
         k = levels(np.concatenate([e_l, np.full(2, eps)]), np.concatenate([m_l, mu_ends]), True)
         up = np.flatnonzero(k[:-2] >= n + 1)
         ends = k[-2:]
         if up.size:
             top = ladder[up[0]]
+            break
+        if ladder.size == 1:
+            top = ladder[-1]
             break
         ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
     else:

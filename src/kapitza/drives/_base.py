@@ -406,7 +406,8 @@ class Drive:
         if mu >= self.mu_max:
             return (f"always unstable: the pivot never accelerates down faster than g (mu >= {self.mu_max:.6g}, "
                     f"the drive's mu_max)")
-        if np.isnan(eps_lo) and zone < 0:
+        mu_c = np.array([mu * np.sqrt(1.0 + zeta * zeta)])
+        if np.isnan(eps_lo) and zone < 0 and not np.any(self._zone_rate(mu_c)[0] > 0):
             return "always unstable: the drive has no attracting phase at this mu"
         return None
 

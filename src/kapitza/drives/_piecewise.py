@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from .. import _validate as _v
-from .._certify import tau_mp
+from .._certify import MAX_PHASE, tau_mp
 from ._api import bisect_bits as _bisect_bits
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
@@ -155,6 +155,9 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     with np.errstate(under="ignore"):
         thr = 2.0 * np.exp(-np.maximum(L, -700.0))
     unsure = np.abs(np.abs(trN) - thr) <= err + 1e-15 * thr
+    # beyond MAX_PHASE the exact decision would need thousands of digits: the double verdict
+    # stands there, as the square wave's does (kapitza._certify)
+    unsure &= rsum <= MAX_PHASE
     stable = np.abs(trN) < thr
     if certify and np.any(unsure):
         idx = np.flatnonzero(unsure)
