@@ -16,7 +16,7 @@ same run:
 * ``is_stable`` (with its blocks on every CPU, and on one thread) and ``zone_index`` on 10^7
   random points (eps in (0, 4], mu in (0, 1)) against
   the plain numpy trace formula on the same points and against the closed forms with
-  arctangents (``zones._verdict_careful``, the earlier path, now kept for the points inside the
+  arctangents (``_square._verdict_careful``, the earlier path, now kept for the points inside the
   rounding bound); min and median over repeats (the machine may be shared);
 * ``analyze`` for one parameter set, physical and Arnold's: the scalar path against the array
   path (every part on numpy's kernels, as before; ``kapitza.analysis._analyze(pointwise=False)``).
@@ -36,7 +36,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _timing import machine, median_time  # noqa: E402
 
 import kapitza as K
-from kapitza import zones as Z
+from kapitza import _square as Z
 
 GRID_TARGET_S = 0.050
 EDGES_TARGET_S = 0.050

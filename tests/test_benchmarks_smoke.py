@@ -81,3 +81,12 @@ def test_bench_sweep_integrated_tiny_runs():
     for needle in ("exact path (square, undamped) -- baseline", "integrated path (square, zeta = 0.05)",
                    "integrated path (sine, undamped)", "ratio (this / exact)", "integrated vs exact"):
         assert needle in out, needle
+
+
+def test_bench_one_engine_tiny_runs():
+    out = run_tiny("bench_one_engine.py")
+    for needle in ("analyze(T=0.15, A=100)", "RectangularWave(0.5)", "square, damping=1e-9", "x the square wave",
+                   "is_stable of one point", "stability_grid 256 x 256"):
+        assert needle in out, needle
+    worst = float(out.split("largest relative difference of eps_hi from the square wave's:")[1].split()[0])
+    assert worst < 1e-14  # the same physics gives the same zone

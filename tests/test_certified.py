@@ -96,13 +96,13 @@ def test_fast_verdict_agrees_with_the_certified_path_at_every_distance_from_an_e
 def test_threaded_blocks_give_the_one_thread_verdict(monkeypatch):
     """A large call shares its blocks among threads; the verdicts and zones are those of one
     thread block by block, edge points (sent on to the certified path) included."""
-    import kapitza.zones as Z
+    import kapitza._square as Z
 
     rng = np.random.default_rng(11)
     N = 40 * Z._CHUNK + 123  # a short last block
     eps, mu = rng.uniform(1e-3, 4.0, N), rng.uniform(1e-3, 1.2, N)
     mu_e = rng.uniform(0.05, 0.95, 50)
-    eps[:50] = Z.zone_edges(mu_e, 0)[0]  # doubles on zone 0's lower edge: the careful path
+    eps[:50] = K.zone_edges(mu_e, 0)[0]  # doubles on zone 0's lower edge: the careful path
     mu[:50] = mu_e
     assert Z._threads(-(-N // Z._CHUNK)) == min(2, Z._v.cpus()) or Z._v.cpus() == 1
     threaded = Z._verdict(eps, mu)

@@ -143,8 +143,8 @@ def test_square_wave_frequency_interval_matches_the_general_bisection():
     import numpy as np
 
     import kapitza as K
-    from kapitza import analysis as An
-    from kapitza.drives import SquareWave
+    from kapitza import _square as S
+    from kapitza.drives import SquareWave, _api
 
     rng = np.random.default_rng(5)
     compared = 0
@@ -154,8 +154,14 @@ def test_square_wave_frequency_interval_matches_the_general_bisection():
         nz = int(K.stability_margin(eps, mu).zone)
         if nz < 0:
             continue
-        a = An._rig_margins(eps, mu, nz, None, 0.0, T, A, 0.25 * A * T * T)
-        b = An._rig_margins(eps, mu, nz, SquareWave(), 0.0, T, A, 0.25 * A * T * T)
+        a = S.rig_margins(eps, mu, nz, T, 0.25 * A * T * T)
+        b = _api.rig_margins(eps, mu, nz, SquareWave(), 0.0, T, 0.25 * A * T * T)
+        # the drive-generic search of analyze (A and the frequency together) finds the same interval
+        c = _api.rig_intervals(eps, mu, nz, SquareWave(), 0.0, T, A, 1.0, K.G_EARTH)
+        assert ("frequency_lo" in b) == ("frequency_lo" in c)
+        if "frequency_lo" in b:
+            assert b["frequency_lo"] == pytest.approx(c["frequency_lo"], rel=1e-13)
+            assert b["frequency_hi"] == pytest.approx(c["frequency_hi"], rel=1e-13)
         if "frequency_lo" in a:
             compared += 1
             assert a["frequency_lo"] == pytest.approx(b["frequency_lo"], rel=1e-11)

@@ -6,7 +6,8 @@ from scipy.integrate import solve_ivp
 
 import kapitza.drives as kd
 from kapitza.drives import _api
-from kapitza.drives._piecewise import _tau_mp, floquet_product
+from kapitza._certify import tau_mp as _tau_mp
+from kapitza.drives._piecewise import floquet_product
 
 RTOL = 1e-12
 DRIVES = [kd.SquareWave(), kd.RectangularWave(0.3), kd.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3])]

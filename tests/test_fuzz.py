@@ -589,3 +589,52 @@ def test_dates_and_durations_are_refused_by_every_target(value):
             assert outcome == "refused, naming the parameter", (fname, name, outcome)
             refused.append((fname, name))
     assert len(refused) > 50
+
+
+# ------------------------------------------------------------------ every drive, damped and not
+#: Parameters of the registered drives that take some (the others are built with no arguments).
+DRIVE_EXAMPLES = {"rectangular": "rectangular:0.3", "steps": "steps:2,-1,1,-1:0.2,0.3,0.2,0.3"}
+
+
+def _registered_drives():
+    out = []
+    for name, cls in drives.DRIVES.items():
+        try:
+            out.append(cls())
+        except TypeError:
+            out.append(drives.parse_drive(DRIVE_EXAMPLES[name]))
+    return out
+
+
+@pytest.mark.parametrize("drive", _registered_drives(), ids=lambda d: d.name)
+@pytest.mark.parametrize("damped", [False, True], ids=["undamped", "damped"])
+def test_scalar_input_gives_numpy_scalars_with_every_drive(drive, damped):
+    """The stability functions with every registered drive, with and without damping: numpy
+    scalars for scalar input (never 0-d arrays, never Python floats), arrays for array input."""
+    z = dict(zeta=0.05) if damped else {}
+    c = dict(damping=0.1) if damped else {}
+    calls = {
+        "is_stable": lambda e, m: kapitza.is_stable(e, m, drive, **z),
+        "zone_index": lambda e, m: kapitza.zone_index(e, m, drive, **z),
+        "growth_rate": lambda e, m: kapitza.growth_rate(e, m, drive, **z),
+        "rotation_number": lambda e, m: kapitza.rotation_number(e, m, drive, **z),
+        "floquet": lambda e, m: kapitza.floquet(e, m, drive, **z),
+        "stability_margin": lambda e, m: kapitza.stability_margin(e, m, drive, **z),
+        "zone_edges": lambda e, m: kapitza.zone_edges(m, 0, drive, **z),
+    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for name, fn in calls.items():
+            one = fn(0.5, 0.3)
+            assert "0-d array" not in _scalar_kinds(one), (name, _scalar_kinds(one))
+            assert all(k in ("numpy scalar", "array", "NoneType") for k in _scalar_kinds(one)), (name, _scalar_kinds(one))
+            many = fn(np.array([0.5, 0.6]), np.array([0.3, 0.3]))
+            assert "array" in _scalar_kinds(many) and "0-d array" not in _scalar_kinds(many), (name, _scalar_kinds(many))
+        lo, hi = kapitza.period_edges(100.0, 0, 1.0, 9.81, drive, **c)
+        assert isinstance(lo, np.float64) and isinstance(hi, np.float64), type(lo)
+        lo, hi = kapitza.amplitude_edges(0.15, 0, 1.0, 9.81, drive, **c)
+        assert isinstance(lo, np.float64) and isinstance(hi, np.float64)
+        T, A = drive.from_rig(50.0, amplitude=0.003)
+        assert isinstance(T, np.float64) and isinstance(A, np.float64)
+        rep = kapitza.analyze(T=0.15, A=100.0, drive=drive, **c)
+        assert isinstance(rep.growth, float) and rep.drive == drive.describe()

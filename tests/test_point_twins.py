@@ -25,8 +25,8 @@ import kapitza as K
 from kapitza import _point as P
 from kapitza import analysis
 from kapitza import normal_form as NF
-from kapitza import zones as Z
-from kapitza.propagation import _floquet
+from kapitza import _square as Z
+from kapitza._square import _floquet
 
 EPS = np.finfo(float).eps
 
@@ -108,7 +108,7 @@ def mu_root_tol(eps, n, mu, upper):
 @pytest.mark.parametrize("points, share", [(plane_points(1, 6000), 0.85), (edge_points(2, 60), 0.2)],
                          ids=["plane", "edges"])
 def test_floquet_twin_matches_the_array_kernel(points, share):
-    from kapitza.propagation import _multipliers
+    from kapitza._square import _multipliers
 
     eps, mu = points
     tau, growth, theta, stable, zone = _floquet(eps, mu)
@@ -303,8 +303,9 @@ def assert_same_report(fast, slow):
 
 
 def reports(eps, mu, physical=False, T=None, A=None, l=None, g=None):
-    fast = analysis._square_report(eps, mu, physical, T, A, l, g)
-    slow = analysis._square_report(eps, mu, physical, T, A, l, g, pointwise=False)
+    c = 0.0 if physical else None
+    fast = analysis._report(K.SquareWave(), eps, mu, 0.0, physical, T, A, l, g, c)
+    slow = analysis._report(K.SquareWave(), eps, mu, 0.0, physical, T, A, l, g, c, pointwise=False)
     return fast, slow
 
 
@@ -372,7 +373,7 @@ def test_plain_numbers_get_the_report_of_the_full_validation(kw):
 
 @pytest.mark.parametrize("kw", [dict(eps=-1.0, mu=0.3), dict(eps=0.5, mu=math.nan), dict(eps=True, mu=0.3),
                                 dict(T=0.15, A=math.inf), dict(T=0.15, A=100.0, l=0), dict(T=0.15, A=100.0, g=-1),
-                                dict(eps=0.5, mu=0.3, damping=1.0), dict(T=0.15, A=100.0, zeta=0.0),
+                                dict(eps=0.5, mu=0.3, damping=1.0), dict(T=0.15, A=100.0, zeta=0.1, damping=0.2),
                                 dict(T=1e-300, A=1e-300),
                                 dict(eps=0.5, mu=0.3, T=0.15), dict(T=0.15, A=[100.0])])
 def test_plain_numbers_are_refused_as_before(kw):
@@ -384,7 +385,7 @@ def test_plain_numbers_are_refused_as_before(kw):
 
 
 def test_array_fallback_of_the_nonlinear_line_prints_what_nonlinear_stability_prints():
-    # where the scalar twin declines, analyze takes normal_form._sentence_of: the same kernels
+    # where the scalar twin declines, analyze takes normal_form.sentence_of: the same kernels
     # without the validation and the repeated side evaluations -- the same text, exactly
     ze, zm = zone_points(13, 300)
     ee, em = edge_points(14, 12)
@@ -392,7 +393,7 @@ def test_array_fallback_of_the_nonlinear_line_prints_what_nonlinear_stability_pr
     stable = _floquet(eps, mu)[3]
     assert np.count_nonzero(stable) > 250
     for e, m in zip(eps[stable].tolist(), mu[stable].tolist()):
-        assert NF._sentence_of(e, m) == str(NF.nonlinear_stability(e, m)), (e, m)
+        assert NF.sentence_of(e, m) == str(NF.nonlinear_stability(e, m)), (e, m)
 
 
 def test_series_of_the_jets_at_one_point_are_those_of_an_array():

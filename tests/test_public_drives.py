@@ -88,10 +88,32 @@ def test_period_and_amplitude_edges_of_a_damped_drive_are_zone_edges():
     (lambda: K.is_stable(0.5, 0.3, drive="triangle"), "drive"),
     (lambda: K.analyze(T=0.1, A=100, damping=-1), "damping"),
     (lambda: K.analyze(eps=0.5, mu=0.3, damping=1.0), "zeta"),
-    (lambda: K.analyze(T=0.1, A=100, zeta=0.1), "damping"),
+    (lambda: K.analyze(T=0.1, A=100, zeta=0.1, damping=0.2), "damping"),
+    (lambda: K.period_edges(100.0, 0, zeta=0.1, damping=0.2), "not both"),
+    (lambda: K.amplitude_edges(0.15, 0, zeta=-0.1), "zeta"),
     (lambda: K.monodromy(0.1, 100, damping=-0.5), "damping"),
     (lambda: K.stability_grid([0.5, 1.0], [0.3], zeta=[0.1, 0.2]), "zeta"),
 ])
 def test_bad_drive_or_damping_names_the_parameter(call, match):
     with pytest.raises(KapitzaValueError, match=match):
         call()
+
+
+@pytest.mark.parametrize("drive", [K.SquareWave(), K.RectangularWave(0.3)], ids=lambda d: d.name)
+def test_damping_and_zeta_mean_the_same_in_every_physical_function(drive):
+    """``damping=c`` and ``zeta=c / (2 sqrt(g/l))`` are one damping, in every function that takes it."""
+    l, g, c = 0.8, 9.81, 0.3
+    zeta = c / (2.0 * np.sqrt(g / l))
+    for fn, args in ((K.period_edges, (100.0, 0, l, g)), (K.amplitude_edges, (0.15, 0, l, g))):
+        a = fn(*args, drive=drive, damping=c)
+        b = fn(*args, drive=drive, zeta=zeta)
+        assert np.allclose(a, b, rtol=1e-12, atol=0), fn.__name__
+    ra = K.analyze(T=0.15, A=100.0, l=l, g=g, drive=drive, damping=c)
+    rb = K.analyze(T=0.15, A=100.0, l=l, g=g, drive=drive, zeta=zeta)
+    assert ra.zeta == pytest.approx(rb.zeta, rel=1e-14) and ra.damping == pytest.approx(rb.damping, rel=1e-14)
+    assert ra.stable == rb.stable and ra.growth == pytest.approx(rb.growth, rel=1e-12)
+    # on Arnold's plane the same ratio gives the same verdict as the physical damping
+    e, m = K.to_arnold(0.15, 100.0, l, g)
+    assert K.growth_rate(e, m, drive, zeta=zeta) == pytest.approx(ra.growth, rel=1e-12)
+    assert np.allclose(K.monodromy(0.15, 100.0, l, g, drive, damping=c),
+                       K.monodromy(0.15, 100.0, l, g, drive, zeta=zeta), rtol=1e-12, atol=0)

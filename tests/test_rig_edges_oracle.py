@@ -21,6 +21,7 @@ import pytest
 import kapitza as K
 import oracle as O
 from kapitza import _point as P
+from kapitza import _square as S
 from kapitza import analysis as An
 
 G = 9.81
@@ -67,7 +68,7 @@ def _frequency_cases():
 def test_frequency_edges_against_the_reference(eps, n):
     mu, T = 0.3, 0.15  # the frequency interval scales with f mu; the edges in mu do not depend on them
     f = 0.5 / T
-    got_arr = An._square_rig_margins(eps, mu, n, T, 1.0)
+    got_arr = S.rig_margins(eps, mu, n, T, 1.0)
     try:
         got_pt = P.square_rig_margins(eps, mu, n, T, 1.0)
     except P.Careful:

@@ -6,8 +6,8 @@ the rounded ``eps`` and ``sqrt(1 - mu^2)``; ``alpha`` and ``beta`` are flat in `
 Where ``|a|`` or ``|b|`` is inside that bound the sign, and with it the verdict, the zone and
 the growth, is not determined by the double computation: there ``tr M / 2`` is evaluated for
 the exact double inputs in mpmath, at a precision that covers the cancellation of
-``e^x``-sized terms (:func:`kapitza.drives._piecewise._tau_mp`, the product of the two phase
-matrices). Such points are rare (a band a few ulp wide about each edge), so the fast path
+``e^x``-sized terms (:func:`tau_mp`, the product of the two phase matrices, which serves every
+piecewise-constant drive). Such points are rare (a band a few ulp wide about each edge), so the fast path
 keeps its speed.
 """
 from __future__ import annotations
@@ -35,12 +35,47 @@ def exact_half_trace(eps, mu):
     """``(tau, log|tau|, stable, angle)`` of the square wave at the exact double ``(eps, mu)``
     (mpmath): ``stable`` is ``|tau| < 1`` decided in extended precision (the float ``tau`` may
     round to 1); ``angle`` is ``acos(tau)`` on a zone and the growth ``acosh|tau|`` off it."""
-    from .drives._piecewise import _tau_mp
-
-    res = _tau_mp(np.ravel(eps), np.ravel(mu), (1.0, -1.0), (1.0, 1.0))
+    res = tau_mp(np.ravel(eps), np.ravel(mu), (1.0, -1.0), (1.0, 1.0))
     shape = np.shape(eps)
     tau = np.array([r[0] for r in res]).reshape(shape)
     log_tau = np.array([r[1] for r in res]).reshape(shape)
     stable = np.array([r[2] for r in res], dtype=bool).reshape(shape)
     angle = np.array([r[3] for r in res]).reshape(shape)
     return tau, log_tau, stable, angle
+
+
+def tau_mp(eps, mu, levels, durations):
+    """``tr M / 2`` in mpmath, at a precision that covers the cancellation of ``e^{sum r}`` terms."""
+    import mpmath
+
+    out = []
+    for e, m in zip(eps.tolist(), mu.tolist()):
+        rsum = sum(np.sqrt(8.0 * e * e * abs(m * m + s)) * h for s, h in zip(levels, durations))
+        # e^rsum-sized terms cancel far out; near eps -> 0, tr M/2 - 1 = O(rsum^4) is what decides
+        dps = 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
+        with mpmath.workdps(dps):
+            E, Mu = mpmath.mpf(e), mpmath.mpf(m)
+            P = mpmath.eye(2)
+            for s, h in zip(levels, durations):
+                k = 8 * E * E * (Mu * Mu + mpmath.mpf(s))
+                H = mpmath.mpf(h)
+                if k > 0:
+                    w = mpmath.sqrt(k)
+                    S = mpmath.matrix([[mpmath.cosh(w * H), mpmath.sinh(w * H) / w],
+                                       [w * mpmath.sinh(w * H), mpmath.cosh(w * H)]])
+                elif k < 0:
+                    w = mpmath.sqrt(-k)
+                    S = mpmath.matrix([[mpmath.cos(w * H), mpmath.sin(w * H) / w],
+                                       [-w * mpmath.sin(w * H), mpmath.cos(w * H)]])
+                else:
+                    S = mpmath.matrix([[1, H], [0, 1]])
+                P = S * P
+            t = (P[0, 0] + P[1, 1]) / 2
+            # the verdict |t| < 1 is decided here, in extended precision; the float of t may
+            # round to +-1 on either side
+            st = bool(abs(t) < 1)
+            # on a zone the rotation angle acos(t), off it the growth acosh|t|, each to full
+            # relative accuracy (t may round to +-1)
+            out.append((float(t), float(mpmath.log(abs(t))) if t != 0 else -np.inf, st,
+                        float(mpmath.acos(t)) if st else float(mpmath.acosh(abs(t)))))
+    return out

@@ -301,3 +301,20 @@ def illinois(F, a, b, iterations=60, ulps=4.0):
         if done.all():
             break
     return root
+
+
+# ---------------------------------------------------------------- shared by every drive
+def log_cosh(k):
+    """log cosh k for k >= 0 without overflow, to a few ulp relative (``log1p(2 sinh^2(k/2))`` below 1)."""
+    with np.errstate(over="ignore"):
+        small = np.log1p(2.0 * np.sinh(0.5 * np.minimum(k, 1.0)) ** 2)
+    return np.where(k < 1.0, small, k + np.log1p(np.exp(-2.0 * k)) - LOG2)
+
+
+def acosh_from_log(log_tau, tau):
+    """acosh|tau| for |tau| >= 1 from ``log|tau|`` (finite where ``tau`` overflows)."""
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        e = np.abs(tau) - 1.0
+        small = np.log1p(np.where((e >= 0) & (e < 1.0), e + np.sqrt(np.abs(e) * (e + 2.0)), 0.0))
+        big = log_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * np.maximum(log_tau, 0.0))))
+    return np.where(e < 1.0, small, big)

@@ -10,7 +10,7 @@ the elementary functions (``math`` against numpy's vectorised ones, each good to
 two), never in a decision:
 
 * the verdict keeps its certificate: wherever the array kernels would consult their rounding
-  bound (:mod:`kapitza._certify`, :func:`kapitza.zones._verdict`), the scalar twin does not
+  bound (:mod:`kapitza._certify`, :func:`kapitza._square._verdict`), the scalar twin does not
   decide and the caller takes the array path, which decides there in extended precision;
 * likewise every other decision taken on rounded numbers (which zone is nearer, whether a
   frequency interval has ends, the 1:4 and 1:3 crossings, a vanishing twist, Markeev's
@@ -29,17 +29,21 @@ from __future__ import annotations
 import cmath
 import math
 
+from . import _certify
+from . import _square
 from ._exact import _TAN3_REVERSED, _TAN3_SWITCH
 
 PI = math.pi
 SQRT8 = math.sqrt(8.0)
 LOG2 = math.log(2.0)
-_EPS = 2.220446049250313e-16
-_TOL = 16.0 * _EPS            # kapitza._certify._TOL
-_MAX_NEWTON = 200             # kapitza.zones._MAX_NEWTON
-_SMALL_MU = 0.6               # kapitza.zones._SMALL_MU
-_MU_MIN = 1e-6                # kapitza.analysis._MU_MIN
-_EPS_SERIES = 1e-5            # kapitza.analysis._EPS_SERIES
+_EPS = float(_square._EPS)
+# the array kernels' own constants (one definition each), as Python floats
+_TOL = float(_certify._TOL)
+_MAX_NEWTON = int(_square._MAX_NEWTON)
+_SMALL_MU = float(_square._SMALL_MU)
+_MU_MIN = float(_square._MU_MIN)
+_EPS_SERIES = float(_square._EPS_SERIES)
+_TINY_MU = float(_square._TINY_MU)
 _SQRT_3_2 = math.sqrt(1.5)
 _INF = math.inf
 
@@ -172,10 +176,10 @@ def _conditioned(m, u, sd):
         raise Careful("the angle is ill-conditioned here")
 
 
-# ---------------------------------------------------------------- kapitza.propagation._floquet
+# ---------------------------------------------------------------- kapitza._square._floquet
 @_elliptic_only
 def floquet(eps, mu):
-    """``(tau, growth, theta, stable, zone)`` of :func:`kapitza.propagation._floquet`, or None
+    """``(tau, growth, theta, stable, zone)`` of :func:`kapitza._square._floquet`, or None
     where the array path must decide (``mu >= 1`` too, where no zone is to be had)."""
     x, u, D = phase_angles(eps, mu)
     n = float(math.floor(u / PI))
@@ -224,7 +228,7 @@ def floquet(eps, mu):
 
 
 def multipliers(tau, growth, theta, stable):
-    """:func:`kapitza.propagation._multipliers` of one point."""
+    """:func:`kapitza._square._multipliers` of one point."""
     if stable:
         return cmath.exp(1j * theta), cmath.exp(-1j * theta)
     sgn = -1.0 if tau < 0 else 1.0
@@ -237,7 +241,7 @@ def multipliers(tau, growth, theta, stable):
 
 # ---------------------------------------------------------------- kapitza.zones
 def _verdict(eps, mu):
-    """``(stable, n)`` of :func:`kapitza.zones._verdict` (tan form, same rounding bound); raises
+    """``(stable, n)`` of :func:`kapitza._square._verdict` (tan form, same rounding bound); raises
     :class:`Careful` inside the bound, where the array path decides in extended precision."""
     p = math.sqrt(mu * mu + 1.0)
     q = math.sqrt((1.0 - mu) * (1.0 + mu))
@@ -257,7 +261,7 @@ def _verdict(eps, mu):
 
 
 def _lower0_small_mu(mu):
-    if mu < 1e-100:  # kapitza.zones._TINY_MU
+    if mu < _TINY_MU:
         return 2.0 * math.sqrt(3.0) * mu
     d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
     D2 = 1.0 + d2m1
@@ -284,7 +288,7 @@ def _lower0_small_mu(mu):
 
 
 def edge_u(mu, n, upper, q=None):
-    """``(u, q)`` of :func:`kapitza.zones._edge_u` for one ``mu`` and zone ``n``."""
+    """``(u, q)`` of :func:`kapitza._square._edge_u` for one ``mu`` and zone ``n``."""
     p = math.sqrt(1.0 + mu * mu)
     if q is None:
         q = math.sqrt((1.0 - mu) * (1.0 + mu))
@@ -307,7 +311,7 @@ def edge_u(mu, n, upper, q=None):
 
 
 def edges_eps(mu, n, q=None):
-    """``(eps_lo, eps_hi)`` of :func:`kapitza.zones._edges_eps`."""
+    """``(eps_lo, eps_hi)`` of :func:`kapitza._square._edges_eps`."""
     ulo, q = edge_u(mu, n, False, q)
     uhi, _ = edge_u(mu, n, True, q)
     uhi = max(uhi, ulo)
@@ -386,7 +390,7 @@ def illinois(F, a, b, iterations=60, ulps=4.0):
 def amplitude_edges(T, n, l, g):
     """``(A_lo, A_hi)`` of :func:`kapitza.amplitude_edges` (square wave, undamped)."""
     kappa = 2.0 * g * T * T / l
-    if not 0.0 < kappa < _INF:  # kapitza.zones._kappa
+    if not 0.0 < kappa < _INF:  # kapitza._square._kappa
         kappa = 2.0 * g * (T / l) * T
     npi = n * PI
 
@@ -422,7 +426,7 @@ def amplitude_edges(T, n, l, g):
 
 
 def square_rig_margins(eps, mu, zone, T, stroke):
-    """:func:`kapitza.analysis._square_rig_margins` of one point."""
+    """:func:`kapitza._square.rig_margins` of one point."""
     n = float(zone)
 
     def gap(m, upper):
@@ -494,9 +498,9 @@ _SER_LISTS = None
 def _ser_lists():
     global _SER_LISTS
     if _SER_LISTS is None:
-        from .normal_form import _SER
+        from .normal_form import SERIES
 
-        _SER_LISTS = tuple(_SER[name].tolist() for name in ("c", "sh", "f1", "f2", "f3"))
+        _SER_LISTS = tuple(SERIES[name].tolist() for name in ("c", "sh", "f1", "f2", "f3"))
     return _SER_LISTS
 
 
@@ -608,7 +612,7 @@ def _sides(eps, mu, h):
         return (fm[2], fm[3], fm[4]), (fp[2], fp[3], fp[4]), False
     import numpy as np
 
-    from .propagation import _floquet as _floquet_array
+    from ._square import _floquet as _floquet_array
 
     _, _, th, st, zn = _floquet_array(np.array([eps - h, eps + h]), np.full(2, mu))
     return ((float(th[0]), bool(st[0]), int(zn[0])), (float(th[1]), bool(st[1]), int(zn[1])), True)
@@ -619,7 +623,7 @@ def nonlinear(eps, mu, theta, zone, exact_theta=False, tol=1e-15):
     path must answer. ``theta``, ``zone``: the rotation angle and zone at ``(eps, mu)``, from
     :func:`floquet` or (``exact_theta``) from the array path's ``_floquet``, which the array
     path's normal form uses: then the rotation number and trace printed are its own."""
-    from .normal_form import KINDS, _sentence
+    from .normal_form import KINDS, sentence
 
     try:
         x = SQRT8 * eps * math.sqrt(1.0 + mu * mu)
@@ -647,6 +651,6 @@ def nonlinear(eps, mu, theta, zone, exact_theta=False, tol=1e-15):
         code = 1 if on3 else 0
         if on4:
             code = 2 if abs(beta) > c03 else 3
-        return _sentence(KINDS[code], w / (2.0 * PI), 2.0 * math.cos(w), twist, res4)
+        return sentence(KINDS[code], w / (2.0 * PI), 2.0 * math.cos(w), twist, res4)
     except _DECLINE:
         return None

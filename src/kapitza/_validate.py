@@ -215,31 +215,51 @@ def nonnegative(name: str, value) -> np.ndarray:
 ZETA_MAX = 1e4
 
 
-def general_drive(drive, zeta, name="zeta", *, g=None, l=None):
-    """``(drive, zeta)`` for the general path, or ``(None, None)`` for the paper's undamped square wave.
-
-    ``drive``: ``None``, a name or a :class:`kapitza.drives.Drive`; ``zeta``: damping ratio(s) >= 0
-    (the argument is called ``name`` in messages: ``zeta``, or ``damping`` for ``c``, whose ratio
-    ``c / (2 sqrt(g/l))`` is bounded when ``g`` and ``l`` are given).
-    """
-    from .drives import as_drive
-
-    d = as_drive(drive)
+def damping_ratio(zeta, name="zeta") -> np.ndarray:
+    """Damping ratio(s) ``zeta = c / (2 sqrt(g/l))`` as a float array, each ``0 <= zeta <= ZETA_MAX``."""
+    if type(zeta) is float and zeta == 0.0:  # the default, on every call: no conversion to check
+        return np.zeros(())
     z = nonnegative(name, zeta)
-    ratio = None
-    if name == "zeta":
-        ratio = z
-    elif g is not None and l is not None:
-        with np.errstate(over="ignore", invalid="ignore", under="ignore"):
-            ratio = np.where(z > 0, 0.5 * z * np.sqrt(l) / np.sqrt(g), 0.0)
-    if ratio is not None and np.any(ratio > ZETA_MAX):
-        bad = np.broadcast_to(z, np.shape(ratio))
+    if np.any(z > ZETA_MAX):
         raise KapitzaValueError(
-            f"{name} must give a damping ratio c / (2 sqrt(g/l)) <= {ZETA_MAX:g} (so heavily overdamped, the "
+            f"{name} must be a damping ratio <= {ZETA_MAX:g} (so heavily overdamped, the monodromy's growth, "
+            f"about 1/zeta, loses its digits to rounding); got {_first_bad(z, z > ZETA_MAX)}")
+    return z
+
+
+def damping(damping, zeta, l, g):
+    """``(c, zeta)``: the damping of a physical question, given as ``damping`` (``c`` >= 0, in 1/s)
+    or as ``zeta`` (the ratio ``c / (2 sqrt(g/l))``), not both; ``l``, ``g`` validated arrays.
+
+    One meaning everywhere: ``theta'' + c theta' = (g + a(t))/l theta``, and ``zeta`` the damping
+    ratio of the hanging pendulum (``docs/drives.md`` section 3), bounded by :data:`ZETA_MAX`.
+    """
+    if zeta is not None:
+        if damping is not None and np.any(np.asarray(damping) != 0):
+            raise KapitzaValueError("give the damping as damping = c [1/s] or as zeta = c / (2 sqrt(g/l)), not both")
+        z = damping_ratio(zeta)
+        if not np.any(z > 0):
+            return np.zeros(z.shape), z
+        return 2.0 * z * (np.sqrt(g) / np.sqrt(l)), z
+    if damping is None or (type(damping) is float and damping == 0.0):
+        return np.zeros(()), np.zeros(())
+    c = nonnegative("damping", damping)
+    with np.errstate(over="ignore", invalid="ignore", under="ignore"):
+        ratio = np.where(c > 0, 0.5 * c * (np.sqrt(l) / np.sqrt(g)), 0.0)  # l / g may overflow
+    if np.any(ratio > ZETA_MAX):
+        bad = np.broadcast_to(c, np.shape(ratio))
+        raise KapitzaValueError(
+            f"damping must give a damping ratio c / (2 sqrt(g/l)) <= {ZETA_MAX:g} (so heavily overdamped, the "
             f"monodromy's growth, about 1/zeta, loses its digits to rounding); got {_first_bad(bad, ratio > ZETA_MAX)}")
-    if d.name == "square" and not np.any(z > 0):
-        return None, None
-    return d, z
+    return c, ratio
+
+
+def number_text(name: str, text: str) -> float:
+    """A number written in a text form (a drive's parameters), named in the message where it is none."""
+    try:
+        return float(text)
+    except ValueError:
+        raise KapitzaValueError(f"{name} must be a number; got {text.strip()!r}") from None
 
 
 def choices(name: str, values, allowed) -> tuple:
@@ -301,8 +321,8 @@ def bounded_count(name: str, value, limit: int, *, minimum: int = 0, what: str =
         if not allow_large():
             raise _over_limit(name, int(value), limit, what)
         raise KapitzaValueError(f"{name} must be an integer below 2**62; got {_short(int(value))}")
-    if isinstance(value, (float, np.floating)) and np.isfinite(value) and abs(value) >= 2.0**62:
-        if value < minimum:
+    if isinstance(value, (float, np.floating)) and np.isfinite(value) and abs(float(value)) >= 2.0**62:
+        if float(value) < minimum:
             raise KapitzaValueError(f"{name} must be an integer >= {minimum}; got {_short(value)}")
         if not allow_large():
             raise _over_limit(name, value, limit, what)

@@ -17,9 +17,10 @@ from . import _validate as _v
 from .drives import _api, as_drive
 from .limits import averaging_threshold
 from .parameters import G_EARTH, SQRT8
-from .zones import _edges_eps
+from ._square import _edges_eps
 
-__all__ = ["edge_kinds", "mu_top", "window_range", "physical_window", "ZoneCurves", "zone_curves", "window_curves", "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
+__all__ = ["edge_kinds", "mu_top", "window_range", "physical_window", "ZoneCurves", "zone_curves", "window_curves",
+           "PhysicalZoneCurves", "physical_zone_curves", "DriveCurves", "drive_curves"]
 
 
 def edge_kinds(n) -> tuple[str, str]:
@@ -165,9 +166,9 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
     crosses a narrow window); any other drive or damping takes :func:`drive_curves` at
     ``points`` values of ``mu`` spread over the window, each edge exact (``docs/drives.md``).
     """
-    zeta = _v.one("zeta", _v.nonnegative("zeta", zeta))
-    general, _ = _v.general_drive(drive, zeta)
-    if general is None:
+    zeta = _v.one("zeta", _v.damping_ratio(zeta))
+    general = as_drive(drive)
+    if general.closed_form(zeta):
         return zone_curves(eps_range, mu_range, points, max_zones, max_samples)
     top = mu_top(general)
     e0, e1 = window_range(eps_range, mu_range, top)
@@ -201,8 +202,6 @@ def mu_top(drive=None) -> float:
     """The largest ``mu`` a chart of ``drive`` may show: 1 (``A = g``), or the drive's
     :attr:`~kapitza.drives.Drive.mu_max` where that is larger (a rectangular wave of duty above one
     half holds the rod up with ``A < g``)."""
-    from .drives import as_drive
-
     return max(1.0, as_drive(drive).mu_max)
 
 

@@ -14,7 +14,6 @@ import numpy as np
 
 from . import _validate as _v
 from .drives import as_drive
-from .drives import _api
 
 __all__ = ["averaging_threshold", "ThresholdRow", "threshold_table"]
 
@@ -80,11 +79,12 @@ def threshold_table(mu, drives, zeta=0.0):
     for drive in drives:
         d = as_drive(drive)
         eps_k = d.kapitza_eps(mu)
-        lo, _ = _api.edges(mu, np.zeros(mu.size, np.int64), d, np.full(mu.size, zeta))
+        lo, _ = d.edges(mu, np.zeros(mu.size, np.int64), np.full(mu.size, zeta))
         with np.errstate(divide="ignore", invalid="ignore"):  # eps_exact underflows to 0 for mu near 1e-300
             rel = eps_k / lo - 1.0
         for m, ek, el, re_ in zip(mu, eps_k, lo, rel):
-            rows.append(ThresholdRow(drive=d.label, description=d.describe(), mu=float(m), eps_averaging=float(ek), eps_exact=float(el),
+            rows.append(ThresholdRow(drive=d.label, description=d.describe(), mu=float(m), eps_averaging=float(ek),
+                                     eps_exact=float(el),
                                      relative_error=float(re_),
                                      rms_velocity_shape=float(np.sqrt(d._mean_square_velocity))))
     return rows

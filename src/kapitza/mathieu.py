@@ -378,7 +378,7 @@ def _hill_half_trace(a, q, minus_one=False):
 
 def _sine_floquet0(eps, mu):
     """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T."""
-    from .drives._base import acosh_from_log
+    from ._exact import acosh_from_log
 
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     shape = eps.shape

@@ -41,8 +41,8 @@ from math import factorial
 import numpy as np
 
 from . import _validate as _v
-from .parameters import _phase_angles
-from .propagation import _floquet
+from ._square import _floquet
+from .parameters import phase_angles_trusted as _phase_angles
 
 __all__ = [
     "TaylorMap",
@@ -89,17 +89,17 @@ def _ser_tables():
             (("c", c), ("sh", sh), ("f1", f1), ("f2", f2), ("f3", f3))}
 
 
-_SER = _ser_tables()
+SERIES = _ser_tables()
 
 
-_SER_LISTS = {name: coef.tolist() for name, coef in _SER.items()}
+_SER_LISTS = {name: coef.tolist() for name, coef in SERIES.items()}
 
 
 def _polyval(name, k):
-    """``np.polyval(_SER[name], k)``. A few points are summed in Python floats (the same
+    """``np.polyval(SERIES[name], k)``. A few points are summed in Python floats (the same
     multiply then add, so the same bits) to spare the 32 array calls per series at one point."""
     if k.size > 8:
-        return np.polyval(_SER[name], k)
+        return np.polyval(SERIES[name], k)
     coef = _SER_LISTS[name]
     vals = []
     for x in k.ravel().tolist():
@@ -116,7 +116,7 @@ def _entire(k):
     k = np.asarray(k, float)
     small = np.abs(k) <= _K_SERIES
     ks = np.where(small, k, 0.0)
-    out = {name: _polyval(name, ks) for name in _SER}
+    out = {name: _polyval(name, ks) for name in SERIES}
     if not small.all():
         kb = np.where(small, 2.0 * _K_SERIES, k)
         r = np.sqrt(np.abs(kb))
@@ -550,7 +550,7 @@ def averaged_twist(eps, mu):
 KINDS = ("moser", "moser 1:3", "markeev stable", "markeev unstable", "undecided")
 
 
-def _sentence(kind, rho, tr, tau, c4) -> str:
+def sentence(kind, rho, tr, tau, c4) -> str:
     """The verdict of one point in words, with its numbers (``kind`` one of :data:`KINDS`)."""
     nums = f"rho_0 = {rho:.10g}, tr M = {tr:.10g}, twist tau = {tau:.10g} per rad^2"
     if kind == "moser":
@@ -609,7 +609,7 @@ class NonlinearVerdict:
         out = []
         for e, m, k, rho, tr, tau, c4 in zip(*(np.ravel(a) for a in (
                 self.eps, self.mu, self.kind, self.rotation_number, self.trace, self.twist, self.resonant_4))):
-            s = _sentence(k, rho, tr, tau, c4)
+            s = sentence(k, rho, tr, tau, c4)
             out.append(f"eps = {e:.10g}, mu = {m:.10g}: {s}" if np.size(self.eps) > 1 else s)
         return out
 
@@ -642,7 +642,7 @@ def _verdict_kinds(w, beta, coef, tol, on4=None, on3=None):
     return code
 
 
-def _sentence_of(eps, mu, tol=1e-15):
+def sentence_of(eps, mu, tol=1e-15):
     """``str(nonlinear_stability(eps, mu))`` of one trusted, linearly stable point: the same
     kernels on the same numbers, without the validation, and with the two sides of the 1:4 and
     1:3 tests computed once for both (:func:`kapitza.analyze`, where the scalar twin declines)."""
@@ -657,7 +657,7 @@ def _sentence_of(eps, mu, tol=1e-15):
             crossed = (d_m * d_p) <= 0.0
         on.append(crossed | (np.abs(nf.w - target) <= 1e-14))
     code = _verdict_kinds(nf.w, nf.beta, nf.coefficients, tol, on[0], on[1])
-    return _sentence(KINDS[int(code)], nf.rotation_number, 2.0 * np.cos(nf.w), nf.twist, nf.resonant_4)
+    return sentence(KINDS[int(code)], nf.rotation_number, 2.0 * np.cos(nf.w), nf.twist, nf.resonant_4)
 
 
 @_v.shapes_named

@@ -18,7 +18,7 @@ from . import _validate as _v
 from ._display import Summary, num
 from .parameters import G_EARTH
 from .propagation import linear_motion
-from .zones import _edges_eps
+from ._square import _edges_eps
 
 __all__ = [
     "alpha",

@@ -13,12 +13,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _certify
-from . import _exact as X
 from . import _validate as _v
 from ._display import Summary, multipliers, num, shape_of, span, stable_share
-from .drives import _api as _drv
-from .parameters import G_EARTH, SQRT8, _arnold, _phase_angles
+from ._square import _apply, _chebyshev_pair, _floquet, _flow, _monodromy, _multipliers  # noqa: F401  (the kernels' old home)
+from .drives import as_drive
+from .parameters import G_EARTH
 
 __all__ = [
     "Floquet",
@@ -31,89 +30,6 @@ __all__ = [
 ]
 
 PI = np.pi
-
-
-# ---------------------------------------------------------------- kernels
-def _floquet(eps, mu):
-    """(tau, growth, theta, stable, n) for trusted eps > 0, mu > 0 (any mu)."""
-    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
-    ell = mu < 1.0
-    x, u, D = _phase_angles(eps, np.where(ell, mu, 0.5))
-    n, a, b, tau, growth, theta = X.floquet_elliptic(x, u, D, np.where(ell, mu, 0.5))
-    stable_e = (a > 0) & (b < 0)
-    check = ell & (_certify.unsure(u, a, b, x) | (~stable_e & (growth <= 0.0) & (x + u <= _certify.MAX_PHASE)))
-    if np.any(check):
-        # signs lost to rounding (or an unstable point whose excess rounded to zero):
-        # the exact trace decides the verdict, the growth and the angle
-        tau, growth, theta, a, b = (np.array(v, dtype=float) for v in (tau, growth, theta, a, b))
-        t_e, _, st, acos_e = _certify.exact_half_trace(eps[check], mu[check])
-        nn = n[check]
-        even = np.mod(nn, 2.0) == 0.0
-        acos_t = np.where(st, acos_e, 0.0)
-        # just below zone n tr M has the sign (-1)^n, just above it the other sign
-        below = np.sign(t_e) == np.where(even, 1.0, -1.0)
-        theta[check] = np.where(st, nn * PI + np.where(even, acos_t, PI - acos_t),
-                                np.where(below, nn * PI, (nn + 1.0) * PI))
-        with np.errstate(over="ignore"):
-            tau[check] = t_e
-        growth[check] = np.where(st, 0.0, acos_e)
-        # a > 0 > b exactly where stable (the signs the rest of the code reads)
-        a[check] = np.where(st, 1.0, np.where(below, -1.0, 1.0))
-        b[check] = np.where(st, -1.0, np.where(below, -1.0, 1.0))
-    if not ell.all():
-        # sqrt(1 + mu^2) and sqrt(mu^2 - 1) without squaring mu (it may be ~1e300)
-        r = 1.0 / np.maximum(mu, 1.0)
-        with np.errstate(over="ignore"):  # eps mu beyond 1e308: x and v are inf, and so is the growth
-            xh = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(1.0 + r * r), np.hypot(1.0, mu))
-            v = SQRT8 * eps * np.where(mu > 1.0, mu * np.sqrt(np.maximum((1.0 - r) * (1.0 + r), 0.0)), 0.0)
-        tau_h, growth_h = X.floquet_hyperbolic(xh, v)
-        tau = np.where(ell, tau, tau_h)
-        growth = np.where(ell, growth, growth_h)
-        theta = np.where(ell, theta, 0.0)
-    stable = ell & (a > 0) & (b < 0)
-    return tau, growth, theta, stable, np.where(stable, n, -1).astype(np.int64)
-
-
-def _flow(s, tau):
-    """Entries ``(c, sd, ds)`` of the flow matrix ``[[c, sd], [ds, c]]`` of ``theta'' = s theta``
-    over a time ``tau`` (``s`` of any sign; ``s = 0`` is free flight)."""
-    r = np.sqrt(np.abs(s)) * tau
-    pos, neg = s > 0, s < 0
-    rs = np.where(r > 0, r, 1.0)
-    with np.errstate(over="ignore", invalid="ignore"):
-        c = np.where(pos, np.cosh(r), np.where(neg, np.cos(r), 1.0))
-        shc = np.where(r > 0, np.where(pos, np.sinh(rs), np.sin(rs)) / rs, 1.0)  # sinh(r)/r or sin(r)/r
-        sd = tau * shc
-        ds = np.where(pos, 1.0, -1.0) * (r * r / np.where(tau > 0, tau, 1.0)) * shc
-    ds = np.where(s == 0, 0.0, ds)
-    return c, sd, ds
-
-
-def _apply(c, sd, ds, th, dth):
-    return c * th + sd * dth, ds * th + c * dth
-
-
-def _monodromy(T, A, l, g):
-    ch, sdh, dsh = _flow((g + A) / l, T)
-    ce, sde, dse = _flow((g - A) / l, T)
-    H = np.stack([np.stack([ch, sdh], -1), np.stack([dsh, ch], -1)], -2)
-    E = np.stack([np.stack([ce, sde], -1), np.stack([dse, ce], -1)], -2)
-    with np.errstate(over="ignore", invalid="ignore"):
-        M = E @ H
-    bad = np.isnan(M)
-    if np.any(bad):
-        # cosh overflowed and inf - inf appeared. A hyperbolic flow over r is (e^r / 2) P + O(e^-r),
-        # P = [[1, 1/w], [w, 1]], so those entries are infinite with the sign of the leading product.
-        def lead(s, F):
-            w = np.sqrt(np.abs(s))
-            one = np.ones_like(w)
-            P = np.stack([np.stack([one, 1.0 / np.where(w > 0, w, 1.0)], -1), np.stack([w, one], -1)], -2)
-            return np.where((s > 0)[..., None, None] & ~np.isfinite(F), P, F)
-
-        with np.errstate(over="ignore", invalid="ignore"):
-            sign = np.sign(lead((g - A) / l, E) @ lead((g + A) / l, H))
-        M = np.where(bad, sign * np.inf, M)
-    return M
 
 
 # ---------------------------------------------------------------- results
@@ -176,16 +92,6 @@ class Floquet(Summary):
         _v.scalar_fields(self)
 
 
-def _multipliers(tau, growth, theta, stable):
-    sgn = np.where(tau < 0, -1.0, 1.0)
-    with np.errstate(over="ignore"):
-        big = sgn * np.exp(growth)
-    small = sgn * np.exp(-growth)
-    lam1 = np.where(stable, np.exp(1j * theta), big + 0j)
-    lam2 = np.where(stable, np.exp(-1j * theta), small + 0j)
-    return np.stack([lam1, lam2], axis=-1)
-
-
 @_v.shapes_named
 def floquet(eps, mu, drive=None, zeta=0.0):
     """Trace, multipliers, growth and rotation number of one period at ``(eps, mu)``.
@@ -213,22 +119,10 @@ def floquet(eps, mu, drive=None, zeta=0.0):
     ``log|tau|`` far out, so it is finite for every input.
     """
     eps, mu = _v.arnold(eps, mu)
-    drive, zeta = _v.general_drive(drive, zeta)
-    if drive is not None:
-        trace, det, mult, growth, rho, stable, zone = _drv.floquet(eps, mu, drive, zeta)
-        return Floquet(trace=trace, multipliers=mult, growth=growth, rotation_number=rho, stable=stable,
-                       zone=np.where(stable, zone, -1).astype(np.int64), determinant=det)
-    tau, growth, theta, stable, zone = _floquet(eps, mu)
-    with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double (documented)
-        trace = 2.0 * tau
-    return Floquet(
-        trace=trace,
-        multipliers=_multipliers(tau, growth, theta, stable),
-        growth=growth,
-        rotation_number=theta / (2.0 * PI),
-        stable=stable,
-        zone=zone,
-    )
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
+    trace, det, mult, growth, rho, stable, zone = d.floquet_data(eps, mu, zeta)
+    return Floquet(trace=trace, multipliers=mult, growth=growth, rotation_number=rho, stable=stable,
+                   zone=zone, determinant=det)
 
 
 @_v.shapes_named
@@ -265,10 +159,8 @@ def growth_rate(eps, mu, drive=None, zeta=0.0):
         With damping, negative where the motion decays.
     """
     eps, mu = _v.arnold(eps, mu)
-    drive, zeta = _v.general_drive(drive, zeta)
-    if drive is not None:
-        return _drv.floquet(eps, mu, drive, zeta)[3]
-    return _floquet(eps, mu)[1]
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
+    return _v.scalars(np.asarray(d.growth(eps, mu, zeta)))
 
 
 @_v.shapes_named
@@ -287,14 +179,12 @@ def rotation_number(eps, mu, drive=None, zeta=0.0):
         ``theta(t)`` per period is twice this.
     """
     eps, mu = _v.arnold(eps, mu)
-    drive, zeta = _v.general_drive(drive, zeta)
-    if drive is not None:
-        return _drv.floquet(eps, mu, drive, zeta)[4]
-    return _floquet(eps, mu)[2] / (2.0 * PI)
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
+    return _v.scalars(np.asarray(d.rotation(eps, mu, zeta)))
 
 
 @_v.shapes_named
-def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
+def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=None, zeta=None):
     """The one-period matrix ``M = E(T) H(T)`` acting on ``(theta, theta')``.
 
     Parameters
@@ -305,7 +195,9 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     drive : Drive or str, optional
         The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
     damping : array_like, optional
-        Viscous damping ``c`` >= 0 [1/s]; broadcasts.
+        Viscous damping ``c`` >= 0 [1/s]; broadcasts. Or
+    zeta : array_like, optional
+        its damping ratio ``c / (2 sqrt(g/l))`` (give one of the two).
 
     Returns
     -------
@@ -325,30 +217,13 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=0.0):
         x = np.sqrt((A + g) / l) * T
     if not np.all(np.isfinite(x)):
         raise _v.KapitzaValueError(f"T and A must give a finite phase w_h T; got T = {float(np.max(T))!r}")
-    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
-    if drive is not None:
-        return _drv.monodromy(T, A, l, g, drive, c)
-    return _monodromy(*np.broadcast_arrays(T, A, l, g))
-
-
-def _chebyshev_pair(k, tau, growth, theta, stable):
-    """``U_{k-1}(tau), U_{k-2}(tau)`` so that ``M^k = U_{k-1} M - U_{k-2} I``."""
-
-    def U(m):  # U_{m-1}(tau) for integer m >= 0
-        sgn = np.where(tau < 0, -1.0, 1.0)
-        with np.errstate(over="ignore", invalid="ignore"):
-            st = np.sin(theta)
-            s_stab = np.where(np.abs(st) > 1e-300, np.sin(m * theta) / np.where(st == 0, 1.0, st), m * np.cos((m - 1) * theta))
-            sh = np.sinh(growth)
-            s_uns = np.where(growth > 0, np.sinh(m * growth) / np.where(sh > 0, sh, 1.0), m) * sgn ** (m - 1)
-        return np.where(stable, s_stab, s_uns)
-
-    return U(k), U(k - 1.0)
+    c, _ = _v.damping(damping, zeta, l, g)
+    return as_drive(drive).monodromy(T, A, l, g, c)
 
 
 @_v.shapes_named
-def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=0.0, *, eps=None,
-                  mu=None):
+def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=None, *, eps=None,
+                  mu=None, zeta=None):
     """Exact solution of the linear equation (2.3) at the times ``t``.
 
     Parameters
@@ -369,7 +244,9 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
         ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
 
     damping : array_like, optional
-        Viscous damping ``c`` >= 0 [1/s].
+        Viscous damping ``c`` >= 0 [1/s]. Or
+    zeta : array_like, optional
+        its damping ratio ``c / (2 sqrt(g/l))`` (keyword; give one of the two).
 
     Returns
     -------
@@ -396,37 +273,6 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
     dtheta0 = _v.finite("dtheta0", dtheta0)
     T, A, l, g = _v.physical_parameters(T, A, l, g, eps, mu)
     _v.finite_rate(A, l, g)
-    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
+    c, _ = _v.damping(damping, zeta, l, g)
     _v.phase_resolved(t, T)
-    if drive is not None:
-        return _drv.linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
-    t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)
-    eps, mu = _arnold(T, A, l, g)
-    tau, growth, theta, stable, _ = _floquet(eps, mu)
-    k = np.floor(t / (2.0 * T))
-    r = t - 2.0 * k * T
-    # Rounding can put r a hair outside [0, 2T).
-    over = r >= 2.0 * T
-    k = np.where(over, k + 1.0, k)
-    r = np.where(over, r - 2.0 * T, np.maximum(r, 0.0))
-    M = _monodromy(T, A, l, g)
-    u1, u2 = _chebyshev_pair(k, tau, growth, theta, stable)
-    with np.errstate(over="ignore", invalid="ignore"):
-        th = (u1 * M[..., 0, 0] - u2) * theta0 + u1 * M[..., 0, 1] * dtheta0
-        dth = u1 * M[..., 1, 0] * theta0 + (u1 * M[..., 1, 1] - u2) * dtheta0
-        # M^0 = I: keep 0 * M out of the first period (M may be inf there)
-        th = np.where(k == 0, theta0, th)
-        dth = np.where(k == 0, dtheta0, dth)
-        hyper = r < T
-        c, sd, ds = _flow((g + A) / l, np.where(hyper, r, T))
-        th, dth = _apply(c, sd, ds, th, dth)
-        c, sd, ds = _flow((g - A) / l, np.where(hyper, 0.0, r - T))
-        th, dth = _apply(c, sd, ds, th, dth)
-    bad = ~(np.isfinite(th) & np.isfinite(dth))
-    if bad.any():
-        i = np.argwhere(bad)[0]
-        raise OverflowError(
-            "the motion grows beyond the range of a double "
-            f"(growth {float(growth[tuple(i)]):.4g} per period, t = {float(t[tuple(i)]):.6g} s)"
-        )
-    return th, dth
+    return as_drive(drive).linear_motion(t, theta0, dtheta0, T, A, l, g, c)

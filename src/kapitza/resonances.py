@@ -17,8 +17,8 @@ import numpy as np
 
 from . import _validate as _v
 from .normal_form import _DEFECT_DRAW, _normal_form, _w_of
-from .propagation import _floquet
-from .zones import _edges_eps
+from ._square import _floquet
+from ._square import _edges_eps
 
 __all__ = ["resonance_curve", "twist_zeros", "ZoneCurves", "NonlinearChart", "nonlinear_chart"]
 

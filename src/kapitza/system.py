@@ -126,7 +126,7 @@ class Rig:
     """
 
     pendulum: Pendulum = field(default_factory=Pendulum)
-    drive: Drive = None
+    drive: Drive | str | None = None
 
     def __post_init__(self):
         if not isinstance(self.pendulum, Pendulum):

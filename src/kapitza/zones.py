@@ -6,11 +6,9 @@ Zone ``n`` (``n = 0, 1, 2, ...``) is the set ``alpha + n pi < u < beta + n pi``
 2T-periodic for even ``n`` and 4T-periodic for odd ``n``, the upper edge the
 other way round.
 
-The edges are found by Newton's method on ``F(u) = u - n pi - alpha(D u)``
-(convex, iterated from the right of its root) and ``u - n pi - beta(D u)``
-(concave and increasing, iterated from the left): both sequences are monotone,
-so they cannot overshoot into a neighbouring branch, and they stop at machine
-precision.
+Every function here validates its input once and asks the drive (:mod:`kapitza.drives`):
+the square wave answers from its closed forms (:mod:`kapitza._square`), any other drive, and
+damping, from the generic engine (:mod:`kapitza.drives._api`).
 """
 from __future__ import annotations
 
@@ -18,12 +16,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _certify
 from . import _exact as X
 from . import _validate as _v
 from ._display import Summary, num, shape_of, span, stable_share
-from .drives import _api as _drv
-from .parameters import G_EARTH, SQRT8, _phase_angles
+from ._square import _edge_u, _edges_eps, _kappa, _verdict, _verdict_careful  # noqa: F401  (for callers of the kernels' old home)
+from .drives import as_drive
+from .parameters import G_EARTH, SQRT8
 
 __all__ = [
     "is_stable",
@@ -39,223 +37,6 @@ __all__ = [
 ]
 
 PI = np.pi
-_MAX_NEWTON = 200
-
-
-# ---------------------------------------------------------------- kernels
-_tan3 = X.tan3  # (tan z - z)/z^3 and (z - tanh z)/z^3 by their series for small z
-
-
-def _lower0_small_mu(mu):
-    """u on the lower edge of zone 0 for small mu, free of cancellation.
-
-    The edge ``tan z = D tanh(D z)`` (``z = u/2``, eq. 3.10 with k = 0) is rewritten as
-    ``z^2 [T3(z) + D^4 H3(D z)] = D^2 - 1 = 2 mu^2 / (1 - mu^2)`` with
-    ``T3 = (tan z - z)/z^3`` and ``H3 = (y - tanh y)/y^3`` from their series, and solved
-    by fixed-point iteration (the bracket varies slowly in z). The direct form
-    ``u - alpha(D u) = 0`` loses ``1e-16/mu^2`` relative accuracy as mu -> 0: near
-    ``mu = 0.15`` that was 30-50 ulp, so this form is used up to ``mu = 0.6`` (``z`` up to
-    about 0.9; its terms are all positive, and :func:`kapitza._exact.tan3` keeps its
-    series up to 0.8), where Newton's cancellation has fallen to a factor of about 3.
-    """
-    d2m1 = 2.0 * mu * mu / ((1.0 - mu) * (1.0 + mu))
-    D2 = 1.0 + d2m1
-    D = np.sqrt(D2)
-    def fixed(z):
-        return np.sqrt(d2m1 / (_tan3(z, 1) + D2 * D2 * _tan3(D * z, -1)))
-
-    # The map contracts (by up to about 0.3 at mu = 0.6): secant steps on z - fixed(z) reach
-    # its fixed point in a few evaluations; one last application of the map gives the answer.
-    z0 = np.sqrt(3.0 * d2m1 / (1.0 + D2 * D2))
-    z1 = fixed(z0)
-    h0 = z0 - z1
-    live = np.ones(z1.shape, dtype=bool)
-    for _ in range(60):
-        h1 = z1 - fixed(z1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = h1 * (z1 - z0) / (h1 - h0)
-        # a point that has converged stays put: its answer does not depend on its neighbours
-        step = np.where(live, np.where(np.isfinite(step), step, h1), 0.0)
-        z0, h0, z1 = z1, h1, z1 - step
-        live &= np.abs(step) > 8.0 * np.finfo(float).eps * z1
-        if not live.any():
-            break
-    # Below mu = 1e-100 mu^2 may leave the normal doubles (1e-154 and less) and the iteration
-    # with it; there u = 2 sqrt(3) mu (1 + O(mu^2)) is the edge to rounding.
-    return np.where(mu < _TINY_MU, (2.0 * _SQRT3) * mu, 2.0 * fixed(z1))
-
-
-_TINY_MU = 1e-100
-_SQRT3 = np.sqrt(3.0)
-
-
-_SMALL_MU = 0.6
-
-
-def _edge_u(mu, n, upper: bool, q=None):
-    """Edge of zone ``n`` in ``u = w_e T`` at fixed ``mu`` (arrays broadcast; trusted).
-
-    ``q = sqrt(1 - mu^2)`` may be passed when it is known better than ``mu`` allows:
-    from ``(A - g) / A`` as ``A -> g``, where ``1 - mu^2`` formed from a rounded ``mu``
-    loses ``1e-16 / (1 - mu)`` of relative accuracy.
-    """
-    mu, n, q = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, float),
-                                   np.asarray(np.nan if q is None else q, float))
-    shape = mu.shape
-    mu = mu.ravel()
-    n = n.ravel()
-    p = np.sqrt(1.0 + mu * mu)
-    q = np.sqrt((1.0 - mu) * (1.0 + mu)) if np.isnan(q).all() else q.ravel().copy()
-    D = p / q
-    npi = n * PI
-    u = npi + 2.0 * np.arctan(D)  # alpha < 2 atan D < beta: right of the lower root, left of the upper
-    active = np.arange(u.size)
-    if not upper:
-        small = (n == 0) & (mu < _SMALL_MU)
-        if small.any():
-            u[small] = _lower0_small_mu(mu[small])
-            active = np.flatnonzero(~small)
-    fn, dfn = (X.beta_x, X.dbeta_dx) if upper else (X.alpha_x, X.dalpha_dx)
-    for _ in range(_MAX_NEWTON):
-        ua, Da = u[active], D[active]
-        xa = Da * ua
-        F = ua - npi[active] - fn(xa, Da)
-        dF = 1.0 - Da * dfn(xa, Da)
-        step = F / dF
-        unew = ua - step
-        u[active] = unew
-        # The exact iterates move monotonically (down for the lower edge, up for the upper):
-        # a step against that direction means rounding noise has been reached.
-        moving = (step < 0) if upper else (step > 0)
-        keep = moving & (np.abs(step) > 4.0 * np.finfo(float).eps * np.abs(unew))
-        active = active[keep]
-        if active.size == 0:
-            break
-    return u.reshape(shape), q.reshape(shape)
-
-
-def _edges_eps(mu, n, q=None):
-    """(eps_lo, eps_hi) of zone n (trusted input, 0 < mu < 1; ``q`` as in :func:`_edge_u`)."""
-    ulo, q = _edge_u(mu, n, upper=False, q=q)
-    uhi, _ = _edge_u(mu, n, upper=True, q=q)
-    # Each edge is good to a few ulps; where the zone is thinner than that, keep lo <= hi.
-    uhi = np.maximum(uhi, ulo)
-    return ulo / (SQRT8 * q), uhi / (SQRT8 * q)
-
-
-_CHUNK = 1 << 14  # points per block of the fast verdict: its temporaries stay in cache
-_BLOCKS_PER_THREAD = 8
-_EPS = np.finfo(float).eps
-
-
-def _verdict(eps, mu, want_n=True):
-    """(stable, n) for trusted input; mu >= 1 is unstable; ``n = floor(u / pi)`` (float; only
-    where ``want_n``, else None). Certified to the last bit.
-
-    Zone ``n`` is ``alpha < w < beta`` with ``w = u - n pi`` in ``[0, pi)``; since ``tan`` is
-    increasing on ``[0, pi/2)`` this is, with ``s = tan(w/2)`` and ``t = tanh(x/2)``,
-
-        D t < s < D / t        (``docs/theory.md`` section 5),
-
-    two comparisons after one ``tan`` and one ``tanh`` (no arctangent). Rounding: ``w`` is off
-    by at most ``8 eps (u + n)`` (``u`` to 3 eps relative; ``n pi`` formed with the rounded
-    ``pi`` and rounded itself: ``2.1 eps n``; for ``n = 0`` no subtraction), so ``s`` by
-    ``4 eps (u + n)(1 + s^2) + eps s``; ``D t`` and ``D/t`` carry about 5 eps relative (``D``
-    and ``tanh`` a few ulp each, ``x`` 3 ulp, damped by ``tanh``). Where ``s - D t`` or
-    ``D/t - s`` is within ``m = 4 eps (u + n)(1 + s^2) + 32 eps s`` of zero (when either side
-    is more than three times the other the sign is plain; otherwise the errors sum to less than
-    ``m``, with a factor two to spare on the ``eps s`` terms) the point goes
-    to :func:`_verdict_careful` -- the closed forms with their own bound, then mpmath. That is a
-    band of a few ulp about each edge (wider, ``~eps / mu^2`` relative, along zone 0's lower edge
-    at small ``mu``, where ``s`` and ``D t`` nearly cancel). The blocks of ``_CHUNK`` points are
-    computed in place, so a call costs a few passes over memory, not dozens; a large call shares
-    its blocks out among threads, one per CPU (the ufuncs release the GIL).
-    """
-    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
-    shape = eps.shape
-    e_all = np.ascontiguousarray(eps).ravel()
-    m_all = np.ascontiguousarray(mu).ravel()
-    N = e_all.size
-    stable = np.empty(N, bool)
-    unsure = np.empty(N, bool)
-    n_out = np.empty(N) if want_n else None
-    blocks = range(0, N, _CHUNK)
-    threads = _threads(len(blocks))
-    if threads == 1:
-        _verdict_blocks(e_all, m_all, stable, unsure, n_out, blocks)
-    else:  # numpy's ufuncs release the GIL: the blocks are shared out among the CPUs
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(threads) as pool:
-            for f in [pool.submit(_verdict_blocks, e_all, m_all, stable, unsure, n_out, blocks[k::threads])
-                      for k in range(threads)]:
-                f.result()
-    idx = np.flatnonzero(unsure)
-    if idx.size:
-        st, nn = _verdict_careful(e_all[idx], m_all[idx])
-        stable[idx] = st
-        if want_n:
-            n_out[idx] = nn
-    return stable.reshape(shape), (n_out.reshape(shape) if want_n else None)
-
-
-def _threads(blocks: int) -> int:
-    """Threads for ``blocks`` blocks of the fast verdict: one per CPU this process may use, each
-    given at least ``_BLOCKS_PER_THREAD`` blocks (below that starting threads costs more than it saves)."""
-    if blocks < 2 * _BLOCKS_PER_THREAD:
-        return 1
-    return _v.workers(_v.cpus(), blocks // _BLOCKS_PER_THREAD)
-
-
-def _verdict_blocks(e_all, m_all, stable, unsure, n_out, blocks):
-    """The fast verdict (:func:`_verdict`) of the blocks starting at ``blocks``, in place."""
-    N = e_all.size
-    k = max(1, min(_CHUNK, N))
-    p, q, y, t, u, n, s, r, g = (np.empty(k) for _ in range(9))
-    ok = np.empty(k, bool)
-    with np.errstate(all="ignore"):  # mu >= 1 gives NaN (or D = inf): never stable, never unsure
-        for i in blocks:
-            j = min(i + _CHUNK, N)
-            if j - i < k:
-                p, q, y, t, u, n, s, r, g = (a[:j - i] for a in (p, q, y, t, u, n, s, r, g))
-                ok = ok[:j - i]
-            e, m = e_all[i:j], m_all[i:j]
-            np.multiply(m, m, out=p); p += 1.0; np.sqrt(p, out=p)                  # sqrt(1 + mu^2)
-            np.subtract(1.0, m, out=q); np.add(1.0, m, out=r); q *= r; np.sqrt(q, out=q)
-            np.multiply(e, SQRT8, out=y); np.multiply(y, q, out=u); y *= p; y *= 0.5  # u, x/2
-            np.divide(p, q, out=p)                                                 # D
-            np.tanh(y, out=t)
-            np.multiply(u, 1.0 / PI, out=n); np.floor(n, out=n)
-            if n_out is not None:
-                n_out[i:j] = n
-            np.multiply(n, -PI, out=s); s += u; s *= 0.5; np.tan(s, out=s)         # tan(w/2)
-            u += n; u *= 4.0 * _EPS; np.multiply(s, s, out=r); r += 1.0; u *= r
-            np.multiply(s, 32.0 * _EPS, out=r); u += r                             # the bound m
-            np.multiply(p, t, out=r); np.subtract(s, r, out=r)                     # s - D t
-            np.divide(p, t, out=g); g -= s                                         # D/t - s
-            np.greater(r, 0.0, out=stable[i:j]); np.greater(g, 0.0, out=ok); stable[i:j] &= ok
-            np.abs(r, out=r); np.abs(g, out=g); np.minimum(r, g, out=r)
-            np.less_equal(r, u, out=unsure[i:j])
-
-
-def _verdict_careful(eps, mu):
-    """(stable, n) for trusted input; mu >= 1 is unstable. Certified: where the signs of
-    ``w - alpha``, ``w - beta`` are within rounding, tr M is decided in extended precision."""
-    eps, mu = np.broadcast_arrays(eps, mu)
-    ell = mu < 1.0
-    mus = np.where(ell, mu, 0.5)
-    x, u, D = _phase_angles(eps, mus)
-    n, w = X.reduced(u)
-    a = X.lower_gap(x, u, w, n, D, mus)
-    b = w - X.beta_x(x, D)
-    stable = ell & (a > 0) & (b < 0)
-    check = ell & _certify.unsure(u, a, b, x)
-    if np.any(check):
-        stable = np.array(stable, dtype=bool)
-        stable[check] = _certify.exact_half_trace(eps[check], mu[check])[2]
-    return stable, n
-
-
 # ---------------------------------------------------------------- public API
 @_v.shapes_named
 def is_stable(eps, mu, drive=None, zeta=0.0):
@@ -287,10 +68,8 @@ def is_stable(eps, mu, drive=None, zeta=0.0):
     Other drives and damping: ``docs/drives.md``.
     """
     eps, mu = _v.arnold(eps, mu)
-    drive, zeta = _v.general_drive(drive, zeta)
-    if drive is not None:
-        return _v.scalars(np.asarray(_drv.verdict(eps, mu, drive, zeta)[0]))
-    return _v.scalars(np.asarray(_verdict(eps, mu, want_n=False)[0]))
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
+    return _v.scalars(np.asarray(d.verdict(eps, mu, zeta, want_zone=False)[0]))
 
 
 @_v.shapes_named
@@ -309,11 +88,8 @@ def zone_index(eps, mu, drive=None, zeta=0.0):
         (``docs/drives.md`` section 2); for the square wave ``alpha + n pi < u < beta + n pi``.
     """
     eps, mu = _v.arnold(eps, mu)
-    drive, zeta = _v.general_drive(drive, zeta)
-    if drive is not None:
-        return _v.scalars(np.asarray(_drv.verdict(eps, mu, drive, zeta)[1]))
-    stable, n = _verdict(eps, mu)
-    return _v.scalars(np.where(stable, n, -1).astype(np.int64))
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
+    return _v.scalars(np.asarray(d.verdict(eps, mu, zeta)[1]))
 
 
 @_v.shapes_named
@@ -353,13 +129,11 @@ def zone_edges(mu, n, drive=None, zeta=0.0):
     a double's resolution of ``eps`` the two edges round to the same number; use
     :func:`zone_width` for the width.
     """
-    drive, zeta = _v.general_drive(drive, zeta)
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
     n = _v.nonnegative_int("n", n)
-    if drive is not None:
-        mu = _v.positive("mu", mu)
-        return _drv.edges(mu, n, drive, zeta)
-    mu = _v.in_range("mu", mu, 0.0, 1.0)
-    return _edges_eps(mu, n)
+    mu = _v.positive("mu", mu)
+    lo, hi = d.edges(mu, n, zeta)
+    return _v.scalars(np.asarray(lo), np.asarray(hi))
 
 
 @_v.shapes_named
@@ -506,46 +280,9 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     StabilityMargin
     """
     eps, mu = _v.arnold(eps, mu)
-    drive, zeta = _v.general_drive(drive, zeta)
-    if drive is not None:
-        stable, zone, lo, hi, margin = _drv.margin(eps, mu, drive, zeta)
-        return StabilityMargin(stable=stable, zone=zone, eps_lo=lo, eps_hi=hi, margin=margin)
-    eps, mu = np.broadcast_arrays(eps, mu)
-    # no zones where A <= g, and none resolvable once the phase u = w_e T exceeds 2^52 (its
-    # rounding is then more than a whole zone): the margin is -inf there, as for A <= g
-    u_all = SQRT8 * eps * np.sqrt(np.maximum((1.0 - np.minimum(mu, 1.0)) * (1.0 + np.minimum(mu, 1.0)), 0.0))
-    ell = (mu < 1.0) & (u_all < 2.0**52)
-    mus = np.where(ell, mu, 0.5)
-    eps_s = np.where(ell, eps, 1.0)
-    stable, n = _verdict(eps_s, mus)
-    stable &= ell
-    eps = eps_s
-    x, u, D = _phase_angles(eps, mus)
-    w = u - n * PI
-    below = X.lower_gap(x, u, w, n, D, mus) <= 0
-    # Candidate zones: n itself, and the neighbour across the gap the point sits in (one solve).
-    nb = np.where(below, np.maximum(n - 1, 0), n + 1)
-    lo2, hi2 = _edges_eps(np.stack([mus, mus]), np.stack([n, nb]))
-    (lo_n, lo_b), (hi_n, hi_b) = lo2, hi2
-    d_n = np.minimum(eps - lo_n, hi_n - eps)
-    d_b = np.where(below & (n == 0), -np.inf, np.minimum(eps - lo_b, hi_b - eps))
-    use_b = ~stable & (d_b > d_n)
-    zone = np.where(use_b, nb, n).astype(np.int64)
-    lo = np.where(use_b, lo_b, lo_n)
-    hi = np.where(use_b, hi_b, hi_n)
-    with np.errstate(over="ignore"):  # +-inf for subnormal eps
-        margin = np.where(use_b, d_b, d_n) / eps
-    # Edges are good to a few ulp; the certified verdict decides the sign of the margin.
-    tiny = np.finfo(float).smallest_subnormal
-    margin = np.where(stable, np.maximum(margin, tiny), np.minimum(margin, -tiny))
-    nan = np.full(eps.shape, np.nan)
-    return StabilityMargin(
-        stable=stable,
-        zone=np.where(ell, zone, -1),
-        eps_lo=np.where(ell, lo, nan),
-        eps_hi=np.where(ell, hi, nan),
-        margin=np.where(ell, margin, -np.inf),
-    )
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
+    stable, zone, lo, hi, margin = d.margin(eps, mu, zeta)
+    return StabilityMargin(stable=stable, zone=zone, eps_lo=lo, eps_hi=hi, margin=margin)
 
 
 @_v.shapes_named
@@ -580,8 +317,8 @@ def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
     The cost is ``O(len(mu) * zones * log len(eps))`` plus writing the output.
     """
     eps, mu = _v.arnold(eps, mu, together=False)  # the grid's two axes
-    drive, zeta = _v.general_drive(drive, zeta)
-    if zeta is not None and zeta.ndim != 0:
+    d, zeta = as_drive(drive), _v.damping_ratio(zeta)
+    if zeta.ndim != 0:
         raise _v.KapitzaValueError(f"zeta must be a single number for a grid; got shape {zeta.shape}")
     if eps.ndim != 1 or mu.ndim != 1:
         raise _v.KapitzaValueError(
@@ -601,42 +338,14 @@ def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
             raise _v.KapitzaValueError(
                 f"out must be a writeable C-contiguous bool array of shape {shape}")
         out.fill(False)
-    target = out
-    if drive is not None:
-        _drv.grid(eps, mu, drive, np.full(mu.size, float(zeta)), out)
-        if order is not None:
-            target[:, order] = out.copy()
-        return target
-    rows = np.flatnonzero(mu < 1.0)
-    if rows.size:
-        m = mu[rows]
-        q = np.sqrt((1.0 - m) * (1.0 + m))
-        D = np.sqrt(1.0 + m * m) / q
-        n_max = np.floor(SQRT8 * q * eps[-1] / PI).astype(np.int64)
-        # Zone n has x > D n pi and a width below 8 s4 e^{-x} in u: beyond x = 35 every pixel it
-        # could hold lies within 2e-15 (relative) of an edge, inside the documented caveat, so
-        # such zones are skipped; so are zones that end below eps[0] (u_hi < (n + 1) pi).
-        # Without this a wide eps range costs an edge solve per zone up to n_max on every row.
-        n_max = np.minimum(n_max, np.ceil(35.0 / (D * PI)).astype(np.int64))
-        n_min = np.maximum(np.ceil(SQRT8 * q * eps[0] / PI).astype(np.int64) - 1, 0)
-        counts = np.maximum(n_max - n_min + 1, 0)
-        r_idx = np.repeat(np.arange(rows.size), counts)
-        z_idx = n_min[r_idx] + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-        lo, hi = _edges_eps(m[r_idx], z_idx)
-        i0 = np.searchsorted(eps, lo, side="right")  # first eps > eps_lo
-        i1 = np.searchsorted(eps, hi, side="left")  # first eps >= eps_hi
-        keep = i1 > i0
-        flat = out.reshape(-1)
-        base = rows[r_idx[keep]] * W
-        for a, b in zip((base + i0[keep]).tolist(), (base + i1[keep]).tolist()):
-            flat[a:b] = True
+    d.paint(eps, mu, float(zeta), out)
     if order is not None:
-        target[:, order] = out.copy()
-    return target
+        out[:, order] = out.copy()
+    return out
 
 
 @_v.shapes_named
-def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
+def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=None, zeta=None):
     """Half-periods ``T_lo < T_hi`` bounding stability zone ``n`` for fixed ``A > g``.
 
     Parameters
@@ -650,7 +359,9 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     drive : Drive or str, optional
         As in :func:`is_stable`.
     damping : array_like, optional
-        Viscous damping ``c`` >= 0 [1/s] (``theta'' + c theta' = ...``).
+        Viscous damping ``c`` >= 0 [1/s] (``theta'' + c theta' = ...``); or
+    zeta : array_like, optional
+        its damping ratio ``c / (2 sqrt(g/l))`` (give one of the two).
 
     Returns
     -------
@@ -662,51 +373,13 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     n = _v.nonnegative_int("n", n)
-    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
-    with np.errstate(over="ignore", under="ignore"):  # mu = inf (A <= g) or 0 at the ends of the doubles
-        mu = np.sqrt(g / A)
-    if drive is not None:
-        lo, hi = _drv.edges(mu, n, drive, _drv.zeta_of(c, l, g))
-        scale = _time_scale(l, A)
-        return lo * scale, hi * scale
-    if np.any(mu >= 1.0):
-        bad = np.broadcast_to(A, mu.shape)[mu >= 1.0].flat[0]
-        raise _v.KapitzaValueError(
-            f"A must exceed g (A > g) for stability zones to exist; got A={bad!r} with g={float(np.max(g))!r}"
-        )
-    lo, hi = _edges_eps(mu, n, np.sqrt((A - g) / A))  # A - g is exact as A -> g
-    scale = _time_scale(l, A)
-    return lo * scale, hi * scale
-
-
-def _time_scale(l, A):
-    """``sqrt(8 l / A)``, the half-period per unit ``eps``. ``8 l / A`` leaves the normal doubles
-    before ``T`` does (``l = 1e-100, A = 1e250``: ``T_lo ~ 1e-299``; ``l = 1e308``: it overflows):
-    there it is formed as ``sqrt(8) sqrt(l) / sqrt(A)``."""
-    with np.errstate(over="ignore", under="ignore"):
-        r = 8.0 * l / A
-        return np.where(np.isfinite(r) & (r > 1e-300), np.sqrt(r), SQRT8 * (np.sqrt(l) / np.sqrt(A)))
-
-
-def _kappa(T, l, g):
-    """``2 g T^2 / l`` (``x^2 - u^2``), formed so that it stays a double where it is one: ``T^2``
-    alone underflows at ``T = 1e-200`` while ``2 g (T / l) T`` need not. Refused by name where it
-    is not a positive double."""
-    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
-        k = 2.0 * g * T * T / l
-        alt = 2.0 * g * (T / l) * T
-        k = np.where((k > 0.0) & np.isfinite(k), k, alt)
-    bad = ~((k > 0.0) & np.isfinite(k))
-    if np.any(bad):
-        i = np.flatnonzero(bad.ravel())[0]
-        raise _v.KapitzaValueError(
-            f"T, l and g must give a positive, finite 2 g T^2 / l (a double); got T = {float(T.flat[i])!r}, "
-            f"l = {float(np.broadcast_to(l, T.shape).flat[i])!r}, g = {float(np.broadcast_to(g, T.shape).flat[i])!r}")
-    return k
+    c, _ = _v.damping(damping, zeta, l, g)
+    lo, hi = as_drive(drive).period_edges(A, n, l, g, c)
+    return _v.scalars(np.asarray(lo), np.asarray(hi))
 
 
 @_v.shapes_named
-def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
+def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=None, zeta=None):
     """Amplitudes ``A_lo < A_hi`` bounding stability zone ``n`` for fixed half-period ``T``.
 
     Parameters
@@ -717,7 +390,7 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
         Zone index ``>= 0``.
     l, g : float or array_like
         Rod length and gravity, > 0. All broadcast together.
-    drive, damping : optional
+    drive, damping, zeta : optional
         As in :func:`period_edges`; other drives and damping are solved by bisection on the
         zone index along ``A`` (``docs/drives.md``).
 
@@ -741,50 +414,6 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=0.0):
     l = _v.positive("l", l)
     g = _v.positive("g", g)
     n = _v.nonnegative_int("n", n)
-    drive, c = _v.general_drive(drive, damping, "damping", g=g, l=l)
-    if drive is not None:
-        T, n, l, g, c = np.broadcast_arrays(T, n, l, g, c)
-        pairs = [_drv.along_amplitude(*args, drive, cc) for *args, cc in
-                 zip(T.ravel(), n.ravel(), l.ravel(), g.ravel(), c.ravel())]
-        lo = np.array([p[0] for p in pairs]).reshape(T.shape)
-        hi = np.array([p[1] for p in pairs]).reshape(T.shape)
-        return _v.scalars(np.asarray(lo), np.asarray(hi))
-    T, n, l, g = np.broadcast_arrays(T, n, l, g)
-    kappa = _kappa(T, l, g)
-
-    # both edges in one solve: index 0 of the stacked arrays is the lower edge, 1 the upper
-    upper = np.stack([np.zeros(n.shape, bool), np.ones(n.shape, bool)])
-    nn, kk = np.stack([n, n]), np.stack([kappa, kappa])
-
-    # Zone 0's lower edge at small u: u and alpha agree to O(u^3) there (the root carries
-    # ``eps / u^2`` of relative rounding, and the old bracket [0, pi] took more steps than
-    # regula falsi is given once u is far below 1). Its gap is taken from the
-    # cancellation-free form of :func:`kapitza._exact.sin_half_a0` with ``D^2 - 1 = kappa / u^2``
-    # (the identity :func:`zone_edges` rests on), and it is bracketed about its small-kappa
-    # value ``u ~ (6 kappa)^(1/4)``.
-    low0 = ~upper & (nn == 0)
-
-    def F(u):
-        with np.errstate(divide="ignore", under="ignore"):
-            x = np.sqrt(u * u + kk)
-            D = x / u
-            f = u - nn * PI - np.where(upper, X.beta_x(x, D), X.alpha_x(x, D))
-            small = low0 & (u < 1.0) & (np.abs(f) < 2.0)
-            if small.any():
-                us = u[small]
-                s = X.sin_half_a0(us, D[small], None, kk[small] / us / us)
-                f[small] = 2.0 * np.arcsin(np.clip(s, -1.0, 1.0))
-        return f
-
-    a, b = nn * PI + 0.0, (nn + 1.0) * PI
-    if low0.any():
-        guess = np.sqrt(np.sqrt(6.0) * np.sqrt(kk))  # (6 kappa)^(1/4), without overflow
-        a0, b0 = np.minimum(0.5 * guess, 1.0), np.minimum(2.0 * guess, PI)
-        a = np.where(low0 & (F(a0) < 0.0), a0, a)
-        b = np.where(low0 & (F(b0) > 0.0), b0, b)
-    u = X.illinois(F, a, b, ulps=1.0)
-    TT, ll, gg = np.stack([T, T]), np.stack([l, l]), np.stack([g, g])
-    with np.errstate(over="ignore"):  # (u / T)^2 may overflow where l (u / T)^2 does not
-        A = gg + ll * (u / TT) ** 2
-        A = np.where(np.isfinite(A), A, gg + (np.sqrt(ll) * u / TT) ** 2)
-    return _v.scalars(A[0], A[1])
+    c, _ = _v.damping(damping, zeta, l, g)
+    lo, hi = as_drive(drive).amplitude_edges(T, n, l, g, c)
+    return _v.scalars(np.asarray(lo), np.asarray(hi))

@@ -105,9 +105,11 @@ def add_damping(g, physical="with physical parameters", arnold="with --eps/--mu"
 
 def add_drive(g):
     """--drive and --duty (the pivot's motion)."""
+    from ..drives import text_forms  # the registry's drives, a user's registered ones too
+
     g.add_argument("--drive", default="square", metavar="DRIVE",
-                   help="square (default, the paper's), sine, rectangular:DUTY or steps:LEVELS:FRACTIONS "
-                        "(accelerations LEVELS x A for FRACTIONS of the period, zero mean)")
+                   help=f"{', '.join(text_forms())} (square, the paper's, by default; steps:LEVELS:FRACTIONS: "
+                        "accelerations LEVELS x A for FRACTIONS of the period, zero mean)")
     g.add_argument("--duty", type=finite_float, metavar="D",
                    help="shortcut for --drive rectangular:D (+A for the fraction D of the period)")
 

@@ -1,16 +1,19 @@
-"""Drives: the pivot motions kapitza knows, one file each behind one protocol.
+"""Drives: the pivot motions kapitza knows, one file each behind one contract.
 
 Every drive is ``a(t) = A s(t/T)`` over the period ``2T`` with ``s`` of zero mean, so that
 Arnold's ``eps = T sqrt(A/(8 l))`` and ``mu = sqrt(g/A)`` mean the same for all of them and
 their charts share axes (``docs/drives.md``):
 
-- :class:`SquareWave` — the paper's (2.2), with its closed forms;
-- :class:`RectangularWave` — any duty cycle;
-- :class:`StepDrive` — any piecewise-constant acceleration;
-- :class:`SineWave` — Kapitza's original (the Mathieu equation).
+- :class:`SquareWave` -- the paper's (2.2), with its closed forms;
+- :class:`RectangularWave` -- any duty cycle;
+- :class:`StepDrive` -- any piecewise-constant acceleration;
+- :class:`SineWave` -- Kapitza's original (the Mathieu equation).
 
-:data:`DRIVES` maps the names used on the command line to the classes; :func:`as_drive`
-turns ``None``, a name or a drive into a drive.
+Drives are found by name in one registry (:data:`DRIVES`), which a user's own
+:class:`Drive` subclass joins with :func:`register`; the command line, the web API and the
+sweep specification read their choices from it. :func:`as_drive` turns ``None``, a drive, a
+registered name or a drive's text form (``"rectangular:0.3"``) into a drive; every function of
+kapitza that takes ``drive=`` accepts all of these.
 """
 from __future__ import annotations
 
@@ -21,66 +24,75 @@ from .sine import SineWave
 from .square import SquareWave
 from .steps import StepDrive
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "DRIVES", "as_drive", "parse_drive"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "DRIVES", "register", "as_drive",
+           "parse_drive", "text_forms"]
 
-#: Drive classes by the name the command line and the reports use.
-DRIVES = {
-    "square": SquareWave,
-    "rectangular": RectangularWave,
-    "steps": StepDrive,
-    "sine": SineWave,
-}
+#: Drive classes by the name the command line, the web API and the reports use (:func:`register` adds one).
+DRIVES: dict[str, type[Drive]] = {}
+
+
+def register(cls=None, *, name=None):
+    """Add a :class:`Drive` subclass to the registry under ``name`` (its :attr:`Drive.name` by
+    default), so that :func:`parse_drive`, :func:`as_drive`, the command line and the web API find
+    it. Usable as a decorator (``@register``). Returns the class.
+
+    Its text form is ``NAME`` or ``NAME:PARAMETERS``, read by the class's
+    :meth:`Drive.from_text`; a name already taken by another class is refused.
+    """
+    def add(c):
+        if not (isinstance(c, type) and issubclass(c, Drive)):
+            raise _v.KapitzaValueError(f"register takes a subclass of kapitza.drives.Drive; got {c!r}")
+        key = (name if name is not None else c.name)
+        if not isinstance(key, str) or not key.strip() or ":" in key or key != key.strip().lower():
+            raise _v.KapitzaValueError(f"a drive's name must be a lower-case word without ':'; got {key!r}")
+        if DRIVES.get(key, c) is not c:
+            raise _v.KapitzaValueError(f"the drive name {key!r} is taken by {DRIVES[key].__name__}")
+        DRIVES[key] = c
+        return c
+
+    return add if cls is None else add(cls)
+
+
+for _cls in (SquareWave, RectangularWave, StepDrive, SineWave):
+    register(_cls)
 
 _SQUARE = SquareWave()
 
 
+def text_forms() -> list[str]:
+    """The text forms of the registered drives (``square``, ``rectangular:DUTY``, ...), for help texts."""
+    return [c.text_form or key for key, c in DRIVES.items()]
+
+
 def as_drive(drive) -> Drive:
-    """The drive object for ``drive``: ``None`` (the square wave), a name without parameters
-    (``"square"``, ``"sine"``), or a :class:`Drive` instance."""
+    """The drive object for ``drive``: ``None`` (the square wave), a :class:`Drive` instance, or a
+    text (a registered name, or a text form such as ``"rectangular:0.3"``: :func:`parse_drive`)."""
     if drive is None:
         return _SQUARE
     if isinstance(drive, Drive):
         return drive
-    if isinstance(drive, str) and drive in ("square", "sine"):
-        return DRIVES[drive]()
+    if isinstance(drive, str):
+        return parse_drive(drive)
     if isinstance(drive, type) and issubclass(drive, Drive):
         raise _v.KapitzaValueError(f"drive must be a drive instance, e.g. {drive.__name__}(...); got the class")
     raise _v.KapitzaValueError(
-        "drive must be a kapitza drive (SquareWave(), RectangularWave(duty), StepDrive(levels, fractions), "
-        f"SineWave()) or one of 'square', 'sine'; got {drive!r}")
+        f"drive must be a kapitza drive (a Drive instance) or its text form ({', '.join(text_forms())}); "
+        f"got {drive!r}")
 
 
 def parse_drive(text: str) -> Drive:
     """A drive from its short text form, as the command line and the web take it.
 
-    ``square``; ``sine``; ``rectangular:DUTY`` (e.g. ``rectangular:0.3``); ``steps:LEVELS:FRACTIONS``
-    with comma-separated numbers (e.g. ``steps:2,-1,1,-1:0.2,0.3,0.2,0.3``).
+    ``NAME`` or ``NAME:PARAMETERS`` for a registered name: ``square``; ``sine``;
+    ``rectangular:DUTY`` (e.g. ``rectangular:0.3``); ``steps:LEVELS:FRACTIONS`` with
+    comma-separated numbers (e.g. ``steps:2,-1,1,-1:0.2,0.3,0.2,0.3``).
     """
     if not isinstance(text, str) or not text.strip():
         raise _v.KapitzaValueError(f"drive must be a non-empty text such as 'square'; got {text!r}")
-    name, _, rest = text.strip().partition(":")
+    name, sep, rest = text.strip().partition(":")
     name = name.strip().lower()
-    forms = "'square', 'sine', 'rectangular:DUTY' or 'steps:LEVELS:FRACTIONS'"
-    if name in ("square", "sine"):
-        if rest:
-            raise _v.KapitzaValueError(f"drive '{name}' takes no parameters; got {text!r}")
-        return DRIVES[name]()
-    if name == "rectangular":
-        if not rest:
-            raise _v.KapitzaValueError(f"drive 'rectangular' needs its duty cycle, e.g. 'rectangular:0.3'; got {text!r}")
-        return RectangularWave(_number("duty", rest))
-    if name == "steps":
-        levels, sep, fractions = rest.partition(":")
-        if not sep:
-            raise _v.KapitzaValueError(
-                f"drive 'steps' needs levels and fractions, e.g. 'steps:2,-1,1,-1:0.2,0.3,0.2,0.3'; got {text!r}")
-        return StepDrive([_number("levels", x) for x in levels.split(",")],
-                         [_number("fractions", x) for x in fractions.split(",")])
-    raise _v.KapitzaValueError(f"drive must be one of {forms}; got {text!r}")
-
-
-def _number(name, text):
-    try:
-        return float(text)
-    except ValueError:
-        raise _v.KapitzaValueError(f"{name} must be a number; got {text.strip()!r}") from None
+    cls = DRIVES.get(name)
+    if cls is None:
+        forms = ", ".join(repr(f) for f in text_forms())
+        raise _v.KapitzaValueError(f"drive must be one of {forms}; got {text!r}")
+    return cls.from_text(rest.strip() if sep else None, text)

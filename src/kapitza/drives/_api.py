@@ -1,18 +1,28 @@
-"""The stability questions asked of any drive, with damping: the bodies behind the public
-functions of :mod:`kapitza.zones`, :mod:`kapitza.propagation` and :mod:`kapitza.analysis`
-when they are given a drive other than the paper's undamped square wave.
+"""The generic engine: every stability question asked of any drive, with damping.
+
+These are the bodies behind the methods of :class:`kapitza.drives.Drive` (and so behind the
+public functions of :mod:`kapitza.zones`, :mod:`kapitza.propagation` and
+:mod:`kapitza.analysis`); a drive that knows better (the square wave's closed forms) overrides
+the method, and this module never learns of it. A drive is asked here only for its undamped
+data -- :meth:`~kapitza.drives.Drive._floquet0`, :meth:`~kapitza.drives.Drive._edges0` and
+their helpers -- and the damping layer, the searches and the motion are built on top.
 
 Inputs are trusted (validated by the public functions). Damping enters as the damping ratio
 ``zeta = c / (2 sqrt(g/l))`` of the hanging pendulum, which keeps it dimensionless and fixed
 along Arnold's plane for a given rod; ``kappa = c T = 2 sqrt(8) zeta mu eps``
-(:mod:`kapitza.drives._base`).
+(:mod:`kapitza.drives._base`, ``docs/drives.md`` section 3).
+
+This module imports no drive: the drive classes import it (one direction, no cycle).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ._base import PI
-from ._piecewise import PiecewiseConstant, _bisect_bits, _window_margin, window_zones
+from .._exact import log_cosh
+from .._square import _chebyshev_pair, _flow
+
+PI = np.pi
+SQRT8 = np.sqrt(8.0)
 
 
 def zeta_of(c, l, g):
@@ -25,6 +35,181 @@ def damping_of(zeta, l, g):
     return 2.0 * zeta * np.sqrt(g / l)
 
 
+# ---------------------------------------------------------------- the damping layer
+def damped_floquet(drive, eps, mu, zeta, certify=True):
+    """Floquet data with damping ratio ``zeta`` (trusted, broadcast arrays).
+
+    Returns ``(tau, growth, theta, stable, zone, kappa)``: ``tau`` the half-trace of the
+    undamped ``phi``-system, ``growth = log max|lambda|`` of the damped one (negative:
+    decay), ``kappa = c T``.
+    """
+    eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float),
+                                        np.asarray(zeta, float))
+    damped = np.any(zeta > 0)
+    mu_c = mu * np.sqrt(1.0 + zeta * zeta) if damped else mu
+    f = drive._floquet0(eps, mu_c, certify)
+    if not damped:
+        return f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)
+    kappa = 2.0 * SQRT8 * zeta * mu * eps
+    # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow), or
+    # without cancellation where tr M_phi / 2 is near 1 (_damped_excess).
+    with np.errstate(divide="ignore"):
+        G = _damped_excess(drive, eps, mu_c, kappa, f.log_tau, f.zone < 0).reshape(eps.shape)
+        stable = (f.zone >= 0) | (G < 0)
+    growth = f.growth - kappa
+    zone = np.where(f.zone >= 0, f.zone, -1)
+    gap = stable & (f.zone < 0)
+    if np.any(gap):
+        # Stable only thanks to the damping: the point sits in the gap between zones
+        # k - 1 and k (theta = k pi). It belongs to the zone whose edge it is nearer,
+        # i.e. to k - 1 while |tau| still rises with eps, to k once it falls again.
+        k = np.rint(f.theta / PI).astype(np.int64)
+        e, m, z = eps[gap], mu[gap], zeta[gap]
+        h = 1e-7 * e
+        rising = _excess(drive, e + h, m, z) > _excess(drive, e - h, m, z)
+        zone[gap] = np.maximum(np.where(rising, k[gap] - 1, k[gap]), 0)
+    return f.tau, growth, f.theta, stable, zone, kappa
+
+
+def damped_edges(drive, mu, n, zeta):
+    """``(eps_lo, eps_hi)`` of zone ``n`` with damping ratio ``zeta`` (trusted arrays)."""
+    mu, n, zeta = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64),
+                                      np.asarray(zeta, float))
+    if not np.any(zeta > 0):
+        return drive._edges0(mu, n)
+    return _damped_edges(drive, mu, n, zeta)
+
+
+def _excess(drive, eps, mu, zeta):
+    """G = log|tau_phi| - log cosh(kappa): the damped upright is stable iff G < 0 (or on a zone)."""
+    eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float))
+    shape = eps.shape
+    eps, mu, zeta = eps.reshape(-1), mu.reshape(-1), zeta.reshape(-1)
+    mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+    kappa = 2.0 * SQRT8 * zeta * mu * eps
+    # where the phases are short, tau_phi - 1 itself (no product needed); elsewhere log|tau_phi|
+    G = _damped_excess(drive, eps, mu_c, kappa)
+    rest = np.isnan(G)
+    if rest.any():
+        # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
+        G[rest] = drive._log_tau0(eps[rest], mu_c[rest]) - log_cosh(kappa[rest])
+    return G.reshape(shape)
+
+
+def _damped_excess(drive, eps, mu_c, kappa, log_tau=None, where=None):
+    """``G = log|tau_phi| - log cosh(kappa)``, without cancellation where ``tau_phi > 0`` and the
+    drive gives ``y = tau_phi - 1`` accurately (short phases): there
+    ``G = log1p((y - 2 sinh^2(kappa/2)) / cosh(kappa))``, whose terms are of the size of the result.
+
+    Below zone 0 at small ``mu`` both logarithms are of order ``eps^2 mu^2`` and ``G`` of order
+    ``eps^4`` (``docs/drives.md``, section 3). With ``log_tau`` given, ``G`` is formed from it
+    except at the rows (of ``where``, all by default) with ``tau_phi`` near 1; without it, rows
+    the drive cannot form are NaN. Flat arrays.
+    """
+    eps, mu_c, kappa = (np.asarray(v, float).reshape(-1) for v in np.broadcast_arrays(eps, mu_c, kappa))
+    if log_tau is None:
+        G = np.full(eps.shape, np.nan)
+        near = kappa < 1.0
+    else:
+        log_tau = np.asarray(log_tau, float).reshape(-1)
+        with np.errstate(divide="ignore"):
+            G = log_tau - log_cosh(kappa)
+        near = (log_tau < 0.5) & (kappa < 1.0)
+    if where is not None:
+        near &= np.asarray(where).reshape(-1)
+    if not near.any():
+        return G
+    idx = np.flatnonzero(near)
+    y = drive._tau_minus_one0(eps[idx], mu_c[idx])
+    ok = np.isfinite(y) & (y > -1.0)
+    sh2 = 2.0 * np.sinh(0.5 * kappa[idx[ok]]) ** 2
+    G[idx[ok]] = np.log1p((y[ok] - sh2) / (1.0 + sh2))
+    return G
+
+
+def _bisect(drive, mu, zeta, lo, hi, rising):
+    """Root of G between ``lo`` and ``hi`` where G changes sign (``rising``: G < 0 at lo)."""
+    lo = lo.copy()
+    hi = hi.copy()
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if not np.any((mid > lo) & (mid < hi)):
+            break
+        pos = _excess(drive, mid, mu, zeta) >= 0
+        go_hi = pos if rising else ~pos
+        hi = np.where(go_hi, mid, hi)
+        lo = np.where(go_hi, lo, mid)
+    return np.where(rising, hi, lo)
+
+
+def _gap_argmax(drive, mu, zeta, lo, hi):
+    """Golden-section search for the maximum of G on ``(lo, hi)`` (G is one hump there)."""
+    r = 0.5 * (np.sqrt(5.0) - 1.0)
+    a, b = lo.copy(), hi.copy()
+    c = b - r * (b - a)
+    d = a + r * (b - a)
+    Gc = _excess(drive, c, mu, zeta)
+    Gd = _excess(drive, d, mu, zeta)
+    best_x = np.where(Gc >= Gd, c, d)
+    best_G = np.maximum(Gc, Gd)
+    for _ in range(100):
+        # an unstable point is all a bracket needs: rows with G > 0 found are done
+        live = (best_G <= 0) & (b - a > 4e-16 * b)
+        if not live.any():
+            break
+        left = Gc >= Gd  # the maximum lies in (a, d)
+        b = np.where(live & left, d, b)
+        a = np.where(live & ~left, c, a)
+        p = np.where(left, b - r * (b - a), a + r * (b - a))
+        Gp = np.full(p.shape, -np.inf)
+        Gp[live] = _excess(drive, p[live], mu[live], zeta[live])
+        c, d = np.where(live, np.where(left, p, d), c), np.where(live, np.where(left, c, p), d)
+        Gc, Gd = np.where(live, np.where(left, Gp, Gd), Gc), np.where(live, np.where(left, Gc, Gp), Gd)
+        better = live & (Gp > best_G)
+        best_x = np.where(better, p, best_x)
+        best_G = np.where(better, Gp, best_G)
+    return best_x, best_G
+
+
+def _damped_edges(drive, mu, n, zeta, phi=None):
+    """Edges of damped zone ``n``: each lies in the gap next to the undamped ``phi``-zone.
+
+    The damped zone ``n`` contains the undamped zone ``n`` of the ``phi``-system (at
+    ``mu_c``), on which ``|tau_phi| < 1 <= cosh kappa``. In the gap between ``phi``-zones
+    ``n - 1`` and ``n`` the excess ``G = log|tau_phi| - log cosh kappa`` is negative at both
+    ends and rises to one maximum: its two roots are the damped upper edge of zone
+    ``n - 1`` and the damped lower edge of zone ``n``. Where the maximum is <= 0 the
+    damping has joined the two zones; both edges are then reported at that maximum.
+    """
+    if phi is None:
+        mu_c = mu * np.sqrt(1.0 + zeta * zeta)
+        lo_n, hi_n = drive._edges0(mu_c, n)
+        _, hi_prev = drive._edges0(mu_c, np.maximum(n - 1, 0))
+        lo_next, _ = drive._edges0(mu_c, n + 1)
+    else:  # the phi-system's edges, known already (a chart's window; lo_next may be a cap)
+        lo_n, hi_n, hi_prev, lo_next = phi
+    # gap below zone n: (hi_{n-1}, lo_n), or (0, lo_0) for zone 0
+    gap_lo = np.where(n == 0, 0.0, hi_prev)
+    # no phi-zone n (no attracting part left at mu_c): no damped zone either
+    ok = np.isfinite(lo_n) & np.isfinite(hi_n) & np.isfinite(gap_lo)
+    if not ok.all():
+        out_lo = np.full(mu.shape, np.nan)
+        out_hi = np.full(mu.shape, np.nan)
+        if ok.any():
+            nxt = np.where(np.isfinite(lo_next), lo_next, 4.0 * hi_n)
+            out_lo[ok], out_hi[ok] = _damped_edges(drive, mu[ok], n[ok], zeta[ok],
+                                                   phi=(lo_n[ok], hi_n[ok], hi_prev[ok], nxt[ok]))
+        return out_lo, out_hi
+    x_lo, G_lo = _gap_argmax(drive, mu, zeta, gap_lo, lo_n)
+    x_hi, G_hi = _gap_argmax(drive, mu, zeta, hi_n, lo_next)
+    edge_lo = np.where(G_lo > 0, _bisect(drive, mu, zeta, x_lo, lo_n, rising=False), x_lo)
+    # zone 0 with the gap entirely stable reaches down to eps -> 0
+    edge_lo = np.where((n == 0) & (G_lo <= 0), 0.0, edge_lo)
+    edge_hi = np.where(G_hi > 0, _bisect(drive, mu, zeta, hi_n, x_hi, rising=True), x_hi)
+    return edge_lo, edge_hi
+
+
+# ---------------------------------------------------------------- the questions
 def floquet(eps, mu, drive, zeta):
     """``(trace, determinant, multipliers, growth, rotation_number, stable, zone)``.
 
@@ -64,19 +249,32 @@ def edges(mu, n, drive, zeta):
     return drive._edges(mu, n, zeta)
 
 
-def window_edges(drive, mu, e0, e1, zeta):
-    """``(rows, zone, lo, hi)``: the edges of every zone that may meet ``[e0, e1]`` at each ``mu``."""
-    zeta = np.broadcast_to(np.asarray(zeta, float), mu.shape)
-    if isinstance(drive, PiecewiseConstant) and not np.any(zeta > 0) and drive.name != "square":
-        return window_zones(drive, mu, np.full(mu.size, e0), np.full(mu.size, e1))
-    if drive.name == "sine" and not np.any(zeta > 0):
+def _windowed(drive):
+    """Whether ``drive`` finds the zones of a window all at once (:func:`_window0`)."""
+    return drive._windowed or drive.name == "sine"
+
+
+def _window0(drive, mu, e0, e1):
+    """``(rows, zone, lo, hi)`` of the undamped zones meeting ``[e0, e1]``, from the drive's window."""
+    if drive.name == "sine":
         from ..mathieu import _sine_window
 
         ok = np.flatnonzero(mu < 1.0)
         q_max = np.full(ok.size, 16.0 * e1 * e1 / PI**2)
         rows, zone, q_lo, q_hi = _sine_window(mu[ok], q_max)
         return ok[rows], zone, 0.25 * PI * np.sqrt(q_lo), 0.25 * PI * np.sqrt(q_hi)
-    if np.any(zeta > 0) and drive.name != "square":
+    return drive._window0(mu, np.full(mu.size, e0), np.full(mu.size, e1))
+
+
+def window_edges(drive, mu, e0, e1, zeta):
+    """``(rows, zone, lo, hi)``: the edges of every zone that may meet ``[e0, e1]`` at each ``mu``."""
+    zeta = np.broadcast_to(np.asarray(zeta, float), mu.shape)
+    # a drive that finds every zone of a window at once (piecewise-constant: the rotation angle
+    # sampled along eps; the sine: Mathieu's characteristic values) gives its own window;
+    # damped, its zones follow from the undamped ones (_damped_window); others go zone by zone
+    if _windowed(drive):
+        if not np.any(zeta > 0):
+            return _window0(drive, mu, e0, e1)
         return _damped_window(drive, mu, zeta, e0, e1)
     n_lo, n_hi = _zone_range(drive, mu, zeta, e0, e1)
     counts = np.maximum(n_hi - n_lo + 1, 0)
@@ -93,8 +291,6 @@ def _damped_window(drive, mu, zeta, e0, e1):
     view come from the undamped window method at ``mu_c``. A damped edge beyond ``2 e1`` (in a
     gap that reaches out of that window) is reported as ``inf``: the chart paints to its end.
     """
-    from ._base import _damped_edges
-
     mu_c = mu * np.sqrt(1.0 + zeta * zeta)
     live = np.flatnonzero(mu_c < 1.0) if drive.name == "sine" else np.arange(mu.size)
     cap = 2.0 * e1
@@ -145,12 +341,7 @@ def grid(eps, mu, drive, zeta, out):
 def _zone_range(drive, mu, zeta, e0, e1):
     """Zone indices that may meet ``[e0, e1]`` at each ``mu`` (from the elliptic angle)."""
     mu_c = mu * np.sqrt(1.0 + np.asarray(zeta) ** 2)
-    if isinstance(drive, PiecewiseConstant):
-        rate, _ = _window_margin(mu_c, drive.levels, drive._durations)
-        B = (len(drive.levels) + 1) * PI
-    else:  # sine: zone n lies near sqrt(q) (1 - mu^2) = 2n + 1 (a_n ~ -2q + 2(2n+1) sqrt q), sqrt q = 4 eps/pi
-        rate = 2.0 * np.maximum(1.0 - mu_c * mu_c, 0.0)
-        B = 2.0 * PI
+    rate, B = drive._zone_rate(mu_c)
     n_lo = np.maximum(np.floor((rate * e0 - B) / PI) - 1, 0).astype(np.int64)
     n_hi = np.floor((rate * e1 + B) / PI).astype(np.int64) + 1
     return n_lo, np.where(rate > 0, n_hi, n_lo - 1)
@@ -158,36 +349,119 @@ def _zone_range(drive, mu, zeta, e0, e1):
 
 def margin(eps, mu, drive, zeta):
     """``(stable, zone, eps_lo, eps_hi, margin)`` as :class:`kapitza.StabilityMargin`: the zone
-    containing the point (or the nearest), its edges, and the signed relative distance."""
+    containing the point (or the nearest), its edges, and the signed relative distance.
+
+    The search starts where the point is: a stable point's zone is its own; an unstable one
+    sits in the gap ``theta = k pi`` of its (undamped ``phi``-system's) rotation angle, between
+    zones ``k - 1`` and ``k``, and the nearer of those two is the nearest of all (the zones are
+    ordered along ``eps``). At most two zones' edges are solved per point.
+    """
     eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float))
-    stable, zone = verdict(eps, mu, drive, zeta)
     shape = eps.shape
+    _, _, theta, stable, zone, _ = drive._floquet(eps, mu, zeta)
     e, m, z = eps.ravel(), mu.ravel(), zeta.ravel()
-    n_lo, n_hi = _zone_range(drive, m, z, e, e)
-    best = np.full(e.size, -np.inf)
-    b_zone = np.full(e.size, -1, np.int64)
-    b_lo = np.full(e.size, np.nan)
-    b_hi = np.full(e.size, np.nan)
-    for k in range(int(np.max(n_hi - n_lo, initial=-1)) + 1):
-        n = n_lo + k
-        live = n <= n_hi
-        if not live.any():
-            continue
-        lo, hi = drive._edges(m[live], n[live], z[live])
-        d = np.minimum(e[live] - lo, hi - e[live]) / e[live]
-        d = np.where(np.isfinite(d), d, -np.inf)
-        idx = np.flatnonzero(live)
-        better = d > best[idx]
-        sel = idx[better]
-        best[sel] = d[better]
-        b_zone[sel] = n[live][better]
-        b_lo[sel] = lo[better]
-        b_hi[sel] = hi[better]
-    st = stable.ravel()
-    zn = zone.ravel()
-    # the containing zone wins (its margin is the one a user asks for)
-    b_zone = np.where(st, zn, b_zone)
+    st, zn = stable.ravel(), np.asarray(zone).ravel()
+    turns = np.nan_to_num(theta.ravel()) / PI
+    # past 2^50 zones the doubles near eps are wider than a zone: none is resolvable (the square
+    # wave's closed forms stop at a phase of 2^52 alike); such points get no zone and margin -inf
+    far = ~(np.abs(turns) < 2.0**50)
+    k = np.rint(np.where(far, 0.0, turns)).astype(np.int64)
+    upper = np.where(st, zn, np.maximum(k, 0))   # the zone itself, or the one above the gap
+    lower = k - 1                                  # the one below the gap (unstable points)
+    two = ~st & (lower >= 0) & ~far
+    rows = np.concatenate([np.flatnonzero(~far), np.flatnonzero(two)])
+    nn = np.concatenate([upper[~far], lower[two]])
+    lo_r, hi_r = drive._edges(m[rows], nn, z[rows]) if rows.size else (np.zeros(0), np.zeros(0))
+    N = e.size
+    near = np.flatnonzero(~far)
+    lo = np.full(N + np.count_nonzero(two), np.nan)
+    hi = lo.copy()
+    lo[near], hi[near] = lo_r[:near.size], hi_r[:near.size]
+    lo[N:], hi[N:] = lo_r[near.size:], hi_r[near.size:]
+    rows = np.concatenate([np.arange(N), np.flatnonzero(two)])
+    with np.errstate(invalid="ignore", over="ignore"):
+        d = np.minimum(e[rows] - lo, hi - e[rows]) / e[rows]
+    d = np.where(np.isfinite(d), d, -np.inf)
+    best, b_zone, b_lo, b_hi = d[:N].copy(), upper.copy(), lo[:N].copy(), hi[:N].copy()
+    idx = np.flatnonzero(two)
+    better = d[N:] > best[idx]
+    sel = idx[better]
+    best[sel], b_zone[sel], b_lo[sel], b_hi[sel] = d[N:][better], lower[sel], lo[N:][better], hi[N:][better]
+    # the containing zone wins (its margin is the one a user asks for); no zone in reach: -1
+    b_zone = np.where(st, zn, np.where(np.isfinite(b_lo) | np.isfinite(b_hi), b_zone, -1))
     return (stable, b_zone.reshape(shape), b_lo.reshape(shape), b_hi.reshape(shape), best.reshape(shape))
+
+
+#: The largest value a one-point search's ladder of doublings climbs to (8 eps^2 and the products stay doubles).
+_LADDER_TOP = 1e150
+
+
+def point_margin(drive, eps, mu, zeta):
+    """:func:`margin` of one point (floats), the edges found together by :func:`search_bits` on the
+    zone index read from the rotation angle (one call of the drive per step for all of them, each
+    final pair decided to the last bit), or None where that search cannot answer (no zone within
+    reach, or a fast predicate off by more than the certified search's window): then
+    :func:`margin` does.
+
+    Along ``eps`` at fixed ``mu`` the level ``n + 1/2`` on zone ``n``, ``k`` in the gap ``theta = k pi``,
+    rises: zone ``n``'s lower edge is the last ``eps`` with level ``<= n``, its upper edge the
+    first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
+    """
+    z1 = np.array([zeta], float)
+
+    def level(x, certify):
+        x = np.asarray(x, float)
+        _, _, theta, st, zn, _ = drive._floquet(x.ravel(), np.full(x.size, mu), np.broadcast_to(z1, (x.size,)),
+                                                certify)
+        return np.where(st, zn + 0.5, np.rint(theta / PI)).reshape(x.shape)
+
+    L0 = float(level(np.array([eps]), True)[0])
+    if not abs(L0) < 2.0**50:  # no zone resolvable so far out (see margin): the array margin says so
+        return None
+    stable = L0 != np.rint(L0)
+    k = int(np.floor(L0)) if stable else int(L0)
+    zones = [k] if stable else ([k - 1, k] if k >= 1 else [k])
+    # rows: (zone, upper edge?, searched above eps?)
+    rows = []
+    for n in zones:
+        above = not stable and n == k
+        rows += [(n, False, above), (n, True, above or stable)]
+    # a top past the highest zone's upper edge, eight doublings a call
+    need = zones[-1] + 1
+    top = None
+    ladder = eps * 2.0 ** np.arange(1.0, 9.0)
+    while ladder[-1] <= _LADDER_TOP:
+        up = np.flatnonzero(level(ladder, False) >= need)
+        if up.size:
+            top = ladder[up[0]]
+            break
+        ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
+    if top is None:  # not within the doubles' comfortable range: the array margin answers
+        return None
+    n_of = np.array([r[0] for r in rows], float)
+    upper = np.array([r[1] for r in rows])
+    lo = np.array([eps if r[2] else 0.0 for r in rows])
+    hi = np.array([top if r[2] else eps for r in rows])
+
+    def pred(x, idx, certify=False):
+        lv = level(x, certify)
+        n = n_of[idx][:, None]
+        return np.where(upper[idx][:, None], lv >= n + 1, lv > n)
+
+    a, b = search_bits(pred, lo, hi, certified=lambda x, idx: pred(x, idx, True))
+    idx = np.arange(len(rows))
+    ends = pred(np.stack([a, b], axis=1), idx, True)
+    if ends[:, 0].any() or not ends[:, 1].all():
+        return None
+    edge = np.where(upper, b, a)   # the unstable side: below a lower edge, at or above an upper one
+    best = None
+    for i, n in enumerate(zones):
+        e_lo, e_hi = float(edge[2 * i]), float(edge[2 * i + 1])
+        d = min(eps - e_lo, e_hi - eps) / eps
+        if best is None or d > best[3]:
+            best = (n, e_lo, e_hi, d)
+    n, e_lo, e_hi, d = best
+    return stable, int(n), e_lo, e_hi, float(d)
 
 
 def along_amplitude(T, n, l, g, drive, c):
@@ -202,21 +476,133 @@ def along_amplitude(T, n, l, g, drive, c):
     def arnold(A):
         return T * np.sqrt(A / (8.0 * l)), np.sqrt(g / A)
 
-    def reached(A, level, strictly):
+    def reached(A, level, strictly, certify=False):
         eps, mu = arnold(A)
-        st, z = verdict(eps, mu, drive, np.full(np.shape(A), zeta))
-        theta = drive._floquet(eps, mu, np.full(np.shape(A), zeta))[2]
+        _, _, theta, st, z, _ = drive._floquet(eps, mu, np.full(np.shape(A), zeta), certify)
         k = np.where(st, z + 0.5, np.rint(theta / PI))
         return k > level if strictly else k >= level
 
-    hi = np.array([max(g, 1.0)])
-    for _ in range(1100):
-        if reached(hi, n + 1, False).all():
+    # the first power of two (times g) that has reached zone n + 1, eight doublings per call (a
+    # drive's cost may grow with A: no rung far beyond the one needed)
+    ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
+    for _ in range(138):
+        up = np.flatnonzero(reached(ladder, n + 1, False))
+        if up.size:
+            hi = ladder[up[:1]]
             break
-        hi = hi * 2.0
-    _, A_hi = _bisect_bits(lambda A: reached(A, n + 1, False), np.zeros(1), hi)
-    A_lo, _ = _bisect_bits(lambda A: reached(A, n, True), np.zeros(1), A_hi)
+        ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
+    else:
+        hi = ladder[-1:]
+    _, A_hi = search_bits(lambda A, _: reached(A, n + 1, False), np.zeros(1), hi,
+                          certified=lambda A, _: reached(A, n + 1, False, True))
+    A_lo, _ = search_bits(lambda A, _: reached(A, n, True), np.zeros(1), A_hi,
+                          certified=lambda A, _: reached(A, n, True, True))
     return float(A_lo[0]), float(A_hi[0])
+
+
+def rig_margins(eps, mu, zone, drive, zeta, T, stroke):
+    """Frequency interval of ``zone`` at this stroke and stroke interval at this frequency.
+
+    At a fixed stroke ``A`` grows like ``f^2`` and ``T = 1/(2f)``, so ``eps`` is fixed and
+    ``mu`` falls like ``1/f``; the zone is an interval of ``mu`` there (its edges ``eps_lo(mu)``,
+    ``eps_hi(mu)`` both grow with ``mu``), found by bisection on the zone index read from the
+    rotation angle. At a fixed frequency the stroke is proportional to ``A``.
+    """
+    d = drive
+    e = np.array([eps])
+    z = np.array([zeta])
+
+    def level(m, certify=True):
+        tau, growth, theta, st, zn, _ = d._floquet(np.broadcast_to(e, m.shape), m, np.broadcast_to(z, m.shape),
+                                                   certify)
+        return np.where(st, zn + 0.5, np.rint(theta / np.pi))
+
+    # The angle falls as mu grows: [mu_lo, mu_hi] is where it lies in zone `zone`. Below
+    # mu = 1e-6 (A > 1e12 g) nothing is searched: a zone reaching there has no upper frequency.
+    lo, hi = np.full(1, 1e-6), np.full(1, 4.0)
+    f = 0.5 / T
+    out = dict(stroke=float(stroke))
+    above = level(lo)[0] < zone + 1   # still in the zone (or below it) at the smallest mu
+    mu_lo = lo if above else search_bits(lambda m, _: level(m, False) < zone + 1, lo, hi,
+                                         certified=lambda m, _: level(m) < zone + 1)[0]
+    if level(hi)[0] <= zone:
+        mu_hi = search_bits(lambda m, _: level(m, False) <= zone, lo, hi,
+                            certified=lambda m, _: level(m) <= zone)[1]
+    else:
+        mu_hi = hi
+    if mu_lo[0] < mu_hi[0]:
+        out.update(frequency_lo=float(f * mu / mu_hi[0]),
+                   frequency_hi=float("inf") if above else float(f * mu / mu_lo[0]))
+    return out
+
+
+def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
+    """Zone ``zone`` of one physical point along ``A`` (at this ``T``) and along the frequency
+    (at this stroke): ``A_lo, A_hi`` and, where the zone is reached, ``frequency_lo, frequency_hi``.
+
+    The four edges are searched together (:func:`search_bits`, one call of the drive per step for
+    all four): along ``A`` the zone index read from the rotation angle rises with ``A`` at fixed
+    ``T`` (:func:`along_amplitude`); at a fixed stroke ``eps`` is fixed and ``mu`` falls like
+    ``1/f``, the index falling as ``mu`` grows (:func:`rig_margins`).
+    """
+    n = zone
+    z1 = np.array([zeta])
+
+    def levels(e, m, certify):
+        _, _, theta, st, zn, _ = drive._floquet(e, m, np.broadcast_to(z1, e.shape), certify)
+        return np.where(st, zn + 0.5, np.rint(theta / PI))
+
+    def along_A(A_):
+        return T * np.sqrt(A_ / (8.0 * l)), np.sqrt(g / A_)
+
+    # where the searches start: the first 2^k max(g, 1) past zone n + 1 along A (eight rungs a
+    # call), and whether the zone is still reached at the ends of the frequency search
+    mu_ends = np.array([1e-6, 4.0])
+    ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
+    for _ in range(138):
+        if ladder[-1] > _LADDER_TOP:  # (as far as along_amplitude goes: the last rung)
+            ladder = ladder[-1:]
+        e_l, m_l = along_A(ladder)
+        k = levels(np.concatenate([e_l, np.full(2, eps)]), np.concatenate([m_l, mu_ends]), True)
+        up = np.flatnonzero(k[:-2] >= n + 1)
+        ends = k[-2:]
+        if up.size:
+            top = ladder[up[0]]
+            break
+        if ladder.size == 1:
+            top = ladder[-1]
+            break
+        ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
+    else:
+        top = ladder[-1]
+    above = ends[0] < n + 1     # still in the zone (or below it) at the smallest mu
+    capped = not ends[1] <= n   # not yet out of it at the largest
+
+    def pred(x, rows, certify=False):
+        x = np.asarray(x, float)
+        along = (rows < 2)[:, None]        # rows 0, 1 search A; rows 2, 3 search mu
+        with np.errstate(invalid="ignore", divide="ignore"):
+            e_A, m_A = along_A(np.where(along, x, 1.0))
+        e = np.where(along, e_A, eps)
+        m = np.where(along, m_A, x)
+        k = levels(e.ravel(), m.ravel(), certify).reshape(x.shape)
+        r = rows[:, None]
+        return np.where(r == 0, k >= n + 1,       # A_hi: first A past the zone
+                        np.where(r == 1, k > n,    # A_lo: first A in it (or beyond)
+                                 np.where(r == 2, k < n + 1,   # mu_lo: first mu back in the zone or below
+                                          k <= n)))            # mu_hi: first mu below the zone
+
+    # (a search whose answer is not needed gets an empty bracket)
+    lo = np.array([0.0, 0.0, 1e-6, 1e-6])
+    hi = np.array([top, top, 1e-6 if above else 4.0, 1e-6 if capped else 4.0])
+    a, b = search_bits(pred, lo, hi, certified=lambda x, rows: pred(x, rows, True))
+    out = dict(A_lo=float(a[1]), A_hi=float(b[0]))
+    mu_lo = 1e-6 if above else float(a[2])
+    mu_hi = 4.0 if capped else float(b[3])
+    if mu_lo < mu_hi:
+        f = 0.5 / T
+        out.update(frequency_lo=float(f * mu / mu_hi), frequency_hi=float("inf") if above else float(f * mu / mu_lo))
+    return out
 
 
 # ---------------------------------------------------------------- motion of the linear equation
@@ -225,8 +611,6 @@ def _segment_flow(s, h, k=None):
     ``e^{-k}`` when ``k`` is given: formed as ``e^{r - k}`` where ``r = sqrt(s) h`` is large, so a
     damped step (``s`` raised by ``c^2/4``, ``k = c h / 2``) does not overflow where its product
     with ``e^{-k}`` is a double."""
-    from ..propagation import _flow
-
     s, h = np.asarray(s, float), np.asarray(h, float)
     c, sd, ds = _flow(s, h)
     if k is None:
@@ -258,10 +642,11 @@ def monodromy(T, A, l, g, drive, c):
     integrated by DOP853 (rtol 1e-12).
     """
     T, A, l, g, c = np.broadcast_arrays(*(np.asarray(x, float) for x in (T, A, l, g, c)))
+    steps = drive._steps()
     with np.errstate(over="ignore", invalid="ignore"):
-        if isinstance(drive, PiecewiseConstant):
+        if steps is not None:
             P = (np.ones(T.shape), np.zeros(T.shape), np.zeros(T.shape), np.ones(T.shape))
-            for lev, f in zip(drive.levels, drive.fractions):
+            for lev, f in zip(*steps):
                 # each step carries its share e^{-c f T} of e^{-c T}: no e^{c T}-sized entries
                 P = _mul(_segment_flow((g + A * lev) / l + 0.25 * c * c, 2.0 * f * T, c * f * T), P)
         else:
@@ -273,7 +658,7 @@ def monodromy(T, A, l, g, drive, c):
         m12 = b
         m21 = cc + (d - a) * half - b * half * half
         m22 = d - b * half
-        if not isinstance(drive, PiecewiseConstant):
+        if steps is None:
             e = np.exp(-c * T)
             m11, m12, m21, m22 = (v * e for v in (m11, m12, m21, m22))
         M = np.stack([np.stack([m11, m12], -1), np.stack([m21, m22], -1)], -2)
@@ -305,11 +690,10 @@ def linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c):
     ``phi``-system), then the steps of the last, partial period; the sine drive is
     integrated by DOP853 (rtol 1e-11) instead.
     """
-    from ..propagation import _chebyshev_pair
-
     t, theta0, dtheta0, T, A, l, g, c = np.broadcast_arrays(
         *(np.asarray(x, float) for x in (t, theta0, dtheta0, T, A, l, g, c)))
-    if not isinstance(drive, PiecewiseConstant):
+    steps = drive._steps()
+    if steps is None:
         return _ivp_motion(t, theta0, dtheta0, T, A, l, g, drive, c)
     eps = T * np.sqrt(A / (8.0 * l))
     mu = np.sqrt(g / A)
@@ -327,7 +711,7 @@ def linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c):
     p0 = theta0
     q0 = dtheta0 + half * theta0
     Mphi = (np.ones(T.shape), np.zeros(T.shape), np.zeros(T.shape), np.ones(T.shape))
-    for lev, fr in zip(drive.levels, drive.fractions):
+    for lev, fr in zip(*steps):
         Mphi = _mul(_segment_flow((g + A * lev) / l + half * half, fr * period), Mphi)
     u1, u2 = _chebyshev_pair(k, f.tau, f.growth, f.theta, f.zone >= 0)
     with np.errstate(over="ignore", invalid="ignore"):
@@ -335,7 +719,7 @@ def linear_motion(t, theta0, dtheta0, T, A, l, g, drive, c):
         p = np.where(k == 0, p0, (u1 * a - u2) * p0 + u1 * b * q0)
         q = np.where(k == 0, q0, u1 * cc * p0 + (u1 * d - u2) * q0)
         start = 0.0
-        for lev, fr in zip(drive.levels, drive.fractions):
+        for lev, fr in zip(*steps):
             h = fr * period
             dt = np.clip(r - start, 0.0, h)
             fa, fb, fc, fd = _segment_flow((g + A * lev) / l + half * half, dt)
@@ -365,3 +749,70 @@ def _ivp_motion(t, theta0, dtheta0, T, A, l, g, drive, c, rtol=1e-11):
                         (0.0, t[idx]), (theta0[idx], dtheta0[idx]), method="DOP853", rtol=rtol, atol=1e-13)
         th[idx], dth[idx] = sol.y[:, -1]
     return th, dth
+
+
+def bisect_bits(pred, lo, hi):
+    """Bisection on the bit patterns of non-negative doubles: at most 64 steps to adjacent doubles."""
+    a = lo.view(np.int64).copy()
+    b = hi.view(np.int64).copy()
+    for _ in range(70):
+        m = a + (b - a) // 2
+        live = b - a > 1
+        if not live.any():
+            break
+        ok = pred(m.view(np.float64))
+        b = np.where(live & ok, m, b)
+        a = np.where(live & ~ok, m, a)
+    return a.view(np.float64), b.view(np.float64)
+
+
+def search_bits(pred, lo, hi, ways=64, certified=None):
+    """:func:`bisect_bits` taking ``ways - 1`` points per row at each step: the same pair of
+    adjacent doubles (for a predicate that changes once, False below and True above) in about
+    ``64 / log2(ways)`` calls of ``pred`` instead of 64. ``pred(x, rows)`` is elementwise, ``x`` of
+    shape ``(len(rows), k)`` holding points of the rows ``rows`` (indices into ``lo``): a call on a
+    few dozen points costs about what a call on one does.
+
+    ``certified``: the same predicate decided to the last bit (``pred`` may err within a few ulp of
+    its change, at a fraction of the cost). The final pair is checked with it; where it is not
+    False below and True above, the change is searched with it (by halves: each of its points may
+    cost an extended-precision product) within 64 ulp either side, and kept where found there.
+    """
+    a = lo.view(np.int64).copy()
+    b = hi.view(np.int64).copy()
+    j = np.arange(1, ways, dtype=np.int64)
+    for _ in range(70):
+        live = np.flatnonzero(b - a > 1)
+        if not live.size:
+            break
+        al, bl = a[live], b[live]
+        step = np.maximum((bl - al) // ways, 1)
+        m = np.minimum(al[:, None] + step[:, None] * j[None, :], (bl - 1)[:, None])
+        ok = np.asarray(pred(m.view(np.float64), live), bool)
+        first = np.argmax(ok, axis=1)
+        r = np.arange(live.size)
+        hit = ok[r, first]
+        b[live] = np.where(hit, m[r, first], bl)
+        a[live] = np.maximum(np.where(hit, np.where(first > 0, m[r, np.maximum(first - 1, 0)], al), m[:, -1]), al)
+    if certified is None:
+        return a.view(np.float64), b.view(np.float64)
+    lo_i, hi_i = lo.view(np.int64), hi.view(np.int64)
+    inner = np.flatnonzero(b > a)
+    ends = np.asarray(certified(np.stack([a[inner], b[inner]], axis=1).view(np.float64), inner), bool)
+    # (an end of the given bracket carries no claim: the predicate may hold all the way)
+    bad = inner[(ends[:, 0] & (a[inner] > lo_i[inner])) | (~ends[:, 1] & (b[inner] < hi_i[inner]))]
+    if bad.size:
+        wa, wb = np.maximum(a[bad] - 64, lo_i[bad]), np.minimum(b[bad] + 64, hi_i[bad])
+        w_ends = np.asarray(certified(np.stack([wa, wb], axis=1).view(np.float64), bad), bool)
+        keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
+        rows, wa, wb = bad[keep], wa[keep], wb[keep]
+        for _ in range(10):
+            live = wb - wa > 1
+            if not live.any():
+                break
+            mid = wa + (wb - wa) // 2
+            ok = np.asarray(certified(mid[live, None].view(np.float64), rows[live]), bool)[:, 0]
+            wb[live] = np.where(ok, mid[live], wb[live])
+            wa[live] = np.where(ok, wa[live], mid[live])
+        a[rows], b[rows] = wa, wb
+    return a.view(np.float64), b.view(np.float64)

@@ -36,6 +36,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as _v
+from . import _api
+from ..parameters import time_scale
+from .._exact import acosh_from_log, log_cosh  # noqa: F401  (shared with the drives' engines)
 
 PI = np.pi
 SQRT8 = np.sqrt(8.0)
@@ -59,22 +62,6 @@ class Floquet0:
     zone: np.ndarray
 
 
-def log_cosh(k):
-    """log cosh k for k >= 0 without overflow, to a few ulp relative (``log1p(2 sinh^2(k/2))`` below 1)."""
-    with np.errstate(over="ignore"):
-        small = np.log1p(2.0 * np.sinh(0.5 * np.minimum(k, 1.0)) ** 2)
-    return np.where(k < 1.0, small, k + np.log1p(np.exp(-2.0 * k)) - LOG2)
-
-
-def acosh_from_log(log_tau, tau):
-    """acosh|tau| for |tau| >= 1 from ``log|tau|`` (finite where ``tau`` overflows)."""
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        e = np.abs(tau) - 1.0
-        small = np.log1p(np.where((e >= 0) & (e < 1.0), e + np.sqrt(np.abs(e) * (e + 2.0)), 0.0))
-        big = log_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * np.maximum(log_tau, 0.0))))
-    return np.where(e < 1.0, small, big)
-
-
 class Drive:
     """A pivot motion over one period ``2T``: ``a(t) = A s(t/T)``, ``s`` zero-mean.
 
@@ -86,6 +73,17 @@ class Drive:
 
     #: short name used by the command line and in reports
     name = "drive"
+    #: the text form the command line and the web take (``name`` when there are no parameters)
+    text_form: str | None = None
+
+    @classmethod
+    def from_text(cls, parameters, text=None):
+        """The drive of the text form ``NAME:PARAMETERS`` (``parameters`` None for a bare ``NAME``;
+        ``text`` the whole form, for messages). A drive without parameters takes none; a drive
+        with parameters overrides this."""
+        if parameters is not None:
+            raise _v.KapitzaValueError(f"drive {cls.name!r} takes no parameters; got {text!r}")
+        return cls()
 
     # ------------------------------------------------------------ what a subclass gives
     def _shape(self, tau):  # pragma: no cover - protocol
@@ -235,7 +233,7 @@ class Drive:
         else:
             s = value if key == "stroke" else 2.0 * value
             A = s / (self._stroke_coefficient * T * T)
-        return np.broadcast_arrays(T, A)
+        return _v.scalars(*np.broadcast_arrays(T, A))
 
     def kapitza_eps(self, mu):
         """``eps`` of the averaging criterion ``<v_pivot^2> = g l`` at ``mu``.
@@ -247,175 +245,174 @@ class Drive:
         mu = _v.positive("mu", mu)
         return mu / np.sqrt(8.0 * self._mean_square_velocity)
 
-    # ------------------------------------------------------------ damping layer
-    def _floquet(self, eps, mu, zeta):
-        """Floquet data with damping ratio ``zeta`` (trusted, broadcast arrays).
+    # ------------------------------------------------------------ the questions
+    # What the public functions of kapitza ask a drive, on validated float arrays that
+    # broadcast (``zeta``: damping ratios >= 0; ``c``: damping in 1/s). Each has one generic
+    # body (:mod:`kapitza.drives._api`, built on the undamped data above and the damping layer);
+    # a drive with closed forms overrides what it can answer better (the square wave: every
+    # one of them, undamped) and hands the rest back with ``super()``.
 
-        Returns ``(tau, growth, theta, stable, zone, kappa)``: ``tau`` the half-trace of the
-        undamped ``phi``-system, ``growth = log max|lambda|`` of the damped one (negative:
-        decay), ``kappa = c T``.
-        """
-        eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float),
-                                            np.asarray(zeta, float))
-        damped = np.any(zeta > 0)
-        mu_c = mu * np.sqrt(1.0 + zeta * zeta) if damped else mu
-        f = self._floquet0(eps, mu_c)
-        if not damped:
-            return f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)
-        kappa = 2.0 * SQRT8 * zeta * mu * eps
-        # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow), or
-        # without cancellation where tr M_phi / 2 is near 1 (_damped_excess).
-        with np.errstate(divide="ignore"):
-            G = _damped_excess(self, eps, mu_c, kappa, f.log_tau, f.zone < 0).reshape(eps.shape)
-            stable = (f.zone >= 0) | (G < 0)
-        growth = f.growth - kappa
-        zone = np.where(f.zone >= 0, f.zone, -1)
-        gap = stable & (f.zone < 0)
-        if np.any(gap):
-            # Stable only thanks to the damping: the point sits in the gap between zones
-            # k - 1 and k (theta = k pi). It belongs to the zone whose edge it is nearer,
-            # i.e. to k - 1 while |tau| still rises with eps, to k once it falls again.
-            k = np.rint(f.theta / PI).astype(np.int64)
-            e, m, z = eps[gap], mu[gap], zeta[gap]
-            h = 1e-7 * e
-            rising = _excess(self, e + h, m, z) > _excess(self, e - h, m, z)
-            zone[gap] = np.maximum(np.where(rising, k[gap] - 1, k[gap]), 0)
-        return f.tau, growth, f.theta, stable, zone, kappa
+    #: The drive finds every zone of a window of ``eps`` at once (:meth:`_window0`).
+    _windowed = False
+
+    #: One point's searches (margin, rig intervals) may ask the drive for many points of a row at
+    #: once, spread over decades of ``eps`` and ``A`` (:func:`kapitza.drives._api.point_margin`).
+    _batched_points = False
+
+    def _window0(self, mu, e_a, e_b):
+        """``(rows, zone, lo, hi)``: the undamped zones meeting ``[e_a[i], e_b[i]]`` at ``mu[i]``
+        (flat arrays, one entry per zone found), for a drive with :attr:`_windowed`."""
+        raise NotImplementedError
+
+    def _zone_rate(self, mu):
+        """``(rate, B)``: the rotation angle per period lies within ``B`` of ``rate * eps``
+        (the elliptic angle of the WKB phase, ``int sqrt(8 max(-(mu^2 + s), 0)) dtau``; ``B``
+        bounds what the turning points and the repelling parts add). A drive may give it
+        more tightly."""
+        tau = (np.arange(4096) + 0.5) / 2048.0
+        s = np.asarray(self._shape(tau), float)
+        mu = np.asarray(mu, float)
+        k = np.multiply.outer(mu * mu, np.ones(s.size)) + s
+        rate = np.sqrt(8.0 * np.maximum(-k, 0.0)).sum(axis=-1) / 2048.0
+        return rate, 4.0 * PI
+
+    def _steps(self):
+        """``(levels, fractions)`` of a piecewise-constant drive (exact segment products), else None."""
+        return None
+
+    def _floquet(self, eps, mu, zeta, certify=True):
+        """Floquet data with damping ratio ``zeta``: ``(tau, growth, theta, stable, zone, kappa)``
+        (:func:`kapitza.drives._api.damped_floquet`; ``certify`` as in :meth:`_floquet0`)."""
+        return _api.damped_floquet(self, eps, mu, zeta, certify)
 
     def _edges(self, mu, n, zeta):
-        """``(eps_lo, eps_hi)`` of zone ``n`` with damping ratio ``zeta`` (trusted arrays)."""
-        mu, n, zeta = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64),
-                                          np.asarray(zeta, float))
-        if not np.any(zeta > 0):
-            return self._edges0(mu, n)
-        return _damped_edges(self, mu, n, zeta)
+        """``(eps_lo, eps_hi)`` of zone ``n`` with damping ratio ``zeta`` (:func:`kapitza.drives._api.damped_edges`)."""
+        return _api.damped_edges(self, mu, n, zeta)
 
+    def closed_form(self, zeta=0.0) -> bool:
+        """Whether this drive answers from closed forms at damping ratio ``zeta`` (the square
+        wave, undamped): its zone edges then cost a few Newton steps, any window of a chart alike."""
+        return False
 
-# ---------------------------------------------------------------- damped edges
-def _excess(drive, eps, mu, zeta):
-    """G = log|tau_phi| - log cosh(kappa): the damped upright is stable iff G < 0 (or on a zone)."""
-    eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float))
-    shape = eps.shape
-    eps, mu, zeta = eps.reshape(-1), mu.reshape(-1), zeta.reshape(-1)
-    mu_c = mu * np.sqrt(1.0 + zeta * zeta)
-    kappa = 2.0 * SQRT8 * zeta * mu * eps
-    # where the phases are short, tau_phi - 1 itself (no product needed); elsewhere log|tau_phi|
-    G = _damped_excess(drive, eps, mu_c, kappa)
-    rest = np.isnan(G)
-    if rest.any():
-        # on a phi-zone log|tau_phi| < 0 <= log cosh(kappa): G < 0 there without asking for the zone
-        G[rest] = drive._log_tau0(eps[rest], mu_c[rest]) - log_cosh(kappa[rest])
-    return G.reshape(shape)
+    def floquet_data(self, eps, mu, zeta):
+        """``(trace, determinant, multipliers, growth, rotation_number, stable, zone)`` (:func:`kapitza.floquet`)."""
+        trace, det, mult, growth, rho, stable, zone = _api.floquet(eps, mu, self, zeta)
+        return trace, det, mult, growth, rho, stable, np.where(stable, zone, -1).astype(np.int64)
 
+    def verdict(self, eps, mu, zeta, want_zone=True):
+        """``(stable, zone)``, zone -1 where unstable (:func:`kapitza.is_stable`, :func:`kapitza.zone_index`)."""
+        return _api.verdict(eps, mu, self, zeta)
 
-def _damped_excess(drive, eps, mu_c, kappa, log_tau=None, where=None):
-    """``G = log|tau_phi| - log cosh(kappa)``, without cancellation where ``tau_phi > 0`` and the
-    drive gives ``y = tau_phi - 1`` accurately (short phases): there
-    ``G = log1p((y - 2 sinh^2(kappa/2)) / cosh(kappa))``, whose terms are of the size of the result.
+    def growth(self, eps, mu, zeta):
+        """``log max|lambda|`` per period (:func:`kapitza.growth_rate`)."""
+        return _api.floquet(eps, mu, self, zeta)[3]
 
-    Below zone 0 at small ``mu`` both logarithms are of order ``eps^2 mu^2`` and ``G`` of order
-    ``eps^4`` (``docs/drives.md``, section 3). With ``log_tau`` given, ``G`` is formed from it
-    except at the rows (of ``where``, all by default) with ``tau_phi`` near 1; without it, rows
-    the drive cannot form are NaN. Flat arrays.
-    """
-    eps, mu_c, kappa = (np.asarray(v, float).reshape(-1) for v in np.broadcast_arrays(eps, mu_c, kappa))
-    if log_tau is None:
-        G = np.full(eps.shape, np.nan)
-        near = kappa < 1.0
-    else:
-        log_tau = np.asarray(log_tau, float).reshape(-1)
-        with np.errstate(divide="ignore"):
-            G = log_tau - log_cosh(kappa)
-        near = (log_tau < 0.5) & (kappa < 1.0)
-    if where is not None:
-        near &= np.asarray(where).reshape(-1)
-    if not near.any():
-        return G
-    idx = np.flatnonzero(near)
-    y = drive._tau_minus_one0(eps[idx], mu_c[idx])
-    ok = np.isfinite(y) & (y > -1.0)
-    sh2 = 2.0 * np.sinh(0.5 * kappa[idx[ok]]) ** 2
-    G[idx[ok]] = np.log1p((y[ok] - sh2) / (1.0 + sh2))
-    return G
+    def rotation(self, eps, mu, zeta):
+        """Rotation number per period (:func:`kapitza.rotation_number`)."""
+        return _api.floquet(eps, mu, self, zeta)[4]
 
+    def edges(self, mu, n, zeta):
+        """``(eps_lo, eps_hi)`` of zone ``n``, NaN where there is none (:func:`kapitza.zone_edges`)."""
+        return self._edges(mu, n, zeta)
 
-def _bisect(drive, mu, zeta, lo, hi, rising):
-    """Root of G between ``lo`` and ``hi`` where G changes sign (``rising``: G < 0 at lo)."""
-    lo = lo.copy()
-    hi = hi.copy()
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if not np.any((mid > lo) & (mid < hi)):
-            break
-        pos = _excess(drive, mid, mu, zeta) >= 0
-        go_hi = pos if rising else ~pos
-        hi = np.where(go_hi, mid, hi)
-        lo = np.where(go_hi, lo, mid)
-    return np.where(rising, hi, lo)
+    def margin(self, eps, mu, zeta):
+        """``(stable, zone, eps_lo, eps_hi, margin)`` (:func:`kapitza.stability_margin`)."""
+        return _api.margin(eps, mu, self, zeta)
 
+    def paint(self, eps, mu, zeta, out):
+        """Paint the verdicts of the grid ``eps`` (sorted) x ``mu`` into ``out`` (zeroed), one
+        damping ratio ``zeta`` for all (:func:`kapitza.stability_grid`)."""
+        return _api.grid(eps, mu, self, np.full(mu.size, float(zeta)), out)
 
-def _gap_argmax(drive, mu, zeta, lo, hi):
-    """Golden-section search for the maximum of G on ``(lo, hi)`` (G is one hump there)."""
-    r = 0.5 * (np.sqrt(5.0) - 1.0)
-    a, b = lo.copy(), hi.copy()
-    c = b - r * (b - a)
-    d = a + r * (b - a)
-    Gc = _excess(drive, c, mu, zeta)
-    Gd = _excess(drive, d, mu, zeta)
-    best_x = np.where(Gc >= Gd, c, d)
-    best_G = np.maximum(Gc, Gd)
-    for _ in range(100):
-        # an unstable point is all a bracket needs: rows with G > 0 found are done
-        live = (best_G <= 0) & (b - a > 4e-16 * b)
-        if not live.any():
-            break
-        left = Gc >= Gd  # the maximum lies in (a, d)
-        b = np.where(live & left, d, b)
-        a = np.where(live & ~left, c, a)
-        p = np.where(left, b - r * (b - a), a + r * (b - a))
-        Gp = np.full(p.shape, -np.inf)
-        Gp[live] = _excess(drive, p[live], mu[live], zeta[live])
-        c, d = np.where(live, np.where(left, p, d), c), np.where(live, np.where(left, c, p), d)
-        Gc, Gd = np.where(live, np.where(left, Gp, Gd), Gc), np.where(live, np.where(left, Gc, Gp), Gd)
-        better = live & (Gp > best_G)
-        best_x = np.where(better, p, best_x)
-        best_G = np.where(better, Gp, best_G)
-    return best_x, best_G
+    def period_edges(self, A, n, l, g, c):
+        """``(T_lo, T_hi)`` of zone ``n`` at fixed ``A`` (:func:`kapitza.period_edges`)."""
+        with np.errstate(over="ignore", under="ignore"):
+            mu = np.sqrt(g / A)
+        lo, hi = self.edges(mu, n, _api.zeta_of(c, l, g))
+        scale = time_scale(l, A)
+        return lo * scale, hi * scale
 
+    def amplitude_edges(self, T, n, l, g, c):
+        """``(A_lo, A_hi)`` of zone ``n`` at fixed ``T`` (:func:`kapitza.amplitude_edges`; bisection
+        on the zone index read from the rotation angle)."""
+        T, n, l, g, c = np.broadcast_arrays(T, n, l, g, c)
+        pairs = [_api.along_amplitude(*args, self, cc) for *args, cc in
+                 zip(T.ravel(), n.ravel(), l.ravel(), g.ravel(), c.ravel())]
+        lo = np.array([p[0] for p in pairs]).reshape(T.shape)
+        hi = np.array([p[1] for p in pairs]).reshape(T.shape)
+        return lo, hi
 
-def _damped_edges(drive, mu, n, zeta, phi=None):
-    """Edges of damped zone ``n``: each lies in the gap next to the undamped ``phi``-zone.
+    def monodromy(self, T, A, l, g, c):
+        """``M`` over one period, shape ``(..., 2, 2)`` (:func:`kapitza.monodromy`)."""
+        return _api.monodromy(T, A, l, g, self, c)
 
-    The damped zone ``n`` contains the undamped zone ``n`` of the ``phi``-system (at
-    ``mu_c``), on which ``|tau_phi| < 1 <= cosh kappa``. In the gap between ``phi``-zones
-    ``n - 1`` and ``n`` the excess ``G = log|tau_phi| - log cosh kappa`` is negative at both
-    ends and rises to one maximum: its two roots are the damped upper edge of zone
-    ``n - 1`` and the damped lower edge of zone ``n``. Where the maximum is <= 0 the
-    damping has joined the two zones; both edges are then reported at that maximum.
-    """
-    if phi is None:
-        mu_c = mu * np.sqrt(1.0 + zeta * zeta)
-        lo_n, hi_n = drive._edges0(mu_c, n)
-        _, hi_prev = drive._edges0(mu_c, np.maximum(n - 1, 0))
-        lo_next, _ = drive._edges0(mu_c, n + 1)
-    else:  # the phi-system's edges, known already (a chart's window; lo_next may be a cap)
-        lo_n, hi_n, hi_prev, lo_next = phi
-    # gap below zone n: (hi_{n-1}, lo_n), or (0, lo_0) for zone 0
-    gap_lo = np.where(n == 0, 0.0, hi_prev)
-    # no phi-zone n (no attracting part left at mu_c): no damped zone either
-    ok = np.isfinite(lo_n) & np.isfinite(hi_n) & np.isfinite(gap_lo)
-    if not ok.all():
-        out_lo = np.full(mu.shape, np.nan)
-        out_hi = np.full(mu.shape, np.nan)
-        if ok.any():
-            nxt = np.where(np.isfinite(lo_next), lo_next, 4.0 * hi_n)
-            out_lo[ok], out_hi[ok] = _damped_edges(drive, mu[ok], n[ok], zeta[ok],
-                                                   phi=(lo_n[ok], hi_n[ok], hi_prev[ok], nxt[ok]))
-        return out_lo, out_hi
-    x_lo, G_lo = _gap_argmax(drive, mu, zeta, gap_lo, lo_n)
-    x_hi, G_hi = _gap_argmax(drive, mu, zeta, hi_n, lo_next)
-    edge_lo = np.where(G_lo > 0, _bisect(drive, mu, zeta, x_lo, lo_n, rising=False), x_lo)
-    # zone 0 with the gap entirely stable reaches down to eps -> 0
-    edge_lo = np.where((n == 0) & (G_lo <= 0), 0.0, edge_lo)
-    edge_hi = np.where(G_hi > 0, _bisect(drive, mu, zeta, hi_n, x_hi, rising=True), x_hi)
-    return edge_lo, edge_hi
+    def linear_motion(self, t, theta0, dtheta0, T, A, l, g, c):
+        """``theta(t), theta'(t)`` of the linear equation (:func:`kapitza.linear_motion`)."""
+        return _api.linear_motion(t, theta0, dtheta0, T, A, l, g, self, c)
+
+    # ------------------------------------------------------------ one point (kapitza.analyze)
+    def point_floquet(self, eps, mu, zeta, pointwise=True):
+        """The Floquet data of one point as Python numbers: ``(trace, determinant, multipliers,
+        growth, rotation_number, stable, zone, theta, exact)`` (``theta`` the rotation angle,
+        ``exact`` whether it is the array path's own). ``pointwise``: a drive may answer from
+        scalar twins of its kernels (the square wave), checked against the arrays' answers."""
+        trace, det, mult, growth, rho, stable, zone = (np.asarray(a)[()] for a in self.floquet_data(
+            np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float)))
+        return (float(trace), float(det), tuple(complex(x) for x in mult), float(growth), float(rho), bool(stable),
+                int(zone), 2.0 * PI * float(rho), True)
+
+    def point_margin(self, eps, mu, zeta, pointwise=True):
+        """:meth:`margin` of one point as ``(stable, zone, eps_lo, eps_hi, margin)`` Python numbers
+        (``pointwise``: from one batched search of its zones' edges where it answers)."""
+        if pointwise and self._batched_points:
+            found = _api.point_margin(self, eps, mu, zeta)
+            if found is not None:
+                return found
+        st, zone, lo, hi, m = (np.asarray(a)[()] for a in self.margin(
+            np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float)))
+        return bool(st), int(zone), float(lo), float(hi), float(m)
+
+    def point_intervals(self, eps, mu, zone, zeta, T, A, l, g, c, pointwise=True, eps_edges=None):
+        """Zone ``zone`` of one physical point as intervals a rig is turned along: ``T_lo, T_hi``
+        (at this ``A``), ``A_lo, A_hi`` (at this ``T``), ``stroke_lo, stroke_hi`` (at this
+        frequency), ``frequency_lo, frequency_hi`` (at this stroke); and the ``stroke``.
+        ``eps_edges``: the zone's edges in ``eps`` at this ``mu``, when known (``T`` is ``eps``
+        times ``sqrt(8 l / A)`` at this ``A``: no second solve)."""
+        stroke = self.point_stroke(T, A)
+        if eps_edges is not None:
+            scale = np.sqrt(8.0 * np.asarray(l, float) / np.asarray(A, float))
+            Tlo, Thi = eps_edges[0] * scale, eps_edges[1] * scale
+        else:
+            Tlo, Thi = self.period_edges(np.asarray(A, float), np.asarray(zone), np.asarray(l, float),
+                                         np.asarray(g, float), np.asarray(c, float))
+        out = dict(T_lo=float(Tlo), T_hi=float(Thi))
+        if self._batched_points:
+            rig = _api.rig_intervals(eps, mu, zone, self, zeta, T, A, l, g)
+        else:
+            Alo, Ahi = self.amplitude_edges(*(np.asarray(v, float) for v in (T, zone, l, g, c)))
+            rig = dict(A_lo=float(Alo), A_hi=float(Ahi))
+            rig.update(_api.rig_margins(eps, mu, zone, self, zeta, T, stroke))
+        out.update(A_lo=rig["A_lo"], A_hi=rig["A_hi"], stroke_lo=stroke * rig["A_lo"] / A,
+                   stroke_hi=stroke * rig["A_hi"] / A, stroke=stroke)
+        out.update({k: v for k, v in rig.items() if k.startswith("frequency")})
+        return out
+
+    def point_stroke(self, T, A) -> float:
+        """:meth:`stroke` of one validated point (Python floats; ``inf`` beyond the doubles)."""
+        return float(self._stroke_coefficient) * A * T * T
+
+    def point_sentence(self, mu, zeta, zone, eps_lo):
+        """Why an unstable point can never be stable, in words, or None (then the way it is
+        unstable is told from its multipliers)."""
+        if mu >= self.mu_max:
+            return (f"always unstable: the pivot never accelerates down faster than g (mu >= {self.mu_max:.6g}, "
+                    f"the drive's mu_max)")
+        mu_c = np.array([mu * np.sqrt(1.0 + zeta * zeta)])
+        if np.isnan(eps_lo) and zone < 0 and not np.any(self._zone_rate(mu_c)[0] > 0):
+            return "always unstable: the drive has no attracting phase at this mu"
+        return None
+
+    def point_nonlinear(self, eps, mu, zeta, theta, zone, exact_theta, pointwise=True):
+        """The verdict on the full equation's upright at a linearly stable point, or None where the
+        drive gives none (the square wave, undamped: :func:`kapitza.nonlinear_stability`)."""
+        return None

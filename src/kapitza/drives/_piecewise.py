@@ -31,6 +31,8 @@ import math
 import numpy as np
 
 from .. import _validate as _v
+from .._certify import MAX_PHASE, tau_mp
+from ._api import bisect_bits as _bisect_bits
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
@@ -153,10 +155,13 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     with np.errstate(under="ignore"):
         thr = 2.0 * np.exp(-np.maximum(L, -700.0))
     unsure = np.abs(np.abs(trN) - thr) <= err + 1e-15 * thr
+    # beyond MAX_PHASE the exact decision would need thousands of digits: the double verdict
+    # stands there, as the square wave's does (kapitza._certify)
+    unsure &= rsum <= MAX_PHASE
     stable = np.abs(trN) < thr
     if certify and np.any(unsure):
         idx = np.flatnonzero(unsure)
-        exact = _tau_mp(eps[idx], mu[idx], levels, durations)
+        exact = tau_mp(eps[idx], mu[idx], levels, durations)
         log_tau[idx] = [r[1] for r in exact]
         tau[idx] = [r[0] for r in exact]
         stable[idx] = [r[2] for r in exact]
@@ -188,43 +193,6 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     zone = np.where(stable, zone_stable, -1).astype(np.int64)
     return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),
                     theta=theta.reshape(shape), zone=zone.reshape(shape))
-
-
-def _tau_mp(eps, mu, levels, durations):
-    """``tr M / 2`` in mpmath, at a precision that covers the cancellation of ``e^{sum r}`` terms."""
-    import mpmath
-
-    out = []
-    for e, m in zip(eps.tolist(), mu.tolist()):
-        rsum = sum(np.sqrt(8.0 * e * e * abs(m * m + s)) * h for s, h in zip(levels, durations))
-        # e^rsum-sized terms cancel far out; near eps -> 0, tr M/2 - 1 = O(rsum^4) is what decides
-        dps = 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
-        with mpmath.workdps(dps):
-            E, Mu = mpmath.mpf(e), mpmath.mpf(m)
-            P = mpmath.eye(2)
-            for s, h in zip(levels, durations):
-                k = 8 * E * E * (Mu * Mu + mpmath.mpf(s))
-                H = mpmath.mpf(h)
-                if k > 0:
-                    w = mpmath.sqrt(k)
-                    S = mpmath.matrix([[mpmath.cosh(w * H), mpmath.sinh(w * H) / w],
-                                       [w * mpmath.sinh(w * H), mpmath.cosh(w * H)]])
-                elif k < 0:
-                    w = mpmath.sqrt(-k)
-                    S = mpmath.matrix([[mpmath.cos(w * H), mpmath.sin(w * H) / w],
-                                       [-w * mpmath.sin(w * H), mpmath.cos(w * H)]])
-                else:
-                    S = mpmath.matrix([[1, H], [0, 1]])
-                P = S * P
-            t = (P[0, 0] + P[1, 1]) / 2
-            # the verdict |t| < 1 is decided here, in extended precision; the float of t may
-            # round to +-1 on either side
-            st = bool(abs(t) < 1)
-            # on a zone the rotation angle acos(t), off it the growth acosh|t|, each to full
-            # relative accuracy (t may round to +-1)
-            out.append((float(t), float(mpmath.log(abs(t))) if t != 0 else -np.inf, st,
-                        float(mpmath.acos(t)) if st else float(mpmath.acosh(abs(t)))))
-    return out
 
 
 class PiecewiseConstant(Drive):
@@ -293,6 +261,19 @@ class PiecewiseConstant(Drive):
 
     def _edges0(self, mu, n):
         return sampled_edges(self, mu, n)
+
+    _windowed = True
+    _batched_points = True
+
+    def _window0(self, mu, e_a, e_b):
+        return window_zones(self, mu, e_a, e_b)
+
+    def _zone_rate(self, mu):
+        rate, _ = _window_margin(mu, self.levels, self._durations)
+        return rate, (len(self.levels) + 1) * PI
+
+    def _steps(self):
+        return self.levels, self.fractions
 
     def _log_tau0(self, eps, mu):
         # the product alone: no rotation angle, no certification (the damped excess needs no more)
@@ -838,18 +819,3 @@ def rotation_edges(drive, mu, n):
     lo = np.where(none, np.nan, lo)
     hi = np.where(none, np.nan, hi)
     return lo.reshape(shape), hi.reshape(shape)
-
-
-def _bisect_bits(pred, lo, hi):
-    """Bisection on the bit patterns of non-negative doubles: at most 64 steps to adjacent doubles."""
-    a = lo.view(np.int64).copy()
-    b = hi.view(np.int64).copy()
-    for _ in range(70):
-        m = a + (b - a) // 2
-        live = b - a > 1
-        if not live.any():
-            break
-        ok = pred(m.view(np.float64))
-        b = np.where(live & ok, m, b)
-        a = np.where(live & ~ok, m, a)
-    return a.view(np.float64), b.view(np.float64)

@@ -18,6 +18,14 @@ class RectangularWave(PiecewiseConstant):
     """
 
     name = "rectangular"
+    text_form = "rectangular:DUTY"
+
+    @classmethod
+    def from_text(cls, parameters, text=None):
+        if not parameters:
+            raise _v.KapitzaValueError(
+                f"drive 'rectangular' needs its duty cycle, e.g. 'rectangular:0.3'; got {text!r}")
+        return cls(_v.number_text("duty", parameters))
 
     def __init__(self, duty):
         d = _v.one("duty", _v.in_range("duty", duty, 0.0, 1.0))

@@ -1,6 +1,7 @@
 """Any piecewise-constant drive: levels and the fractions of the period they last."""
 from __future__ import annotations
 
+from .. import _validate as _v
 from ._piecewise import PiecewiseConstant
 
 
@@ -22,3 +23,13 @@ class StepDrive(PiecewiseConstant):
     """
 
     name = "steps"
+    text_form = "steps:LEVELS:FRACTIONS"
+
+    @classmethod
+    def from_text(cls, parameters, text=None):
+        levels, sep, fractions = (parameters or "").partition(":")
+        if not sep:
+            raise _v.KapitzaValueError(
+                f"drive 'steps' needs levels and fractions, e.g. 'steps:2,-1,1,-1:0.2,0.3,0.2,0.3'; got {text!r}")
+        return cls([_v.number_text("levels", x) for x in levels.split(",")],
+                   [_v.number_text("fractions", x) for x in fractions.split(",")])

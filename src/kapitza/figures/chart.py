@@ -10,7 +10,7 @@ from .. import _validate as _v
 from ..parameters import SQRT8
 from ..curves import (PhysicalZoneCurves, ZoneCurves, mu_top, physical_window, physical_zone_curves, window_range,
                       zone_curves)
-from ..zones import _edges_eps
+from .._square import _edges_eps
 from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL, Drawn, place_legend
 
 __all__ = [
@@ -359,7 +359,10 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     """
     from ._style import caption, new_figure
 
-    general, _ = _v.general_drive(drive, zeta)
+    from ..drives import as_drive
+
+    general = as_drive(drive)
+    general = None if general.closed_form(_v.damping_ratio(zeta)) else general
     zeta = float(zeta)
     if plane not in ("arnold", "physical"):
         raise _v.KapitzaValueError(f"plane must be 'arnold' or 'physical'; got {plane!r}")

@@ -12,7 +12,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from .. import _validate as _v
-from ..propagation import _apply, _flow
+from .._square import _apply, _flow
 from ._elliptic import _phase_step
 
 

@@ -472,7 +472,7 @@ def _view(plane, eps_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples
 
     d = _drive(drive)
     zeta = _zeta(zeta)
-    general, _ = _v.general_drive(d, zeta)
+    general = None if d.closed_form(zeta) else d
     if samples is None:
         samples = 1000 if general is None else 300
     _bounded("samples", samples, LIMITS["samples" if general is None else "general_samples"], 2)
