@@ -20,8 +20,9 @@ from .rectangular import RectangularWave
 from .sine import SineWave
 from .square import SquareWave
 from .steps import StepDrive
+from .triangle import TriangleWave
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "DRIVES", "as_drive", "parse_drive"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "DRIVES", "as_drive", "parse_drive"]
 
 #: Drive classes by the name the command line and the reports use.
 DRIVES = {
@@ -29,6 +30,7 @@ DRIVES = {
     "rectangular": RectangularWave,
     "steps": StepDrive,
     "sine": SineWave,
+    "triangle": TriangleWave,
 }
 
 _SQUARE = SquareWave()

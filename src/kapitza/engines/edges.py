@@ -1,0 +1,142 @@
+"""Zone edges of any drive from a period map with a rotation angle.
+
+Zone ``n`` is where the rotation angle per period lies in ``(n pi, (n + 1) pi)``; off the zones
+the angle is a whole multiple of ``pi``. Along ``eps`` at fixed ``mu`` the angle does not
+decrease (oscillation theory of ``phi'' = 8 eps^2 (mu^2 + s) phi``: the restoring part grows
+with ``eps^2``), so the lower edge of zone ``n`` is where the angle leaves ``n pi`` and the upper
+edge where it reaches ``(n + 1) pi``. Each edge is found in three stages, batched over all the
+``(mu, n)`` asked at once:
+
+1. *bracket by the angle*: from ``eps = (n + 1/2) pi / rate`` (``rate`` the elliptic angle per
+   unit ``eps``) by doubling or halving until the predicate "the angle has passed the level"
+   is false at one end and true at the other;
+2. *bisection on the angle* until the false end lies in the gap (unstable, angle exactly the
+   level) and the true end in the zone, or the bracket is a few ulp wide (zones that touch);
+3. *Illinois iterations* on ``asinh(+-tr M / 2) - asinh(1)``, which changes sign exactly once
+   between a point of the gap and a point of the zone, to adjacent doubles (two to four ulp).
+
+The edge is reported on its unstable side, as every edge of kapitza is.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+PI = np.pi
+A1 = float(np.arcsinh(1.0))
+
+
+def _level(tau, theta, zone):
+    """The angle in units of ``pi``, with ``k + 1/2`` standing for all of zone ``k``."""
+    return np.where(zone >= 0, zone + 0.5, np.rint(theta / PI))
+
+
+def _F(tau, log_tau, sgn):
+    """``asinh(sgn tau) - asinh(1)``, from ``log|tau|`` where ``tau`` is large."""
+    x = sgn * tau
+    with np.errstate(over="ignore", invalid="ignore"):
+        big = np.sign(x) * (log_tau + np.log1p(np.sqrt(1.0 + np.exp(-2.0 * np.maximum(log_tau, 0.0)))))
+        small = np.arcsinh(np.where(log_tau < 30.0, x, 0.0))
+    return np.where(log_tau < 30.0, small, big) - A1
+
+
+def zone_edges(floquet, trace, mu, n, rate):
+    """``(eps_lo, eps_hi)`` of zone ``n`` at each ``mu`` (flat arrays; every row has zones).
+
+    ``floquet(eps, mu) -> (tau, log_tau, theta, zone)`` and ``trace(eps, mu) -> (tau, log_tau)``
+    evaluate the period at flat arrays; ``rate > 0`` is the elliptic angle per unit ``eps``.
+    """
+    mu = np.asarray(mu, float)
+    n = np.asarray(n, np.int64)
+    P = mu.size
+    # tasks: P lower edges (threshold n: the angle has left n pi), P upper (threshold n + 1/2)
+    m = np.concatenate([mu, mu])
+    c = np.concatenate([n.astype(float), n + 0.5])
+    upper = np.arange(2 * P) >= P
+    nn = np.concatenate([n, n])
+    x0 = (nn + np.where(upper, 1.0, 0.0)) * PI / np.concatenate([rate, rate])
+    x0 = np.maximum(x0, 0.5 * PI / np.concatenate([rate, rate]))
+
+    def pred(x, rows):
+        tau, lt, th, z = floquet(x, m[rows])
+        lev = _level(tau, th, z)
+        return lev > c[rows], lev, tau, lt
+
+    # 1. bracket
+    a = np.zeros(2 * P)
+    b = np.full(2 * P, np.inf)
+    la = np.full(2 * P, np.nan)
+    lb = np.full(2 * P, np.nan)
+    x = x0.copy()
+    todo = np.arange(2 * P)
+    for _ in range(80):
+        if todo.size == 0:
+            break
+        ok, lev, _, _ = pred(x[todo], todo)
+        t_in, t_out = todo[ok], todo[~ok]
+        b[t_in] = np.minimum(b[t_in], x[t_in])
+        lb[t_in] = lev[ok]
+        a[t_out] = np.maximum(a[t_out], x[t_out])
+        la[t_out] = lev[~ok]
+        x[t_in] = 0.5 * x[t_in]
+        x[t_out] = 2.0 * x[t_out]
+        done = np.isfinite(b) & (np.isfinite(la) | (b < 1e-300))
+        todo = np.flatnonzero(~done)
+    # rows still true at the smallest eps tried: the zone reaches eps -> 0 (mu = 0)
+    la = np.where(np.isnan(la), c, la)
+    # 2. bisection on the angle until the false end is in the gap and the true end in the zone
+    want_a = c  # lower: the gap's level n; upper: zone n, level n + 1/2
+    want_b = c + 0.5
+    for _ in range(1100):
+        good = (la == want_a) & (lb == want_b)
+        live = ~good & (b > np.nextafter(a, np.inf)) & (a > 0)
+        live |= ~good & (a == 0) & (b > 1e-300)
+        idx = np.flatnonzero(live)
+        if idx.size == 0:
+            break
+        mid = 0.5 * (a[idx] + b[idx])
+        ok, lev, _, _ = pred(mid, idx)
+        a[idx] = np.where(ok, a[idx], mid)
+        la[idx] = np.where(ok, la[idx], lev)
+        b[idx] = np.where(ok, mid, b[idx])
+        lb[idx] = np.where(ok, lev, lb[idx])
+    good = (la == want_a) & (lb == want_b) & (a > 0)
+    # 3. Illinois on asinh(sgn tau) - asinh(1): > 0 in the gap, < 0 in the zone
+    # (tr M = +2 at the edges of the gap below an even zone, -2 below an odd one)
+    gap_level = np.where(upper, nn + 1, nn)
+    sgn = np.where(gap_level % 2 == 0, 1.0, -1.0)
+    res = np.where(upper, b, a)
+    idx = np.flatnonzero(good)
+    if idx.size:
+        res[idx] = _illinois(trace, m[idx], sgn[idx], a[idx], b[idx])
+    return res[:P], res[P:]
+
+
+def _illinois(trace, m, sgn, a, b):
+    """Root of ``F = asinh(sgn tau) - asinh(1)`` between ``a`` and ``b`` (opposite signs of
+    ``F``); returns the end of the final bracket with ``F >= 0`` (the unstable side)."""
+    def F(x, rows):
+        tau, lt = trace(x, m[rows])
+        return _F(tau, lt, sgn[rows])
+
+    allr = np.arange(a.size)
+    x0, x1 = a.copy(), b.copy()
+    f0, f1 = F(x0, allr), F(x1, allr)
+    for _ in range(200):
+        live = (np.nextafter(x0, x1) != x1) & (f0 != 0) & (f1 != 0) & (np.sign(f0) != np.sign(f1))
+        idx = np.flatnonzero(live)
+        if idx.size == 0:
+            break
+        xa, xb, ya, yb = x0[idx], x1[idx], f0[idx], f1[idx]
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            x = xb - yb * (xb - xa) / (yb - ya)
+        lo, hi = np.minimum(xa, xb), np.maximum(xa, xb)
+        bad = ~np.isfinite(x) | (x <= lo) | (x >= hi)
+        x = np.where(bad, 0.5 * (xa + xb), x)
+        x = np.where(x <= lo, hi, x)  # adjacent doubles whose mean rounds onto an end
+        fx = F(x, idx)
+        flip = np.sign(fx) != np.sign(yb)
+        # Illinois: the retained end's value is halved when the same end is kept twice
+        x0[idx] = np.where(flip, xb, xa)
+        f0[idx] = np.where(flip, yb, 0.5 * ya)
+        x1[idx], f1[idx] = x, fx
+    return np.where((f1 >= 0) & ((f0 < 0) | (f1 == 0)), x1, x0)
