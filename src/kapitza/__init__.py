@@ -12,7 +12,7 @@ throughout; :func:`to_arnold` and :func:`to_physical` convert.
 from . import _interrupt  # noqa: F401  (first: Ctrl-C while the command starts up is one line, not a traceback)
 from . import analysis, drives, limits, mathieu, motion, parameters, periodic, phase_plane, propagation, system, zones
 from ._validate import KapitzaValueError
-from .drives import Drive, RectangularWave, SineWave, SquareWave, StepDrive, TriangleWave, parse_drive
+from .drives import Drive, RectangularWave, SineWave, SquareWave, StepDrive, TriangleWave, from_samples, parse_drive
 from .limits import averaging_threshold, threshold_table
 from .system import Pendulum, Rig
 from .analysis import *  # noqa: F401,F403
@@ -42,6 +42,7 @@ __all__ = [
     "SineWave",
     "TriangleWave",
     "Drive",
+    "from_samples",
     "parse_drive",
     "Pendulum",
     "Rig",

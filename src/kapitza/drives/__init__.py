@@ -17,12 +17,13 @@ from __future__ import annotations
 from .. import _validate as _v
 from ._base import Drive
 from .rectangular import RectangularWave
+from .sampled import SampledDrive, from_samples
 from .sine import SineWave
 from .square import SquareWave
 from .steps import StepDrive
 from .triangle import TriangleWave
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "DRIVES", "as_drive", "parse_drive"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "SampledDrive", "from_samples", "DRIVES", "as_drive", "parse_drive"]
 
 #: Drive classes by the name the command line and the reports use.
 DRIVES = {
@@ -31,6 +32,7 @@ DRIVES = {
     "steps": StepDrive,
     "sine": SineWave,
     "triangle": TriangleWave,
+    "samples": SampledDrive,
 }
 
 _SQUARE = SquareWave()

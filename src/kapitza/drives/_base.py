@@ -432,7 +432,10 @@ class _Kinematics:
     def __init__(self, shape, breaks):
         from ..engines.magnus import NODES, Grid
 
-        g = Grid(shape, breaks, self.STEPS)
+        n = self.STEPS
+        while n < 2 * (len(breaks) + 1):  # a step per segment at least
+            n *= 2
+        g = Grid(shape, breaks, n)
         m = g.m
         h = g.h[:m]
         x = g.x[:m]
