@@ -137,3 +137,58 @@ def test_non_uniform_with_a_period():
     assert d.period == 1.0 and d.A > 0
     ref = half_trace(d._shape, 1.0, 0.3, breaks=d._breakpoints)
     assert float(kapitza.floquet(1.0, 0.3, drive=d).trace) / 2 == pytest.approx(ref, rel=1e-9)
+
+
+# ---------------------------------------------------------------- the command line
+from cli_util import assert_one_line_error, run  # noqa: E402
+
+
+def _trace(path, rows, header="t,a"):
+    path.write_text((header + "\n" if header else "") + "".join(f"{x},{y}\n" for x, y in rows))
+    return str(path)
+
+
+def test_cli_drive_file_uses_the_measured_T_and_A(tmp_path, capsys):
+    N = 400
+    t = 0.02 * np.arange(N) / N
+    a = 300 * np.sin(2 * np.pi * 50 * t) + 40 * np.sin(2 * np.pi * 150 * t)
+    f = _trace(tmp_path / "trace.csv", zip(t.tolist(), a.tolist()))
+    code, out, err = run(["stability", "--drive-file", f, "--rod", "0.25", "--json"], capsys)
+    assert code == 0, err
+    import json
+
+    rep = json.loads(out)
+    d = from_samples(t, a)
+    assert rep["T"] == pytest.approx(d.T) and rep["A"] == pytest.approx(d.A)
+    eps, mu = kapitza.to_arnold(d.T, d.A, l=0.25 * 2 / 3)
+    assert rep["stable"] == bool(kapitza.is_stable(eps, mu, drive=d))
+    # without a header, and with explicit T and A
+    f2 = _trace(tmp_path / "plain.csv", zip(t.tolist(), a.tolist()), header=None)
+    code, out, err = run(["stability", "--drive-file", f2, "--T", "0.02", "--A", "200", "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["T"] == 0.02
+
+
+@pytest.mark.parametrize("rows, needles", [
+    ([(0, 1), (0.1, -1), (0.2, "abc")], ["row 4", "not a number"]),
+    ([(0, 1), (0.1, -1), (0.05, 0)], ["row 4", "strictly increasing"]),
+    ([(0, 1), (0.1, "nan"), (0.2, 0)], ["row 3", "finite"]),
+    ([(0, 1)], ["at least 2 samples"]),
+    ([(0, 9.8), (1, 9.9), (2, 9.7), (3, 9.8)], ["mean acceleration"]),
+    ([(0, 1, 2)], ["row 2", "two columns"]),
+])
+def test_cli_bad_drive_file_is_one_line(tmp_path, capsys, rows, needles):
+    p = tmp_path / "bad.csv"
+    p.write_text("t,a\n" + "".join(",".join(map(str, r)) + "\n" for r in rows))
+    code, _, err = run(["stability", "--drive-file", str(p), "--T", "0.1", "--A", "50"], capsys)
+    assert_one_line_error(code, err, "--drive-file", *needles)
+
+
+def test_cli_drive_file_conflicts(tmp_path, capsys):
+    f = _trace(tmp_path / "t.csv", [(0, 1), (1, -1)])
+    code, _, err = run(["stability", "--drive-file", f, "--drive", "sine", "--T", "0.1", "--A", "50"], capsys)
+    assert_one_line_error(code, err, "not both")
+    code, _, err = run(["stability", "--drive-period", "1", "--T", "0.1", "--A", "50"], capsys)
+    assert_one_line_error(code, err, "--drive-period goes with --drive-file")
+    code, _, err = run(["stability", "--drive-file", str(tmp_path / "none.csv"), "--T", "0.1", "--A", "50"], capsys)
+    assert_one_line_error(code, err, "cannot read")

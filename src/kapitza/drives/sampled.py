@@ -49,7 +49,7 @@ def _column(name, values, rows):
         except (TypeError, ValueError):
             raise _v.KapitzaValueError(f"{name} must be numbers; {rows(i)} holds {v!r}") from None
         if not np.isfinite(out[i]):
-            raise _v.KapitzaValueError(f"{name} must be finite; {rows(i)} holds {out[i]!r}")
+            raise _v.KapitzaValueError(f"{name} must be finite; {rows(i)} holds {float(out[i])!r}")
     return out
 
 
@@ -176,7 +176,7 @@ def from_samples(t, a, period=None, kind="linear", *, rows=None):
     bad = np.flatnonzero(dt <= 0)
     if bad.size:
         i = int(bad[0]) + 1
-        raise _v.KapitzaValueError(f"t must be strictly increasing; {rows(i)} has t = {t[i]!r} after {t[i - 1]!r}")
+        raise _v.KapitzaValueError(f"t must be strictly increasing; {rows(i)} has t = {float(t[i])!r} after {float(t[i - 1])!r}")
     step = float(np.mean(dt))
     uniform = bool(np.all(np.abs(dt - step) <= UNIFORM_RTOL * step))
     span = float(t[-1] - t[0])
