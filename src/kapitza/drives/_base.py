@@ -202,8 +202,7 @@ class Drive:
         1e-13 relative and its verdicts are those of that value.
         """
         eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
-        tau, log_tau, theta, zone = self._engine.floquet(eps.ravel(), mu.ravel())
-        growth = np.where(zone >= 0, 0.0, acosh_from_log(log_tau, tau))
+        tau, log_tau, theta, zone, growth = self._engine.floquet(eps.ravel(), mu.ravel(), growth=True)
         sh = eps.shape
         return Floquet0(tau=tau.reshape(sh), log_tau=log_tau.reshape(sh), growth=growth.reshape(sh),
                         theta=theta.reshape(sh), zone=zone.reshape(sh))

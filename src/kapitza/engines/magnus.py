@@ -209,6 +209,15 @@ def half_trace(mats, L):
     return tau, log_tau
 
 
+def _acosh_from_log(log_tau, tau):
+    """acosh|tau| for |tau| >= 1 from ``log|tau|`` (finite where ``tau`` overflows)."""
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        e = np.abs(tau) - 1.0
+        small = np.log1p(np.where((e >= 0) & (e < 1.0), e + np.sqrt(np.abs(e) * (e + 2.0)), 0.0))
+        big = log_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * np.maximum(log_tau, 0.0))))
+    return np.where(e < 1.0, small, big)
+
+
 def rotation(mats, tau, turn):
     """``(theta, zone)`` from the carried turn of ``(1, 0)`` (module notes)."""
     b = mats[1]
@@ -240,6 +249,8 @@ class Engine:
     PHASE = 0.05
     #: most steps per period (``eps`` of several thousand)
     MAX_STEPS = 1 << 22
+    #: run the compiled loop (:mod:`._compiled`) where numba is installed; the numpy tree otherwise
+    compiled = True
 
     def __init__(self, shape, breaks=(), min_steps=256):
         self.shape = shape
@@ -272,30 +283,55 @@ class Engine:
         n = np.exp2(np.ceil(np.log2(np.minimum(want, self.MAX_STEPS))))
         return n.astype(np.int64)
 
+    def _groups(self, eps, mu):
+        """``(n, rows)`` for each step count among the points (one group in the common case)."""
+        n = self.steps_for(eps, mu)
+        if n.size and n[0] == n[-1] and (n == n[0]).all():
+            return [(int(n[0]), None)]
+        return [(int(nv), np.flatnonzero(n == nv)) for nv in np.unique(n)]
+
+    def _fast(self):
+        if not self.compiled:
+            return None
+        from . import _compiled
+
+        return _compiled if _compiled.available() else None
+
     def period(self, eps, mu, angle=True):
         """``((a, b, c, d), L, turn)`` at flat ``eps, mu`` (see :func:`period`)."""
         eps = np.asarray(eps, float).ravel()
         mu = np.asarray(mu, float).ravel()
-        n = self.steps_for(eps, mu)
-        out_m = [np.empty(eps.size) for _ in range(4)]
-        out_L = np.empty(eps.size)
-        out_t = np.empty(eps.size) if angle else None
-        for nv in np.unique(n):
-            sel = np.flatnonzero(n == nv)
-            mats, L, turn = period(self.grid(int(nv)), eps[sel], mu[sel], angle)
-            for j in range(4):
-                out_m[j][sel] = mats[j]
-            out_L[sel] = L
-            if angle:
-                out_t[sel] = turn
-        return tuple(out_m), out_L, out_t
+        fast = self._fast()
+        out = np.empty((eps.size, 6))
+        for nv, sel in self._groups(eps, mu):
+            e, m = (eps, mu) if sel is None else (eps[sel], mu[sel])
+            if fast is not None:
+                o = fast.run(self.grid(nv), e, m, angle)
+            else:
+                mats, L, turn = period(self.grid(nv), e, m, angle)
+                o = np.column_stack([*mats, L, turn if angle else np.zeros(e.size)])
+            out[slice(None) if sel is None else sel] = o
+        return (out[:, 0], out[:, 1], out[:, 2], out[:, 3]), out[:, 4], (out[:, 5] if angle else None)
 
-    def floquet(self, eps, mu):
-        """``(tau, log_tau, theta, zone)`` at flat ``eps, mu``."""
-        mats, L, turn = self.period(eps, mu, True)
-        tau, log_tau = half_trace(mats, L)
-        theta, zone = rotation(mats, tau, turn)
-        return tau, log_tau, theta, zone
+    def floquet(self, eps, mu, growth=False):
+        """``(tau, log_tau, theta, zone)`` at flat ``eps, mu`` (and ``acosh|tau|`` off the zones,
+        0 on them, with ``growth``)."""
+        fast = self._fast()
+        if fast is None:
+            mats, L, turn = self.period(eps, mu, True)
+            tau, log_tau = half_trace(mats, L)
+            theta, zone = rotation(mats, tau, turn)
+            if growth:
+                return tau, log_tau, theta, zone, np.where(zone >= 0, 0.0, _acosh_from_log(log_tau, tau))
+            return tau, log_tau, theta, zone
+        eps = np.asarray(eps, float).ravel()
+        mu = np.asarray(mu, float).ravel()
+        out = np.empty((eps.size, 6))
+        for nv, sel in self._groups(eps, mu):
+            e, m = (eps, mu) if sel is None else (eps[sel], mu[sel])
+            out[slice(None) if sel is None else sel] = fast.run(self.grid(nv), e, m, True, True)
+        res = out[:, 0], out[:, 1], out[:, 2], out[:, 3].astype(np.int64)
+        return (*res, out[:, 4]) if growth else res
 
     def log_tau(self, eps, mu):
         mats, L, _ = self.period(eps, mu, False)
