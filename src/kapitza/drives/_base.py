@@ -218,13 +218,13 @@ class Drive:
         mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
         sh = mu.shape
         mu, n = mu.ravel(), n.ravel()
-        rate, _ = self._zone_window(mu)
+        rate, B = self._zone_window(mu)
         ok = (rate > 0) & (n >= 0)
         lo = np.full(mu.size, np.nan)
         hi = np.full(mu.size, np.nan)
         if ok.any():
             eng = self._engine
-            lo[ok], hi[ok] = zone_edges(eng.floquet, eng.log_tau, mu[ok], n[ok], rate[ok])
+            lo[ok], hi[ok] = zone_edges(eng.floquet, eng.log_tau, mu[ok], n[ok], rate[ok], B[ok])
         return lo.reshape(sh), hi.reshape(sh)
 
     def _zone_window(self, mu):

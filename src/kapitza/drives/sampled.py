@@ -84,7 +84,7 @@ class SampledDrive(Drive):
         self.mean = float(mean)
         self.periods = int(periods)
         n = s.size
-        self._min_steps = max(64, 2 * n)
+        self._min_steps = max(64, n)
         if kind == "linear":
             self._xp = np.concatenate([phase, [2.0]])
             self._fp = np.concatenate([s, s[:1]])

@@ -39,11 +39,13 @@ def _F(tau, log_tau, sgn):
     return np.where(log_tau < 30.0, small, big) - A1
 
 
-def zone_edges(floquet, trace, mu, n, rate):
+def zone_edges(floquet, trace, mu, n, rate, B=None):
     """``(eps_lo, eps_hi)`` of zone ``n`` at each ``mu`` (flat arrays; every row has zones).
 
     ``floquet(eps, mu) -> (tau, log_tau, theta, zone)`` and ``trace(eps, mu) -> (tau, log_tau)``
-    evaluate the period at flat arrays; ``rate > 0`` is the elliptic angle per unit ``eps``.
+    evaluate the period at flat arrays; ``rate > 0`` is the elliptic angle per unit ``eps`` and
+    ``B`` (optional) bounds ``|theta - rate eps|``: with it the angle is first sampled over
+    the span where the zones lie, once per distinct ``mu`` for all the zones asked there.
     """
     mu = np.asarray(mu, float)
     n = np.asarray(n, np.int64)
@@ -61,35 +63,71 @@ def zone_edges(floquet, trace, mu, n, rate):
         lev = _level(tau, th, z)
         return lev > c[rows], lev, tau, lt
 
-    # 1. bracket
+    def pred_at(x, mus):
+        tau, lt, th, z = floquet(x, mus)
+        return _level(tau, th, z)
+
+    # 1. bracket: the angle sampled every pi/3 of elliptic angle over the span where the
+    # zones asked for at each mu lie, shared by every task of that mu; then doubling or halving
+    # for the tasks the samples do not bracket
     a = np.zeros(2 * P)
     b = np.full(2 * P, np.inf)
     la = np.full(2 * P, np.nan)
     lb = np.full(2 * P, np.nan)
-    x = x0.copy()
-    todo = np.arange(2 * P)
+    if B is not None:
+        _prescan(pred_at, m, c, nn, np.concatenate([rate, rate]), np.concatenate([B, B]), a, b, la, lb)
+    x = np.where(np.isfinite(b), 0.5 * b, x0)
+    x = np.where(a > 0, 2.0 * a, x)
+    todo = np.flatnonzero(~(np.isfinite(b) & np.isfinite(la)))
     for _ in range(80):
         if todo.size == 0:
             break
         ok, lev, _, _ = pred(x[todo], todo)
         t_in, t_out = todo[ok], todo[~ok]
         b[t_in] = np.minimum(b[t_in], x[t_in])
-        lb[t_in] = lev[ok]
+        lb[t_in] = np.where(x[t_in] <= b[t_in], lev[ok], lb[t_in])
         a[t_out] = np.maximum(a[t_out], x[t_out])
-        la[t_out] = lev[~ok]
+        la[t_out] = np.where(x[t_out] >= a[t_out], lev[~ok], la[t_out])
         x[t_in] = 0.5 * x[t_in]
         x[t_out] = 2.0 * x[t_out]
         done = np.isfinite(b) & (np.isfinite(la) | (b < 1e-300))
         todo = np.flatnonzero(~done)
     # rows still true at the smallest eps tried: the zone reaches eps -> 0 (mu = 0)
     la = np.where(np.isnan(la), c, la)
-    # 2. bisection on the angle until the false end is in the gap and the true end in the zone
+    # 2. bisection on the angle until the false end is in the gap and the true end in the zone;
+    # a bracket from gap n to gap n + 1 holds all of zone n, where tr M changes sign (tr M / 2 =
+    # cos theta passes 0 at theta = (n + 1/2) pi): that zero, found by Illinois iterations, is
+    # a point of the zone however thin it is (bisection would need to land in it)
     want_a = c  # lower: the gap's level n; upper: zone n, level n + 1/2
     want_b = c + 0.5
+    thin = np.zeros(2 * P, bool)
     for _ in range(1100):
         good = (la == want_a) & (lb == want_b)
-        live = ~good & (b > np.nextafter(a, np.inf)) & (a > 0)
-        live |= ~good & (a == 0) & (b > 1e-300)
+        straddle = ~good & ~thin & (la == nn) & (lb == nn + 1)
+        if straddle.any():
+            # the lower and upper edge of one zone often share the bracket: solve it once
+            twin = np.zeros(2 * P, bool)
+            twin[P:] = straddle[:P] & straddle[P:] & (a[:P] == a[P:]) & (b[:P] == b[P:])
+            i = np.flatnonzero(straddle & ~twin)
+            z, fz = _illinois(trace, m[i], np.ones(i.size), a[i], b[i], target=0.0, enough=0.5 * A1)
+            k = np.flatnonzero(twin)
+            src = np.searchsorted(i, k - P)
+            i = np.concatenate([i, k])
+            z = np.concatenate([z, z[src]])
+            fz = np.concatenate([fz, fz[src]])
+            inside = np.abs(fz) < A1  # |tr M / 2| < 1: in zone n
+            lower = ~upper[i]
+            j = i[inside & lower]
+            b[j], lb[j] = z[inside & lower], nn[j] + 0.5
+            j = i[inside & ~lower]
+            a[j], la[j] = z[inside & ~lower], nn[j] + 0.5
+            # a zone thinner than the spacing of doubles: both edges at the zero
+            j = i[~inside]
+            thin[j] = True
+            a[j] = b[j] = z[~inside]
+            good = (la == want_a) & (lb == want_b)
+        live = ~good & ~thin & (b > np.nextafter(a, np.inf)) & (a > 0)
+        live |= ~good & ~thin & (a == 0) & (b > 1e-300)
         idx = np.flatnonzero(live)
         if idx.size == 0:
             break
@@ -111,18 +149,64 @@ def zone_edges(floquet, trace, mu, n, rate):
     return res[:P], res[P:]
 
 
-def _illinois(trace, m, sgn, a, b):
-    """Root of ``F = asinh(sgn tau) - asinh(1)`` between ``a`` and ``b`` (opposite signs of
-    ``F``); returns the end of the final bracket with ``F >= 0`` (the unstable side)."""
+def _prescan(level_at, m, c, n, rate, B, a, b, la, lb):
+    """Brackets ``[a, b]`` (and their levels) from the angle sampled at each distinct ``mu``.
+
+    At ``mu`` the angle of zone ``n`` lies within ``B`` of ``rate eps``, so its edges lie in
+    ``[(n pi - B) / rate, ((n + 1) pi + B) / rate]``; the span of all the zones asked at that
+    ``mu`` is sampled every ``pi / 3`` of elliptic angle. The angle does not decrease along
+    ``eps``, so each task's bracket is the last sample below its level and the first above.
+    """
+    keys, inv = np.unique(m, return_inverse=True)
+    G = keys.size
+    n_min = np.full(G, np.iinfo(np.int64).max)
+    n_max = np.full(G, -1)
+    np.minimum.at(n_min, inv, n)
+    np.maximum.at(n_max, inv, n)
+    r = np.zeros(G)
+    bb = np.zeros(G)
+    r[inv] = rate
+    bb[inv] = B
+    lo = np.maximum(n_min * PI - bb, PI / 3.0) / r
+    hi = ((n_max + 1) * PI + bb) / r
+    K = int(min(np.max(np.ceil((hi - lo) * r / (PI / 3.0))) + 1, 400))
+    grid = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, K)[None, :]
+    lev = level_at(grid.ravel(), np.repeat(keys, K)).reshape(G, K)
+    lev = np.maximum.accumulate(lev, axis=1)  # monotone (guards a rounding wobble at an edge)
+    below = lev[inv] <= c[:, None]
+    cnt = below.sum(axis=1)  # samples at or below the level: the transition follows them
+    rows = np.arange(c.size)
+    has_a = cnt > 0
+    has_b = cnt < K
+    ia = np.maximum(cnt - 1, 0)
+    ib = np.minimum(cnt, K - 1)
+    g = grid[inv]
+    L = lev[inv]
+    a[has_a] = g[rows, ia][has_a]
+    la[has_a] = L[rows, ia][has_a]
+    b[has_b] = g[rows, ib][has_b]
+    lb[has_b] = L[rows, ib][has_b]
+
+
+def _illinois(trace, m, sgn, a, b, target=A1, enough=0.0):
+    """Root of ``F = asinh(sgn tau) - target`` between ``a`` and ``b`` (opposite signs of ``F``).
+
+    With ``target = asinh(1)`` returns the end of the final bracket with ``F >= 0`` (the
+    unstable side of an edge); with ``enough > 0`` returns ``(x, F(x))`` of the first point
+    with ``|F| < enough`` (or the better end of the final bracket).
+    """
     def F(x, rows):
         tau, lt = trace(x, m[rows])
-        return _F(tau, lt, sgn[rows])
+        return _F(tau, lt, sgn[rows]) + (A1 - target)
 
     allr = np.arange(a.size)
     x0, x1 = a.copy(), b.copy()
     f0, f1 = F(x0, allr), F(x1, allr)
+    g0 = f0.copy()  # the true value at x0 (f0 is halved by the Illinois rule)
     for _ in range(200):
         live = (np.nextafter(x0, x1) != x1) & (f0 != 0) & (f1 != 0) & (np.sign(f0) != np.sign(f1))
+        if enough > 0:
+            live &= (np.abs(g0) >= enough) & (np.abs(f1) >= enough)
         idx = np.flatnonzero(live)
         if idx.size == 0:
             break
@@ -138,5 +222,9 @@ def _illinois(trace, m, sgn, a, b):
         # Illinois: the retained end's value is halved when the same end is kept twice
         x0[idx] = np.where(flip, xb, xa)
         f0[idx] = np.where(flip, yb, 0.5 * ya)
+        g0[idx] = np.where(flip, f1[idx], g0[idx])
         x1[idx], f1[idx] = x, fx
+    if enough > 0:
+        use1 = np.abs(f1) <= np.abs(g0)
+        return np.where(use1, x1, x0), np.where(use1, f1, g0)
     return np.where((f1 >= 0) & ((f0 < 0) | (f1 == 0)), x1, x0)

@@ -242,11 +242,11 @@ class Engine:
     ``shape`` maps ``tau`` in ``[0, 2)`` (arrays) to ``s``; ``breaks`` are its jumps and kinks
     inside ``(0, 2)``; ``min_steps`` resolves the shape itself. A point gets the smallest power
     of two of steps with a phase ``h sqrt(8 eps^2 max|mu^2 + s|)`` of at most :data:`PHASE` per
-    step (measured: ``tr M / 2`` to about 1e-13 relative, ``docs/drives.md``).
+    step (measured: edges to about 1e-12 relative, ``docs/drives.md``).
     """
 
     #: largest phase per step
-    PHASE = 0.05
+    PHASE = 0.08
     #: most steps per period (``eps`` of several thousand)
     MAX_STEPS = 1 << 22
     #: run the compiled loop (:mod:`._compiled`) where numba is installed; the numpy tree otherwise
