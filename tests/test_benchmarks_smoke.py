@@ -81,3 +81,11 @@ def test_bench_sweep_integrated_tiny_runs():
     for needle in ("exact path (square, undamped) -- baseline", "integrated path (square, zeta = 0.05)",
                    "integrated path (sine, undamped)", "ratio (this / exact)", "integrated vs exact"):
         assert needle in out, needle
+
+
+def test_bench_drives_generic_tiny_runs():
+    out = run_tiny("bench_drives_generic.py")
+    for needle in ("square wave (baseline)", "triangle wave", "measured drive, 50 samples", "ratio to the square wave",
+                   "chart (eps in (0, 4], mu in (0, 1)) from exact edges"):
+        assert needle in out, needle
+    assert "pointwise verdicts disagreeing with the chart: 0 of 40" in out

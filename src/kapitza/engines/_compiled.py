@@ -147,10 +147,11 @@ def available() -> bool:
 
 def run(grid, eps, mu, angle=True, finish=False):
     """``out`` of :func:`_loop` at flat ``eps, mu`` on ``grid``, shape ``(P, 6)``."""
-    g = grid
+    coef = grid.__dict__.get("_real")
+    if coef is None:  # the real steps' coefficients, contiguous, once per grid
+        m = grid.m
+        coef = grid._real = tuple(np.ascontiguousarray(getattr(grid, k)[:m])
+                                  for k in ("h", "p1", "p2", "p2m", "q1", "q2", "r1", "r2", "r2m", "r3", "r3m"))
     out = np.empty((eps.size, 6))
-    m = g.m
-    _loop(g.h[:m], g.p1[:m], g.p2[:m], g.p2m[:m], g.q1[:m], g.q2[:m], g.r1[:m], g.r2[:m], g.r2m[:m], g.r3[:m],
-          g.r3m[:m], np.ascontiguousarray(eps, float), np.ascontiguousarray(mu, float), bool(angle), bool(finish),
-          out)
+    _loop(*coef, np.ascontiguousarray(eps, float), np.ascontiguousarray(mu, float), bool(angle), bool(finish), out)
     return out

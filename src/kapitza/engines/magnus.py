@@ -37,6 +37,8 @@ of ``(1, 0)`` lies within ``pi`` of it and ``(-1)^k`` is the sign of ``tr M``, w
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 PI = np.pi
@@ -46,6 +48,7 @@ SQRT15 = np.sqrt(15.0)
 NODES = np.array([0.5 - SQRT15 / 10.0, 0.5, 0.5 + SQRT15 / 10.0])
 #: largest number of (point, step) pairs held in memory at once
 CHUNK = 1 << 19
+_COMPILED = None  # the compiled module once looked up (False: numba not installed)
 
 
 class Grid:
@@ -277,6 +280,12 @@ class Engine:
 
     def steps_for(self, eps, mu):
         """Power-of-two step counts for flat ``eps, mu``."""
+        if eps.size == 1:  # one point (root solves): the same in plain floats
+            m2 = float(mu[0]) ** 2
+            rate = math.sqrt(8.0 * max(abs(m2 + self.s_min), abs(m2 + self.s_max))) * float(eps[0])
+            want = min(max(2.0 * rate / self.PHASE, self.min_steps), self.MAX_STEPS)
+            return np.array([1 << max(int(math.ceil(math.log2(want))), 0)], np.int64) if want > 0 else \
+                np.array([self.min_steps], np.int64)
         smax = np.maximum(np.abs(mu * mu + self.s_min), np.abs(mu * mu + self.s_max))
         rate = np.sqrt(8.0 * smax) * eps  # phase per unit tau, at most
         want = np.maximum(2.0 * rate / self.PHASE, self.min_steps)
@@ -293,9 +302,12 @@ class Engine:
     def _fast(self):
         if not self.compiled:
             return None
-        from . import _compiled
+        global _COMPILED
+        if _COMPILED is None:
+            from . import _compiled
 
-        return _compiled if _compiled.available() else None
+            _COMPILED = _compiled if _compiled.available() else False
+        return _COMPILED or None
 
     def period(self, eps, mu, angle=True):
         """``((a, b, c, d), L, turn)`` at flat ``eps, mu`` (see :func:`period`)."""
