@@ -7,13 +7,17 @@ with ``eps^2``), so the lower edge of zone ``n`` is where the angle leaves ``n p
 edge where it reaches ``(n + 1) pi``. Each edge is found in three stages, batched over all the
 ``(mu, n)`` asked at once:
 
-1. *bracket by the angle*: from ``eps = (n + 1/2) pi / rate`` (``rate`` the elliptic angle per
-   unit ``eps``) by doubling or halving until the predicate "the angle has passed the level"
-   is false at one end and true at the other;
-2. *bisection on the angle* until the false end lies in the gap (unstable, angle exactly the
-   level) and the true end in the zone, or the bracket is a few ulp wide (zones that touch);
+1. *bracket by the angle*: the angle is sampled every ``pi/3`` of elliptic angle over the span
+   where the zones asked at one ``mu`` lie (``|theta - rate eps| < B``), once per distinct
+   ``mu`` for all its zones; each task's bracket is the last sample below its level and the
+   first above (doubling or halving where the samples do not reach);
+2. *a point of the gap and a point of the zone*: bisection on the angle; but a bracket from
+   gap ``n`` to gap ``n + 1`` holds all of zone ``n``, where ``tr M / 2 = cos theta`` changes
+   sign: secant (Illinois) iterations on ``sign(tau) max(asinh|tau| - asinh 1, 0)``, zero on
+   the zone and growing like the growth rate outside it, land in the zone however thin it is
+   (a zone thinner than the spacing of doubles gets both edges at its zero);
 3. *Illinois iterations* on ``asinh(+-tr M / 2) - asinh(1)``, which changes sign exactly once
-   between a point of the gap and a point of the zone, to adjacent doubles (two to four ulp).
+   between a point of the gap and a point of the zone, to adjacent doubles.
 
 The edge is reported on its unstable side, as every edge of kapitza is.
 """
@@ -109,13 +113,13 @@ def zone_edges(floquet, trace, mu, n, rate, B=None):
             twin = np.zeros(2 * P, bool)
             twin[P:] = straddle[:P] & straddle[P:] & (a[:P] == a[P:]) & (b[:P] == b[P:])
             i = np.flatnonzero(straddle & ~twin)
-            z, fz = _illinois(trace, m[i], np.ones(i.size), a[i], b[i], target=0.0, enough=0.5 * A1)
+            z, fz = _illinois(trace, m[i], np.ones(i.size), a[i], b[i], target=0.0, plateau=True)
             k = np.flatnonzero(twin)
             src = np.searchsorted(i, k - P)
             i = np.concatenate([i, k])
             z = np.concatenate([z, z[src]])
             fz = np.concatenate([fz, fz[src]])
-            inside = np.abs(fz) < A1  # |tr M / 2| < 1: in zone n
+            inside = fz == 0.0  # |tr M / 2| < 1: in zone n
             lower = ~upper[i]
             j = i[inside & lower]
             b[j], lb[j] = z[inside & lower], nn[j] + 0.5
@@ -188,16 +192,21 @@ def _prescan(level_at, m, c, n, rate, B, a, b, la, lb):
     lb[has_b] = L[rows, ib][has_b]
 
 
-def _illinois(trace, m, sgn, a, b, target=A1, enough=0.0):
+def _illinois(trace, m, sgn, a, b, target=A1, plateau=False):
     """Root of ``F = asinh(sgn tau) - target`` between ``a`` and ``b`` (opposite signs of ``F``).
 
-    With ``target = asinh(1)`` returns the end of the final bracket with ``F >= 0`` (the
-    unstable side of an edge); with ``enough > 0`` returns ``(x, F(x))`` of the first point
-    with ``|F| < enough`` (or the better end of the final bracket).
+    Returns the end of the final bracket with ``F >= 0`` (the unstable side of an edge). With
+    ``plateau``, ``F = sign(tau) max(|asinh(tau)| - asinh(1), 0)`` instead: 0 on the whole
+    zone between two gaps and nearly linear in ``eps`` on either side (the growth), so the
+    secant lands in a thin zone in a few steps; returns ``(x, F(x))`` of the first point of the
+    zone (``F = 0``), or the better end of the final bracket where no double lies in it.
     """
     def F(x, rows):
         tau, lt = trace(x, m[rows])
-        return _F(tau, lt, sgn[rows]) + (A1 - target)
+        f = _F(tau, lt, sgn[rows]) + A1
+        if plateau:
+            return np.sign(f) * np.maximum(np.abs(f) - A1, 0.0)
+        return f - target
 
     allr = np.arange(a.size)
     x0, x1 = a.copy(), b.copy()
@@ -205,8 +214,8 @@ def _illinois(trace, m, sgn, a, b, target=A1, enough=0.0):
     g0 = f0.copy()  # the true value at x0 (f0 is halved by the Illinois rule)
     for _ in range(200):
         live = (np.nextafter(x0, x1) != x1) & (f0 != 0) & (f1 != 0) & (np.sign(f0) != np.sign(f1))
-        if enough > 0:
-            live &= (np.abs(g0) >= enough) & (np.abs(f1) >= enough)
+        if plateau:
+            live &= g0 != 0
         idx = np.flatnonzero(live)
         if idx.size == 0:
             break
@@ -224,7 +233,7 @@ def _illinois(trace, m, sgn, a, b, target=A1, enough=0.0):
         f0[idx] = np.where(flip, yb, 0.5 * ya)
         g0[idx] = np.where(flip, f1[idx], g0[idx])
         x1[idx], f1[idx] = x, fx
-    if enough > 0:
+    if plateau:
         use1 = np.abs(f1) <= np.abs(g0)
         return np.where(use1, x1, x0), np.where(use1, f1, g0)
     return np.where((f1 >= 0) & ((f0 < 0) | (f1 == 0)), x1, x0)
