@@ -151,8 +151,8 @@ def _zone_range(drive, mu, zeta, e0, e1):
     elif drive.name == "sine":  # zone n lies near sqrt(q) (1 - mu^2) = 2n + 1 (a_n ~ -2q + 2(2n+1) sqrt q), sqrt q = 4 eps/pi
         rate = 2.0 * np.maximum(1.0 - mu_c * mu_c, 0.0)
         B = 2.0 * PI
-    else:  # any other drive: the elliptic angle of its shape (Drive._zone_window)
-        rate, B = drive._zone_window(mu_c)
+    else:  # any other drive: read from its rotation angle at the ends (Drive._candidate_zones)
+        return drive._candidate_zones(mu_c, e0, e1, bool(np.any(np.asarray(zeta) > 0)))
     n_lo = np.maximum(np.floor((rate * e0 - B) / PI) - 1, 0).astype(np.int64)
     n_hi = np.floor((rate * e1 + B) / PI).astype(np.int64) + 1
     return n_lo, np.where(rate > 0, n_hi, n_lo - 1)

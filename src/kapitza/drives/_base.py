@@ -112,7 +112,8 @@ class Drive:
       product of closed-form segment matrices (certified verdicts);
     - closed forms or characteristic values: override ``_floquet0(eps, mu, certify=True)``
       (returning :class:`Floquet0`), ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
-      ``_tau_minus_one0(eps, mu)`` and ``_zone_window(mu)`` (see each).
+      ``_tau_minus_one0(eps, mu)``, ``_zone_window(mu)`` and ``_candidate_zones(mu, e0, e1)``
+      (see each).
 
     Conventions: in ``tau`` the undamped linearisation is
     ``phi'' = 8 eps^2 (mu^2 + s(tau)) phi`` (module notes); zone ``n`` is where the rotation
@@ -245,6 +246,30 @@ class Drive:
         att = (m2[:, :, 0] + s[None, :, 1]) < 0  # attracting at the middle nodes, cyclic
         j = np.maximum(np.sum(att & ~np.roll(att, 1, axis=1), axis=1), 1)
         return rate.reshape(mu.shape), ((1.0 + j) * PI).reshape(mu.shape)
+
+    def _candidate_zones(self, mu, e0, e1, damped=False):
+        """``(n_lo, n_hi)``: the zones a chart of ``[e0, e1]`` or a margin at ``e0 = e1`` needs.
+
+        Read from the rotation angle at the ends (the angle does not decrease along ``eps``):
+        a window ``e0 < e1`` meets exactly the zones from the one at or above ``e0`` to the
+        last one whose lower edge lies below ``e1``; a point (``e0 = e1``) needs its own zone,
+        or the two beside its gap. With damping (``mu`` is then ``mu_c``, the ``phi``-system's)
+        one more zone each side. ``n_hi < n_lo`` where there is none.
+        """
+        mu, e0, e1 = np.broadcast_arrays(np.asarray(mu, float), np.asarray(e0, float), np.asarray(e1, float))
+        sh = mu.shape
+        mu, e0, e1 = mu.ravel(), e0.ravel(), e1.ravel()
+        point = e0 >= e1
+        ends = np.concatenate([e0, e1])
+        f = self._floquet0(np.maximum(ends, 1e-300), np.concatenate([mu, mu]), certify=False)
+        level = np.where(f.zone >= 0, f.zone + 0.5, np.rint(f.theta / PI))
+        l0, l1 = level[: mu.size], level[mu.size:]
+        n_lo = np.where(point, np.ceil(l0) - 1, np.floor(l0))
+        n_hi = np.where(point, np.floor(l1), np.floor(l1 - 0.25))
+        if damped:
+            n_lo, n_hi = n_lo - 1, n_hi + 1
+        n_lo = np.maximum(n_lo, 0).astype(np.int64)
+        return n_lo.reshape(sh), n_hi.astype(np.int64).reshape(sh)
 
     def _log_tau0(self, eps, mu):
         """``log|tr M / 2|`` of the undamped drive (default: the engine's product, no angle)."""
