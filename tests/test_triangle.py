@@ -97,3 +97,60 @@ def test_damped_edges_contain_undamped_phi_zone():
     assert lo <= lo0 < hi0 <= hi
     assert kapitza.is_stable(0.5 * (lo + hi), mu, drive=D, zeta=zeta)
     assert not kapitza.is_stable(hi * 1.01, mu, drive=D, zeta=zeta)
+
+
+def _mp_half_trace(eps, mu, dps=40, sub=8):
+    """``tr M / 2`` of the triangle in mpmath: on each linear piece phi'' = (p + q t) phi is
+    summed as its Taylor series (an entire function), ``sub`` steps per piece, to ``dps`` digits."""
+    import mpmath
+
+    with mpmath.workdps(dps):
+        E = 8 * mpmath.mpf(eps) ** 2
+        m2 = mpmath.mpf(mu) ** 2
+        # (start, end, s at start, slope of s) of the three pieces on [0, 2]
+        pieces = [(0, mpmath.mpf(1) / 2, 0, 2), (mpmath.mpf(1) / 2, mpmath.mpf(3) / 2, 1, -2),
+                  (mpmath.mpf(3) / 2, 2, -1, 2)]
+        M = mpmath.eye(2)
+        tol = mpmath.mpf(10) ** (-dps)
+        for a, b, s0, ds in pieces:
+            h = (b - a) / sub
+            for j in range(sub):
+                p = E * (m2 + s0 + ds * j * h)  # k at the step's start, k' = E ds
+                q = E * ds
+                cols = []
+                for y0, y1 in ((1, 0), (0, 1)):
+                    c = [mpmath.mpf(y0), mpmath.mpf(y1)]
+                    val, der = c[0] + c[1] * h, c[1]
+                    n = 0
+                    while True:  # c_{n+2} (n+2)(n+1) = p c_n + q c_{n-1}
+                        cn = (p * c[n] + (q * c[n - 1] if n >= 1 else 0)) / ((n + 2) * (n + 1))
+                        c.append(cn)
+                        term = cn * h ** (n + 2)
+                        val += term
+                        der += (n + 2) * cn * h ** (n + 1)
+                        n += 1
+                        if n > 8 and abs(term) < tol * (1 + abs(val)) and abs(c[-2] * h ** n) < tol * (1 + abs(val)):
+                            break
+                    cols.append((val, der))
+                S = mpmath.matrix([[cols[0][0], cols[1][0]], [cols[0][1], cols[1][1]]])
+                M = S * M
+        return float((M[0, 0] + M[1, 1]) / 2)
+
+
+@pytest.mark.parametrize("eps, mu", [(0.5, 0.3), (1.7, 0.45), (3.2, 0.2)])
+def test_trace_against_an_mpmath_taylor_series(eps, mu):
+    ref = _mp_half_trace(eps, mu)
+    tr = float(kapitza.floquet(eps, mu, drive=D).trace) / 2
+    # the engine's measured accuracy: about 1e-12 relative (docs/drives.md, section 7)
+    assert abs(tr - ref) <= 2e-12 * max(1.0, abs(ref))
+
+
+def test_edge_against_the_mpmath_trace():
+    # the engine's zone-1 edges at mu = 0.3: tr M / 2 = -1 there to the accuracy of the edge
+    mu = 0.3
+    lo, hi = map(float, kapitza.zone_edges(mu, 1, drive=D))
+    for e, target in ((lo, -1.0), (hi, 1.0)):
+        # |tr M/2 - target| at the reported edge is within 1e-12 relative of eps times the slope
+        h = 1e-7 * e
+        slope = (_mp_half_trace(e + h, mu, dps=30) - _mp_half_trace(e - h, mu, dps=30)) / (2 * h)
+        assert abs(_mp_half_trace(e, mu) - target) <= 1e-12 * e * abs(slope) + 1e-15

@@ -25,7 +25,7 @@ class TriangleWave(Drive):
 
     name = "triangle"
     _breakpoints = (0.5, 1.5)
-    _min_steps = 64
+    _min_steps = 128
     _stroke_coefficient = 1.0 / 6.0
     _mean_square_velocity = 1.0 / 30.0
     _trough = 1.0

@@ -249,7 +249,7 @@ class Engine:
     """
 
     #: largest phase per step
-    PHASE = 0.08
+    PHASE = 0.05
     #: most steps per period (``eps`` of several thousand)
     MAX_STEPS = 1 << 22
     #: run the compiled loop (:mod:`._compiled`) where numba is installed; the numpy tree otherwise
