@@ -23,7 +23,7 @@ from .square import SquareWave
 from .steps import StepDrive
 from .triangle import TriangleWave
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "SampledDrive", "from_samples", "DRIVES", "as_drive", "parse_drive"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples", "DRIVES", "as_drive", "parse_drive"]
 
 #: Drive classes by the name the command line and the reports use.
 DRIVES = {

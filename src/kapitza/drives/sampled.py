@@ -32,10 +32,20 @@ __all__ = ["SampledDrive", "from_samples"]
 UNIFORM_RTOL = 1e-6
 
 
+def _flat(values):
+    """Whether a list or tuple holds no sequences (one value per sample)."""
+    return not any(isinstance(v, (list, tuple, np.ndarray)) for v in values)
+
+
 def _column(name, values, rows):
     """A 1-d float array of ``values``; a non-numeric or non-finite entry is refused by its row."""
     if isinstance(values, (str, bytes)):
         raise _v.KapitzaValueError(f"{name} must be a sequence of numbers; got the text {values!r}")
+    if isinstance(values, np.ma.MaskedArray) and np.ma.is_masked(values):
+        raise _v.KapitzaValueError(f"{name} must be numbers; got a masked array with masked entries")
+    nested = isinstance(values, (list, tuple)) and not _flat(values)
+    if nested or (not isinstance(values, (list, tuple)) and np.ndim(values) > 1):
+        raise _v.KapitzaValueError(f"{name} must be one-dimensional (one value per sample); got {values!r:.60}")
     try:
         raw = np.asarray(values, dtype=object).ravel() if not isinstance(values, np.ndarray) else values.ravel()
     except Exception:  # noqa: BLE001 - anything numpy cannot hold is refused the same way
@@ -46,8 +56,8 @@ def _column(name, values, rows):
             raise _v.KapitzaValueError(f"{name} must be numbers; {rows(i)} holds {v!r}")
         try:
             out[i] = float(v)
-        except (TypeError, ValueError):
-            raise _v.KapitzaValueError(f"{name} must be numbers; {rows(i)} holds {v!r}") from None
+        except (TypeError, ValueError, OverflowError):
+            raise _v.KapitzaValueError(f"{name} must be finite numbers; {rows(i)} holds {v!r:.60}") from None
         if not np.isfinite(out[i]):
             raise _v.KapitzaValueError(f"{name} must be finite; {rows(i)} holds {float(out[i])!r}")
     return out
