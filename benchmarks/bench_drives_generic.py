@@ -69,12 +69,13 @@ def main():
         kapitza.analyze(drive=drive, **point, **kw)
         first = time.perf_counter() - t0
         c0 = time.process_time()
-        med, lo, hi = median_time(lambda: kapitza.analyze(drive=drive, **point, **kw), repeats, warmup=0)
+        med, lo, hi = median_time(lambda d=drive, k=kw: kapitza.analyze(drive=d, **point, **k), repeats, warmup=0)
         cpu = (time.process_time() - c0) / repeats
         base = med if base is None else base
         cbase = cpu if cbase is None else cbase
-        print(f"  {name:34s} median {med * 1e3:9.2f} ms (min {lo * 1e3:.2f}, max {hi * 1e3:.2f}; CPU {cpu * 1e3:.2f} ms; "
-              f"first call {first * 1e3:.0f} ms)  ratio to the square wave {med / base:7.1f}x (CPU {cpu / cbase:.1f}x)")
+        print(f"  {name:34s} median {med * 1e3:9.2f} ms (min {lo * 1e3:.2f}, max {hi * 1e3:.2f}; "
+              f"CPU {cpu * 1e3:.2f} ms; first call {first * 1e3:.0f} ms)  ratio to the square wave "
+              f"{med / base:7.1f}x (CPU {cpu / cbase:.1f}x)")
     print(f"\n{n_chart} x {n_chart} chart (eps in (0, 4], mu in (0, 1)) from exact edges:")
     sq = kapitza.SquareWave()
     med_sq, _, _ = median_time(lambda: chart(sq, n_chart), repeats)

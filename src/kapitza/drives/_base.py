@@ -144,7 +144,8 @@ class Drive:
 
     # ------------------------------------------------------------ what a subclass gives
     def _shape(self, tau):  # pragma: no cover - protocol
-        raise NotImplementedError(f"{type(self).__name__} must define _shape(tau), its acceleration shape over one period")
+        raise NotImplementedError(
+            f"{type(self).__name__} must define _shape(tau), its acceleration shape over one period")
 
     # ------------------------------------------------------------ defaults from the shape
     @functools.cached_property

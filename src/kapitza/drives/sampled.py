@@ -186,7 +186,8 @@ def from_samples(t, a, period=None, kind="linear", *, rows=None):
     bad = np.flatnonzero(dt <= 0)
     if bad.size:
         i = int(bad[0]) + 1
-        raise _v.KapitzaValueError(f"t must be strictly increasing; {rows(i)} has t = {float(t[i])!r} after {float(t[i - 1])!r}")
+        raise _v.KapitzaValueError(
+            f"t must be strictly increasing; {rows(i)} has t = {float(t[i])!r} after {float(t[i - 1])!r}")
     step = float(np.mean(dt))
     uniform = bool(np.all(np.abs(dt - step) <= UNIFORM_RTOL * step))
     span = float(t[-1] - t[0])
