@@ -77,6 +77,12 @@ def test_scalars_for_scalar_input():
     assert isinstance(kapitza.zone_index(0.5, 0.3, drive=D), np.integer)
     out = kapitza.is_stable(np.array([0.5, 0.9]), 0.3, drive=D)
     assert out.shape == (2,)
+    measured = kapitza.drives.from_samples([0, 1, 2, 3], [1, -1, 0.5, -0.5])
+    for d in (D, kapitza.TriangleWave(), measured):
+        for f in (d.acceleration, d.velocity, d.displacement):
+            assert isinstance(f(0.1, 0.15, 100.0), np.float64)
+            assert f(np.array([0.1, 0.2]), 0.15, 100.0).shape == (2,)
+        assert isinstance(d.stroke(0.15, 100.0), np.float64)
 
 
 def test_a_shape_without_zero_mean_is_refused():
