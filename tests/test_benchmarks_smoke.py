@@ -90,3 +90,11 @@ def test_bench_one_engine_tiny_runs():
         assert needle in out, needle
     worst = float(out.split("largest relative difference of eps_hi from the square wave's:")[1].split()[0])
     assert worst < 1e-14  # the same physics gives the same zone
+
+
+def test_bench_drives_generic_tiny_runs():
+    out = run_tiny("bench_drives_generic.py")
+    for needle in ("square wave (baseline)", "triangle wave", "measured drive, 50 samples", "ratio to the square wave",
+                   "chart (eps in (0, 4], mu in (0, 1)) from exact edges"):
+        assert needle in out, needle
+    assert "pointwise verdicts disagreeing with the chart: 0 of 40" in out

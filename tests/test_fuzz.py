@@ -58,7 +58,7 @@ VALID = {
     "damping": 0.0, "c": 0.0, "periods": 2, "every": 1, "points_per_period": 8, "n_theta": 5, "n_dtheta": 5,
     "tol": 0.5, "chunk": 64, "workers": 1, "branch": 0, "tilde": False, "log": False, "model": "nonlinear",
     "method": None, "rtol": 1e-10, "atol": 1e-12, "theta_max": 0.3, "dtheta_max": 2.0, "out": None,
-    "progress": None, "r": 0.05,
+    "progress": None, "r": 0.05, "a": [1.0, -1.0, 0.5, -0.5],
 }
 #: Parameters that take something other than numbers (text, objects, callables).
 NON_NUMERIC = {"text", "drive", "drives", "model", "method", "out", "progress"}
@@ -67,7 +67,7 @@ LISTS = {"levels", "fractions"}
 #: stability_grid's eps and mu are the grid's two axes (1-D each).
 AXES = {"stability_grid": {"eps": [0.5, 1.0], "mu": [0.3, 0.4]}}
 #: Valid values that differ from VALID for one function.
-OVERRIDES = {"measured_rotation_number": {"periods": 16}}
+OVERRIDES = {"measured_rotation_number": {"periods": 16}, "from_samples": {"t": [0.0, 1.0, 2.0, 3.0]}}
 #: eps-mu pairs that are valid only in the unit interval for these functions.
 UNIT_MU = {"phase_angles", "zone_edges", "zone_width", "G_m_curve", "sine_zone_edges", "averaging_threshold",
            "threshold_table"}

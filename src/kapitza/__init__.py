@@ -22,7 +22,8 @@ from ._validate import KapitzaValueError
 from .parameters import G_EARTH, frequencies, phase_angles, to_arnold, to_physical
 
 # ---- drives and the rig
-from .drives import Drive, RectangularWave, SineWave, SquareWave, StepDrive, parse_drive, register
+from .drives import (Drive, RectangularWave, SineWave, SquareWave, StepDrive, TriangleWave, from_samples, parse_drive,
+                     register)
 from .system import Pendulum, Rig
 
 # ---- stability zones and their edges
@@ -95,7 +96,8 @@ __all__ = [
     # parameters
     "G_EARTH", "to_arnold", "to_physical", "frequencies", "phase_angles",
     # drives and the rig
-    "Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "parse_drive", "register", "Pendulum", "Rig",
+    "Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples", "parse_drive", "register",
+    "Pendulum", "Rig",
     "drives",
     # zones
     "is_stable", "zone_index", "zone_edges", "zone_width", "G_m_curve", "StabilityMargin", "stability_margin",

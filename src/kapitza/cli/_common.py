@@ -112,6 +112,14 @@ def add_drive(g):
                         "accelerations LEVELS x A for FRACTIONS of the period, zero mean)")
     g.add_argument("--duty", type=finite_float, metavar="D",
                    help="shortcut for --drive rectangular:D (+A for the fraction D of the period)")
+    g.add_argument("--drive-file", metavar="FILE.csv",
+                   help="a measured drive: pivot acceleration samples, columns t,a (header optional), one period "
+                        "(uniform times) or several with --drive-period; its mean is removed, A is its peak and T "
+                        "half its period unless --T/--A are given")
+    g.add_argument("--drive-period", type=positive_float, metavar="SECONDS",
+                   help="the period of the samples of --drive-file (default: their span plus one step)")
+    g.add_argument("--drive-kind", choices=("linear", "constant"), default="linear",
+                   help="the acceleration between samples of --drive-file (default linear)")
 
 
 def drive_from(args):
@@ -122,11 +130,59 @@ def drive_from(args):
 def _drive_from(args):
     from ..drives import parse_drive
 
+    if getattr(args, "drive_file", None) is not None:
+        if args.drive != "square" or getattr(args, "duty", None) is not None:
+            raise CLIError("give --drive-file or --drive/--duty, not both")
+        return drive_file(args.drive_file, args.drive_period, args.drive_kind)
+    if getattr(args, "drive_period", None) is not None:
+        raise CLIError("--drive-period goes with --drive-file")
     if getattr(args, "duty", None) is not None:
         if args.drive not in ("square", "rectangular"):
             raise CLIError(f"--duty goes with a rectangular drive; got --drive {args.drive}")
         return parse_drive(f"rectangular:{args.duty!r}")
     return parse_drive(args.drive)
+
+
+def drive_file(path, period=None, kind="linear"):
+    """A measured drive from a CSV file of ``t,a`` rows (:func:`kapitza.drives.from_samples`).
+
+    Blank lines and lines starting with ``#`` are skipped; the first remaining line may be a
+    header. A bad row is named by its line number in the file.
+    """
+    from ..drives import from_samples
+
+    try:
+        with open(path, encoding="utf-8-sig") as fh:
+            text = fh.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CLIError(f"--drive-file {path}: cannot read it ({exc.strerror if isinstance(exc, OSError) else exc})") \
+            from None
+    line_of, t, a = [], [], []
+    first = True
+    for no, line in enumerate(text.splitlines(), start=1):
+        body = line.strip()
+        if not body or body.startswith("#"):
+            continue
+        cells = [c.strip() for c in body.replace(";", ",").split(",")] if ("," in body or ";" in body) else body.split()
+        if first and len(cells) == 2 and not any(_numeric(c) for c in cells):
+            first = False
+            continue  # the header
+        first = False
+        if len(cells) != 2:
+            raise CLIError(f"--drive-file {path}, row {no}: expected two columns t,a; got {len(cells)}: {body[:60]!r}")
+        line_of.append(no)
+        t.append(cells[0])
+        a.append(cells[1])
+    for col, name in ((t, "t"), (a, "a")):
+        for i, v in enumerate(col):
+            try:
+                col[i] = float(v)
+            except ValueError:
+                raise CLIError(f"--drive-file {path}, row {line_of[i]}: {name} is not a number: {v[:40]!r}") from None
+    try:
+        return from_samples(t, a, period=period, kind=kind, rows=lambda i: f"row {line_of[i]}")
+    except ValueError as exc:
+        raise CLIError(f"--drive-file {path}: {exc}") from None
 
 
 def parameters_from(args) -> dict:
@@ -146,6 +202,8 @@ def parameters_from(args) -> dict:
     extra = {}
     if rig:
         extra["drive"] = _drive_from(args)
+        if not (phys or arn) and hasattr(extra["drive"], "period"):
+            args.T, args.A, phys = extra["drive"].T, extra["drive"].A, True  # a measured drive's own T and A
     if phys and arn:
         raise CLIError("give either physical parameters (--T/--A or --frequency) or --eps and --mu, not both")
     if phys:

@@ -7,7 +7,9 @@ their charts share axes (``docs/drives.md``):
 - :class:`SquareWave` -- the paper's (2.2), with its closed forms;
 - :class:`RectangularWave` -- any duty cycle;
 - :class:`StepDrive` -- any piecewise-constant acceleration;
-- :class:`SineWave` -- Kapitza's original (the Mathieu equation).
+- :class:`SineWave` -- Kapitza's original (the Mathieu equation);
+- :class:`TriangleWave` -- acceleration linear between ``+A`` and ``-A``;
+- :func:`from_samples` -- a measured drive, from one period of sampled acceleration.
 
 Drives are found by name in one registry (:data:`DRIVES`), which a user's own
 :class:`Drive` subclass joins with :func:`register`; the command line, the web API and the
@@ -20,12 +22,14 @@ from __future__ import annotations
 from .. import _validate as _v
 from ._base import Drive
 from .rectangular import RectangularWave
+from .sampled import SampledDrive, from_samples
 from .sine import SineWave
 from .square import SquareWave
 from .steps import StepDrive
+from .triangle import TriangleWave
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "DRIVES", "register", "as_drive",
-           "parse_drive", "text_forms"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "SampledDrive",
+           "from_samples", "DRIVES", "register", "as_drive", "parse_drive", "text_forms"]
 
 #: Drive classes by the name the command line, the web API and the reports use (:func:`register` adds one).
 DRIVES: dict[str, type[Drive]] = {}
@@ -53,7 +57,8 @@ def register(cls=None, *, name=None):
     return add if cls is None else add(cls)
 
 
-for _cls in (SquareWave, RectangularWave, StepDrive, SineWave):
+# A measured drive (SampledDrive) is built from its samples (from_samples, --drive-file), not from a name.
+for _cls in (SquareWave, RectangularWave, StepDrive, SineWave, TriangleWave):
     register(_cls)
 
 _SQUARE = SquareWave()

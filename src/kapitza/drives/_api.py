@@ -341,6 +341,8 @@ def grid(eps, mu, drive, zeta, out):
 def _zone_range(drive, mu, zeta, e0, e1):
     """Zone indices that may meet ``[e0, e1]`` at each ``mu`` (from the elliptic angle)."""
     mu_c = mu * np.sqrt(1.0 + np.asarray(zeta) ** 2)
+    if drive._from_shape:  # the generic engine: read from its rotation angle at the ends
+        return drive._candidate_zones(mu_c, e0, e1, bool(np.any(np.asarray(zeta) > 0)))
     rate, B = drive._zone_rate(mu_c)
     n_lo = np.maximum(np.floor((rate * e0 - B) / PI) - 1, 0).astype(np.int64)
     n_hi = np.floor((rate * e1 + B) / PI).astype(np.int64) + 1

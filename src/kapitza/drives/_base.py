@@ -31,6 +31,7 @@ A drive therefore only has to provide the undamped Floquet data and zone edges
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -65,10 +66,59 @@ class Floquet0:
 class Drive:
     """A pivot motion over one period ``2T``: ``a(t) = A s(t/T)``, ``s`` zero-mean.
 
-    Subclasses provide the shape (:meth:`_shape`, :meth:`_velocity_shape`,
-    :meth:`_displacement_shape`, :attr:`_stroke_coefficient`, :attr:`_mean_square_velocity`)
-    and the undamped stability data (:meth:`_floquet0`, :meth:`_edges0`). Everything else
-    — physical units, damping, verdicts — is built here once.
+    This is the public contract of a drive. Everything kapitza answers about a pivot motion
+    (verdicts, multipliers, growth, rotation number, zone index, zone edges, margins, charts,
+    motion, basins, sweeps, reports) is built on the few methods below.
+
+    **A subclass must give** only
+
+    1. ``_shape(tau)``: the acceleration shape ``s`` over one period, ``tau = t/T`` in
+       ``[0, 2)`` (a numpy array in, an array of the same shape out), with zero mean over the
+       period and ``s`` bounded. ``A`` is the acceleration scale: ``a(t) = A s(t/T)``, so that
+       ``eps = T sqrt(A/(8 l))`` and ``mu = sqrt(g/A)`` keep their meaning for every drive
+       (choose ``s`` with ``max|s| = 1`` to make ``A`` the peak acceleration);
+    2. ``name``: a short name (class attribute) for reports; ``as_dict()`` when the drive has
+       parameters (it also defines equality).
+
+    From that alone the defaults here give: the velocity and displacement shapes (zero-mean
+    periodic integrals, computed once to rounding on a grid and cached), the stroke
+    coefficient, the mean-square velocity, the trough ``-min s`` (hence :attr:`mu_max`),
+    the undamped Floquet data (:meth:`_floquet0`) and zone edges (:meth:`_edges0`) from the
+    generic engine :mod:`kapitza.engines` (a sixth-order Magnus product over one period with
+    the Pruefer rotation angle; ``docs/drives.md``, "The drive contract"), and damping on top.
+
+    **A subclass may give**, for speed or exactness:
+
+    - ``_breakpoints``: the ``tau`` in ``(0, 2)`` where ``s`` jumps or has a kink. The engine's
+      grid is aligned with them, which keeps its sixth order (piecewise-linear and
+      piecewise-constant shapes are then integrated to rounding); ``_min_steps`` the steps per
+      period that resolve a smooth shape (default 256);
+    - exact kinematics: ``_velocity_shape(tau)``, ``_displacement_shape(tau)``,
+      ``_stroke_coefficient``, ``_mean_square_velocity``, ``_trough``;
+    - segments: subclass :class:`~kapitza.drives._piecewise.PiecewiseConstant` for the exact
+      product of closed-form segment matrices (certified verdicts);
+    - closed forms or characteristic values: override ``_floquet0(eps, mu, certify=True)``
+      (returning :class:`Floquet0`), ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
+      ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
+      (see each).
+
+    Conventions: in ``tau`` the undamped linearisation is
+    ``phi'' = 8 eps^2 (mu^2 + s(tau)) phi`` (module notes); zone ``n`` is where the rotation
+    angle per period lies in ``(n pi, (n + 1) pi)``; inputs of these methods are trusted,
+    broadcast float arrays (the public functions validate them).
+
+    Examples
+    --------
+    A drive of one's own needs its shape and a name::
+
+        class Triangle(kapitza.Drive):
+            name = "my-triangle"
+            _breakpoints = (0.5, 1.5)
+
+            def _shape(self, tau):
+                return np.where(tau < 0.5, 2 * tau, np.where(tau < 1.5, 2 - 2 * tau, 2 * tau - 4))
+
+        kapitza.analyze(T=0.15, A=100, drive=Triangle())
     """
 
     #: short name used by the command line and in reports
@@ -85,23 +135,50 @@ class Drive:
             raise _v.KapitzaValueError(f"drive {cls.name!r} takes no parameters; got {text!r}")
         return cls()
 
+    #: jumps and kinks of the shape inside (0, 2), in tau (the engine's grid is aligned with them)
+    _breakpoints: tuple = ()
+    #: steps per period that resolve the shape itself (the engine adds steps as the phase grows)
+    _min_steps: int = 256
+
     # ------------------------------------------------------------ what a subclass gives
     def _shape(self, tau):  # pragma: no cover - protocol
-        raise NotImplementedError
+        raise NotImplementedError(
+            f"{type(self).__name__} must define _shape(tau), its acceleration shape over one period")
 
-    def _velocity_shape(self, tau):  # pragma: no cover - protocol
-        raise NotImplementedError
+    # ------------------------------------------------------------ defaults from the shape
+    @functools.cached_property
+    def _kinematics(self):
+        """The velocity and displacement shapes as piecewise polynomials (computed once)."""
+        return _Kinematics(self._shape, self._breakpoints)
 
-    def _displacement_shape(self, tau):  # pragma: no cover - protocol
-        raise NotImplementedError
+    def _velocity_shape(self, tau):
+        """``V(tau)``: the zero-mean periodic integral of ``s`` (default: cached, to rounding)."""
+        return self._kinematics.velocity(tau)
 
-    #: peak-to-peak of the displacement shape: stroke = coefficient * A T^2
-    _stroke_coefficient: float = float("nan")
-    #: mean of the squared velocity shape: <v^2> = coefficient * A^2 T^2
-    _mean_square_velocity: float = float("nan")
+    def _displacement_shape(self, tau):
+        """``Z(tau)``: the zero-mean periodic integral of ``V``."""
+        return self._kinematics.displacement(tau)
 
-    #: the largest downward acceleration of the shape, ``-min s``, in units of ``A``
-    _trough: float = 1.0
+    @functools.cached_property
+    def _stroke_coefficient(self) -> float:
+        """Peak-to-peak of the displacement shape: stroke = coefficient * A T^2."""
+        return self._kinematics.stroke
+
+    @functools.cached_property
+    def _mean_square_velocity(self) -> float:
+        """Mean of the squared velocity shape: <v^2> = coefficient * A^2 T^2."""
+        return self._kinematics.mean_square_velocity
+
+    @functools.cached_property
+    def _trough(self) -> float:
+        """The largest downward acceleration of the shape, ``-min s``, in units of ``A``."""
+        return -self._engine.s_min
+
+    @functools.cached_property
+    def _engine(self):
+        from ..engines import Engine
+
+        return Engine(self._shape, self._breakpoints, self._min_steps)
 
     @property
     def mu_max(self) -> float:
@@ -117,15 +194,88 @@ class Drive:
         """
         return float(np.sqrt(self._trough))
 
-    def _floquet0(self, eps, mu, certify=True) -> Floquet0:  # pragma: no cover - protocol
-        raise NotImplementedError
+    def _floquet0(self, eps, mu, certify=True) -> Floquet0:
+        """Undamped Floquet data at ``(eps, mu)`` (default: the generic engine).
 
-    def _edges0(self, mu, n):  # pragma: no cover - protocol
-        raise NotImplementedError
+        ``certify`` asks for verdicts settled to the last bit where a drive can (the exact
+        product does so in mpmath); the generic engine's ``tr M / 2`` is accurate to about
+        1e-13 relative and its verdicts are those of that value.
+        """
+        eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+        tau, log_tau, theta, zone, growth = self._engine.floquet(eps.ravel(), mu.ravel(), growth=True)
+        sh = eps.shape
+        return Floquet0(tau=tau.reshape(sh), log_tau=log_tau.reshape(sh), growth=growth.reshape(sh),
+                        theta=theta.reshape(sh), zone=zone.reshape(sh))
+
+    def _edges0(self, mu, n):
+        """``(eps_lo, eps_hi)`` of undamped zone ``n`` at ``mu`` (NaN where there is none).
+
+        Default: bracketed by the rotation angle of the generic engine and solved on
+        ``|tr M / 2| = 1`` to adjacent doubles (:mod:`kapitza.engines.edges`).
+        """
+        from ..engines import zone_edges
+
+        mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
+        sh = mu.shape
+        mu, n = mu.ravel(), n.ravel()
+        rate, B = self._zone_rate(mu)
+        ok = (rate > 0) & (n >= 0)
+        lo = np.full(mu.size, np.nan)
+        hi = np.full(mu.size, np.nan)
+        if ok.any():
+            eng = self._engine
+            lo[ok], hi[ok] = zone_edges(eng.floquet, eng.log_tau, mu[ok], n[ok], rate[ok], B[ok])
+        return lo.reshape(sh), hi.reshape(sh)
+
+    def _zone_rate(self, mu):
+        """``(rate, B)``: the elliptic angle per period grows like ``rate * eps`` and zone ``n``
+        lies where ``|n pi - rate eps| <~ B`` (the candidates a chart or a margin looks at).
+
+        ``rate = sqrt(8) * integral of sqrt(max(-(mu^2 + s), 0)) d tau`` over the period (the
+        WKB phase of the attracting part); ``B = (1 + j) pi`` with ``j`` the number of
+        attracting intervals of the period (each may cost the angle up to ``pi``).
+        """
+        mu = np.asarray(mu, float)
+        g = self._engine.grid(self._engine.min_steps)
+        s = g.s_nodes  # (m, 3) on the Gauss nodes
+        wts = g.h[: g.m, None] * np.array([5.0, 8.0, 5.0])[None, :] / 18.0
+        m2 = (mu * mu).reshape(-1, 1, 1)
+        neg = np.sqrt(np.maximum(-(m2 + s[None]), 0.0))
+        rate = SQRT8 * np.sum(neg * wts[None], axis=(1, 2))
+        att = (m2[:, :, 0] + s[None, :, 1]) < 0  # attracting at the middle nodes, cyclic
+        j = np.maximum(np.sum(att & ~np.roll(att, 1, axis=1), axis=1), 1)
+        return rate.reshape(mu.shape), ((1.0 + j) * PI).reshape(mu.shape)
+
+    def _candidate_zones(self, mu, e0, e1, damped=False):
+        """``(n_lo, n_hi)``: the zones a chart of ``[e0, e1]`` or a margin at ``e0 = e1`` needs.
+
+        Read from the rotation angle at the ends (the angle does not decrease along ``eps``):
+        a window ``e0 < e1`` meets exactly the zones from the one at or above ``e0`` to the
+        last one whose lower edge lies below ``e1``; a point (``e0 = e1``) needs its own zone,
+        or the two beside its gap. With damping (``mu`` is then ``mu_c``, the ``phi``-system's)
+        one more zone each side. ``n_hi < n_lo`` where there is none.
+        """
+        mu, e0, e1 = np.broadcast_arrays(np.asarray(mu, float), np.asarray(e0, float), np.asarray(e1, float))
+        sh = mu.shape
+        mu, e0, e1 = mu.ravel(), e0.ravel(), e1.ravel()
+        point = e0 >= e1
+        ends = np.concatenate([e0, e1])
+        f = self._floquet0(np.maximum(ends, 1e-300), np.concatenate([mu, mu]), certify=False)
+        level = np.where(f.zone >= 0, f.zone + 0.5, np.rint(f.theta / PI))
+        l0, l1 = level[: mu.size], level[mu.size:]
+        n_lo = np.where(point, np.ceil(l0) - 1, np.floor(l0))
+        n_hi = np.where(point, np.floor(l1), np.floor(l1 - 0.25))
+        if damped:
+            n_lo, n_hi = n_lo - 1, n_hi + 1
+        n_lo = np.maximum(n_lo, 0).astype(np.int64)
+        return n_lo.reshape(sh), n_hi.astype(np.int64).reshape(sh)
 
     def _log_tau0(self, eps, mu):
-        """``log|tr M / 2|`` of the undamped drive (a drive may give it more cheaply)."""
-        return self._floquet0(eps, mu, certify=False).log_tau
+        """``log|tr M / 2|`` of the undamped drive (default: the engine's product, no angle)."""
+        if type(self)._floquet0 is not Drive._floquet0:
+            return self._floquet0(eps, mu, certify=False).log_tau
+        eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+        return self._engine.log_tau(eps.ravel(), mu.ravel())[1].reshape(eps.shape)
 
     def _tau_minus_one0(self, eps, mu):
         """``tr M / 2 - 1`` of the undamped drive free of cancellation where the phases are short
@@ -264,17 +414,10 @@ class Drive:
         (flat arrays, one entry per zone found), for a drive with :attr:`_windowed`."""
         raise NotImplementedError
 
-    def _zone_rate(self, mu):
-        """``(rate, B)``: the rotation angle per period lies within ``B`` of ``rate * eps``
-        (the elliptic angle of the WKB phase, ``int sqrt(8 max(-(mu^2 + s), 0)) dtau``; ``B``
-        bounds what the turning points and the repelling parts add). A drive may give it
-        more tightly."""
-        tau = (np.arange(4096) + 0.5) / 2048.0
-        s = np.asarray(self._shape(tau), float)
-        mu = np.asarray(mu, float)
-        k = np.multiply.outer(mu * mu, np.ones(s.size)) + s
-        rate = np.sqrt(8.0 * np.maximum(-k, 0.0)).sum(axis=-1) / 2048.0
-        return rate, 4.0 * PI
+    @property
+    def _from_shape(self) -> bool:
+        """Whether this drive's Floquet data come from the generic engine (it gives only its shape)."""
+        return type(self)._floquet0 is Drive._floquet0
 
     def _steps(self):
         """``(levels, fractions)`` of a piecewise-constant drive (exact segment products), else None."""
@@ -416,3 +559,84 @@ class Drive:
         """The verdict on the full equation's upright at a linearly stable point, or None where the
         drive gives none (the square wave, undamped: :func:`kapitza.nonlinear_stability`)."""
         return None
+
+
+# ---------------------------------------------------------------- default kinematics
+class _Kinematics:
+    """Velocity and displacement shapes of any shape ``s``, to rounding, computed once.
+
+    On a grid of 4096 steps aligned with the breakpoints, ``s`` is fitted on each step by the
+    quadratic through its three Gauss-Legendre nodes (so the step integral is the sixth-order
+    Gauss rule); ``V`` (cubic) and ``Z`` (quartic) follow exactly from that fit, their
+    constants fixed by zero means over the period. The stroke is ``max Z - min Z`` over the
+    step ends and the roots of ``V`` (Newton on the cubic); ``<V^2>`` is exact on the cubics.
+    """
+
+    STEPS = 4096
+
+    def __init__(self, shape, breaks):
+        from ..engines.magnus import NODES, Grid
+
+        n = self.STEPS
+        while n < 2 * (len(breaks) + 1):  # a step per segment at least
+            n *= 2
+        g = Grid(shape, breaks, n)
+        m = g.m
+        h = g.h[:m]
+        x = g.x[:m]
+        van = np.vander(NODES, 3, increasing=True)
+        c = g.s_nodes @ np.linalg.inv(van).T  # s(u) = c0 + c1 u + c2 u^2 on each step
+        c0, c1, c2 = c[:, 0], c[:, 1], c[:, 2]
+        total = np.sum(h * (c0 + c1 / 2.0 + c2 / 3.0))
+        scale = np.sum(h * (np.abs(g.s_nodes) @ np.array([5.0, 8.0, 5.0]) / 18.0))
+        if not np.isfinite(total) or not np.isfinite(scale) or scale == 0.0:
+            raise _v.KapitzaValueError("a drive's shape must be finite and not identically 0 over the period")
+        if abs(total) > 1e-9 * scale:
+            raise _v.KapitzaValueError(
+                f"a drive's shape must have zero mean over the period; its mean is {total / 2.0:.6g} "
+                f"(mean |s| {scale / 2.0:.6g})")
+        V = np.concatenate([[0.0], np.cumsum(h * (c0 + c1 / 2.0 + c2 / 3.0))])[:-1]
+        V = V - np.sum(h * (V + h * (c0 / 2.0 + c1 / 6.0 + c2 / 12.0))) / 2.0
+        Z = np.concatenate([[0.0], np.cumsum(h * V + h * h * (c0 / 2.0 + c1 / 6.0 + c2 / 12.0))])[:-1]
+        Z = Z - np.sum(h * (Z + h * V / 2.0 + h * h * (c0 / 6.0 + c1 / 24.0 + c2 / 60.0))) / 2.0
+        self.x, self.h, self.c0, self.c1, self.c2, self.V, self.Z = x, h, c0, c1, c2, V, Z
+        # <V^2>: V is a cubic on each step, V^2 of degree 6: four Gauss nodes are exact
+        u4, w4 = np.polynomial.legendre.leggauss(4)
+        u4, w4 = 0.5 * (u4 + 1.0), 0.5 * w4
+        Vq = self._V(np.arange(m)[:, None], u4[None, :])
+        self.mean_square_velocity = float(np.sum(h * (Vq * Vq @ w4)) / 2.0)
+        # stroke: Z at the step ends and where V = 0 inside a step
+        u = np.linspace(0.0, 1.0, 17)
+        j = np.arange(m)[:, None]
+        Vs = self._V(j, u[None, :])
+        cand = [Z, self._Z(np.arange(m), np.ones(m))]
+        jj, kk = np.nonzero(np.signbit(Vs[:, :-1]) != np.signbit(Vs[:, 1:]))
+        if jj.size:
+            ua, ub = u[kk], u[kk + 1]
+            va, vb = Vs[jj, kk], Vs[jj, kk + 1]
+            r = ua - va * (ub - ua) / np.where(vb != va, vb - va, 1.0)
+            for _ in range(4):  # Newton on the cubic: V' = h s(u)
+                d = h[jj] * (c0[jj] + c1[jj] * r + c2[jj] * r * r)
+                r = np.clip(r - self._V(jj, r) / np.where(d != 0, d, 1.0), ua, ub)
+            cand.append(self._Z(jj, r))
+        allz = np.concatenate(cand)
+        self.stroke = float(allz.max() - allz.min())
+
+    def _V(self, j, u):
+        h, c0, c1, c2 = self.h[j], self.c0[j], self.c1[j], self.c2[j]
+        return self.V[j] + h * u * (c0 + u * (c1 / 2.0 + u * c2 / 3.0))
+
+    def _Z(self, j, u):
+        h, c0, c1, c2 = self.h[j], self.c0[j], self.c1[j], self.c2[j]
+        return self.Z[j] + h * self.V[j] * u + h * h * u * u * (c0 / 2.0 + u * (c1 / 6.0 + u * c2 / 12.0))
+
+    def _locate(self, tau):
+        tau = np.asarray(tau, float)
+        j = np.clip(np.searchsorted(self.x, tau, side="right") - 1, 0, self.x.size - 1)
+        return j, (tau - self.x[j]) / self.h[j]
+
+    def velocity(self, tau):
+        return self._V(*self._locate(tau))
+
+    def displacement(self, tau):
+        return self._Z(*self._locate(tau))

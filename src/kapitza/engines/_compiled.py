@@ -1,0 +1,157 @@
+"""The period of :mod:`kapitza.engines.magnus` as one compiled loop (numba, the ``fast`` extra).
+
+The same steps (the coefficient arrays of :class:`~kapitza.engines.magnus.Grid` are the input
+of both paths: one definition of the step), multiplied one after another instead of in a
+tree, the Pruefer angle advanced by the principal value of each step's turn; then the
+half-trace, the rotation angle and the zone index of :func:`~kapitza.engines.magnus.half_trace`
+and :func:`~kapitza.engines.magnus.rotation`, per point. A test runs both paths against each
+other. This module is imported only when the engine first runs (``import kapitza`` stays
+light); numba caches the compiled code on disk, so a command pays the compilation once.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+try:
+    import numba
+
+    _jit = numba.njit(cache=True, nogil=True)
+except ImportError:  # pragma: no cover - depends on the installation
+    numba = None
+
+    def _jit(f):
+        return f
+
+LN2 = 0.6931471805599453
+PI = math.pi
+
+
+@_jit
+def _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, E, m2, angle):
+    """``(a, b, c, d, L, turn)`` of one period: ``M = e^L [[a, b], [c, d]]``."""
+    a = 1.0
+    b = 0.0
+    c = 0.0
+    d = 1.0
+    L = 0.0
+    turn = 0.0
+    for j in range(h.size):
+        hj = h[j]
+        if hj == 0.0:
+            continue
+        p = E * (p1[j] + E * (p2[j] + m2 * p2m[j]))
+        q = hj + E * (q1[j] + E * q2[j])
+        r = E * (hj * m2 + r1[j] + E * ((r2[j] + m2 * r2m[j]) + E * (r3[j] + m2 * r3m[j])))
+        w2 = p * p + q * r
+        w = math.sqrt(abs(w2))
+        if w2 > 0.0:
+            if w > 0.5:  # e^{-w} exp(Omega): the scale goes to L
+                ch = 0.5 * (1.0 + math.exp(-2.0 * w))
+                shw = -0.5 * math.expm1(-2.0 * w) / w
+                L += w
+            else:
+                ch = math.cosh(w)
+                shw = math.sinh(w) / w
+        elif w > 0.0:
+            ch = math.cos(w)
+            shw = math.sin(w) / w
+        else:
+            ch = 1.0
+            shw = 1.0
+        sa = ch + shw * p
+        sb = shw * q
+        sc = shw * r
+        sd = ch - shw * p
+        na = sa * a + sb * c
+        nb = sa * b + sb * d
+        nc = sc * a + sd * c
+        nd = sc * b + sd * d
+        if angle:
+            # the turn of the first column (the image of (1, 0)) in the Pruefer angle arg(x, -y)
+            turn += math.atan2(c * na - a * nc, a * na + c * nc)
+        a = na
+        b = nb
+        c = nc
+        d = nd
+        big = max(max(abs(a), abs(b)), max(abs(c), abs(d)))
+        if big > 1e100 or big < 1e-100:
+            e = math.frexp(big)[1]
+            s = math.ldexp(1.0, -e)
+            a *= s
+            b *= s
+            c *= s
+            d *= s
+            L += e * LN2
+    big = max(max(abs(a), abs(b)), max(abs(c), abs(d)))
+    e = math.frexp(big)[1]
+    s = math.ldexp(1.0, -e)
+    return a * s, b * s, c * s, d * s, L + e * LN2, turn
+
+
+@_jit
+def _loop(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, eps, mu, angle, finish, out):
+    """Row ``i`` of ``out``: ``(a, b, c, d, L, turn)``, or with ``finish``
+    ``(tau, log_tau, theta, zone, growth, 0)`` (:func:`~kapitza.engines.magnus.rotation`)."""
+    for i in range(eps.size):
+        a, b, c, d, L, turn = _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m,
+                                   8.0 * eps[i] * eps[i], mu[i] * mu[i], angle)
+        if not finish:
+            out[i, 0] = a
+            out[i, 1] = b
+            out[i, 2] = c
+            out[i, 3] = d
+            out[i, 4] = L
+            out[i, 5] = turn
+            continue
+        trN = a + d
+        if trN == 0.0:
+            log_tau = -math.inf
+            tau = 0.0
+        else:
+            log_tau = L + math.log(abs(0.5 * trN))
+            tau = math.copysign(math.exp(log_tau) if log_tau < 709.0 else math.inf, trN)
+        if abs(tau) < 1.0:
+            sig = 1.0 if b >= 0.0 else -1.0
+            base = sig * math.acos(tau)
+            kk = np.rint((turn - base) / (2.0 * PI))
+            theta = 2.0 * PI * kk + base
+            zone = 2.0 * kk if b >= 0.0 else 2.0 * kk - 1.0
+        else:
+            k0 = math.floor(turn / PI)
+            odd = k0 - 2.0 * math.floor(0.5 * k0)
+            k = k0 if (odd == 0.0) == (tau > 0.0) else k0 + 1.0
+            theta = PI * k
+            zone = -1.0
+        # growth acosh|tau| off the zones (from log|tau| where tau is large), 0 on them
+        growth = 0.0
+        if zone < 0.0:
+            ex = abs(tau) - 1.0
+            if ex < 1.0:
+                growth = math.log1p(ex + math.sqrt(ex * (ex + 2.0)))
+            else:
+                growth = log_tau + math.log1p(math.sqrt(-math.expm1(-2.0 * log_tau)))
+        out[i, 0] = tau
+        out[i, 1] = log_tau
+        out[i, 2] = theta
+        out[i, 3] = zone
+        out[i, 4] = growth
+        out[i, 5] = 0.0
+
+
+def available() -> bool:
+    """Whether the compiled loop runs (numba installed)."""
+    return numba is not None
+
+
+def run(grid, eps, mu, angle=True, finish=False):
+    """``out`` of :func:`_loop` at flat ``eps, mu`` on ``grid``, shape ``(P, 6)``."""
+    coef = grid.__dict__.get("_real")
+    if coef is None:  # the real steps' coefficients, contiguous, once per grid
+        m = grid.m
+        coef = grid._real = tuple(np.ascontiguousarray(getattr(grid, k)[:m])
+                                  for k in ("h", "p1", "p2", "p2m", "q1", "q2", "r1", "r2", "r2m", "r3", "r3m"))
+    out = np.empty((eps.size, 6))
+    _loop(*coef, np.ascontiguousarray(eps, float), np.ascontiguousarray(mu, float), bool(angle), bool(finish), out)
+    return out
