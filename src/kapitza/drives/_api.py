@@ -73,9 +73,8 @@ def window_edges(drive, mu, e0, e1, zeta):
         from ..mathieu import _sine_window
 
         ok = np.flatnonzero(mu < 1.0)
-        q_max = np.full(ok.size, 16.0 * e1 * e1 / PI**2)
-        rows, zone, q_lo, q_hi = _sine_window(mu[ok], q_max)
-        return ok[rows], zone, 0.25 * PI * np.sqrt(q_lo), 0.25 * PI * np.sqrt(q_hi)
+        rows, zone, lo, hi = _sine_window(mu[ok], e1)
+        return ok[rows], zone, lo, hi
     if np.any(zeta > 0) and drive.name != "square":
         return _damped_window(drive, mu, zeta, e0, e1)
     n_lo, n_hi = _zone_range(drive, mu, zeta, e0, e1)
@@ -139,6 +138,10 @@ def grid(eps, mu, drive, zeta, out):
     base = rows[keep] * W
     for a, b in zip((base + i0[keep]).tolist(), (base + i1[keep]).tolist()):
         flat[a:b] = True
+    if drive.name == "sine" and not np.any(zeta > 0):
+        from ..mathieu import _sine_recheck  # pixels within rounding of an edge: decided as is_stable does
+
+        _sine_recheck(eps, mu, rows, lo, hi, out)
     return out
 
 
