@@ -212,8 +212,17 @@ def characteristic_b(n, q):
 _PIVMIN = 1e-290
 
 
-def _count_below(kind, parity, q, x):
-    """How many characteristic values of one family lie below ``x`` at ``q`` (flat arrays, ``q >= 0``).
+#: the four families as codes: (kind, parity) -> code; per code the diagonal ``(2r + off)^2``, the
+#: multiple of ``q`` added to the first diagonal entry and the square of the first off-diagonal / q
+_CODE = {("a", 0): 0, ("a", 1): 1, ("b", 0): 2, ("b", 1): 3}
+_OFF = np.array([0.0, 1.0, 2.0, 1.0])
+_SHIFT = np.array([0.0, 1.0, 0.0, -1.0])
+_FIRST = np.array([2.0, 1.0, 1.0, 1.0])
+
+
+def _count(fam, q, x):
+    """How many characteristic values of family ``fam`` (a code of :data:`_CODE`) lie below ``x`` at
+    ``q`` (flat arrays that broadcast, ``q >= 0``).
 
     The count of negative pivots of ``T(q) - x I = L D L^T`` (Sylvester's law of inertia) with the
     pivots ``d_r = (D_r - x) - e_{r-1}^2 / d_{r-1}``, ``D_r`` the diagonal of the family matrix
@@ -224,28 +233,33 @@ def _count_below(kind, parity, q, x):
     fixed truncation needs ``2 sqrt(q)``. In floating point the count is exact for a matrix whose
     entries differ from ``T(q)`` by a few ulp (Kahan's backward analysis of the Sturm sequence): a
     characteristic value compares with ``x`` correctly unless they agree to a few ulp of ``|x| + q``.
+    All four families go through one loop (one numpy call per row for every point at once).
     """
-    d_of, s0, shift = _family(kind, parity)
-    q = np.asarray(q, float).reshape(-1)
-    x = np.asarray(x, float).reshape(-1)
+    fam, q, x = np.broadcast_arrays(np.asarray(fam, np.int64), np.asarray(q, float), np.asarray(x, float))
+    fam, q, x = fam.reshape(-1), q.reshape(-1), x.reshape(-1)
+    off = _OFF[fam]
     out = np.zeros(q.size, np.int64)
+    if not q.size:
+        return out
     q2 = q * q
-    d = d_of(0.0) + shift * q - x
+    d = off * off + _SHIFT[fam] * q - x
     d[d == 0.0] = -_PIVMIN
     cnt = (d < 0.0).astype(np.int64)
     idx = None  # all points live
-    e2 = s0 * s0 * q2
+    e2 = _FIRST[fam] * q2
     r = 1
     # a pivot that comes out exactly zero makes the next one -inf (counted) and the one after
     # positive: the count of a pivot -pivmin, as in LAPACK's dstebz
     with np.errstate(divide="ignore", over="ignore"):
         while True:
-            Dr = d_of(float(r)) - x
+            t = off + 2.0 * r
+            Dr = t * t - x
             d = Dr - e2 / d
             cnt += d < 0.0
             e2 = q2
             if r % 4 == 0:
-                done = (Dr > 0.0) & (d >= 0.5 * Dr) & ((d_of(float(r + 1)) - x) * Dr >= 4.0 * q2)
+                t = t + 2.0
+                done = (Dr > 0.0) & (d >= 0.5 * Dr) & ((t * t - x) * Dr >= 4.0 * q2)
                 if done.any():
                     where = np.flatnonzero(done) if idx is None else idx[done]
                     out[where] = cnt[done]
@@ -253,10 +267,15 @@ def _count_below(kind, parity, q, x):
                     if not keep.any():
                         break
                     idx = np.flatnonzero(keep) if idx is None else idx[keep]
-                    x, d, q2, cnt = x[keep], d[keep], q2[keep], cnt[keep]
+                    x, d, q2, cnt, off = x[keep], d[keep], q2[keep], cnt[keep], off[keep]
                     e2 = q2
             r += 1
     return out
+
+
+def _count_below(kind, parity, q, x):
+    """:func:`_count` of the family ``(kind, parity)``."""
+    return _count(_CODE[(kind, parity)], q, x)
 
 
 def _qa(eps, mu):
@@ -265,24 +284,25 @@ def _qa(eps, mu):
     return q, -2.0 * mu * mu * q
 
 
-#: the lower edge of zone n lies on a_n, the upper on b_{n+1}: (kind, parity) of each by n % 2
-_LOWER = {0: ("a", 0), 1: ("a", 1)}
-_UPPER = {0: ("b", 1), 1: ("b", 0)}
-_FAMILIES = (("a", 0), ("a", 1), ("b", 0), ("b", 1))
+#: the lower edge of zone n lies on a_n, the upper on b_{n+1}: the family code of each by n % 2
+_LOWER = {0: 0, 1: 1}
+_UPPER = {0: 3, 1: 2}
 
 
-def _above(kind, parity, k, eps, mu):
-    """Whether the ray point ``(q, a)`` at ``eps`` lies above the k-th characteristic value of a family."""
+def _above(fam, k, eps, mu):
+    """Whether the ray point ``(q, a)`` at ``eps`` lies above the k-th characteristic value of ``fam``."""
     q, a = _qa(eps, mu)
-    return _count_below(kind, parity, q, a) >= k + 1
+    return _count(fam, q, a) >= k + 1
 
 
-def _crossing(kind, parity, k, mu, lo, hi):
-    """The crossing of the ray with the k-th characteristic value of a family, bisected on doubles.
+def _crossing(fam, k, mu, lo, hi):
+    """The crossing of the ray with the k-th characteristic value of family ``fam``, bisected on
+    doubles (flat arrays; every family and zone at once).
 
-    ``lo`` below the crossing, ``hi`` above it (flat arrays); returns the adjacent doubles
-    ``(below, above)`` between which the count of the family changes.
+    ``lo`` below the crossing, ``hi`` above it; returns the adjacent doubles ``(below, above)``
+    between which the count of the family changes.
     """
+    fam = np.broadcast_to(np.asarray(fam, np.int64), lo.shape)
     lo, hi = lo.copy(), hi.copy()
     live = np.arange(lo.size)
     while live.size:
@@ -292,19 +312,19 @@ def _crossing(kind, parity, k, mu, lo, hi):
         live, mid = live[go], mid[go]
         if not live.size:
             break
-        up = _above(kind, parity, k[live], mid, mu[live])
+        up = _above(fam[live], k[live], mid, mu[live])
         hi[live[up]] = mid[up]
         lo[live[~up]] = mid[~up]
     return lo, hi
 
 
-def _upper_bound(kind, parity, k, mu):
-    """An ``eps`` above the k-th crossing of a family: ``sqrt(q) (1 - mu^2) ~ 2n + 1``
+def _upper_bound(fam, k, mu):
+    """An ``eps`` above the k-th crossing of family ``fam``: ``sqrt(q) (1 - mu^2) ~ 2n + 1``
     (``a_n ~ -2q + 2(2n+1) sqrt q``, DLMF 28.8.1) with room, doubled until the count confirms it."""
-    n = 2 * k + (parity if kind == "a" else 1 - parity)
+    n = 2 * k + np.array([0, 1, 2, 1])[fam]
     e = 0.25 * PI * (2.0 * (2.0 * n + 3.0) / (1.0 - mu * mu) + 2.0)
     for _ in range(60):
-        bad = ~_above(kind, parity, k, e, mu)
+        bad = ~_above(fam, k, e, mu)
         if not bad.any():
             break
         e = np.where(bad, 2.0 * e, e)
@@ -323,20 +343,12 @@ def _sine_edges(mu, n):
     mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
     shape = mu.shape
     mu, n = mu.ravel(), n.ravel()
-    lo = np.empty(mu.size)
-    hi = np.empty(mu.size)
-    k = n // 2
-    for par in (0, 1):
-        sel = np.flatnonzero(n % 2 == par)
-        if not sel.size:
-            continue
-        m, kk = mu[sel], k[sel]
-        f = _LOWER[par]
-        below, _ = _crossing(*f, kk, m, np.zeros(sel.size), _upper_bound(*f, kk, m))
-        f = _UPPER[par]
-        _, above = _crossing(*f, kk, m, below, _upper_bound(*f, kk, m))
-        lo[sel] = below
-        hi[sel] = np.maximum(above, below)
+    k = np.concatenate([n // 2, n // 2])
+    fam = np.concatenate([np.where(n % 2 == 0, _LOWER[0], _LOWER[1]), np.where(n % 2 == 0, _UPPER[0], _UPPER[1])])
+    m = np.concatenate([mu, mu])
+    below, above = _crossing(fam, k, m, np.zeros(m.size), _upper_bound(fam, k, m))
+    lo = below[:mu.size]
+    hi = np.maximum(above[mu.size:], lo)
     return lo.reshape(shape), hi.reshape(shape)
 
 
@@ -425,26 +437,26 @@ def _sine_window(mu, e1):
     mu = np.asarray(mu, float).reshape(-1)
     e1 = np.broadcast_to(np.asarray(e1, float), mu.shape).reshape(-1)
     q1, a1 = _qa(e1, mu)
-    roots = {}
-    for f in _FAMILIES:
-        K = _count_below(*f, q1, a1)
-        r = np.repeat(np.arange(mu.size), K)
-        k = np.arange(r.size) - np.repeat(np.cumsum(K) - K, K)
-        below, above = _crossing(*f, k, mu[r], np.zeros(r.size), e1[r])
-        roots[f] = (r, k, below, above, K)
+    # crossings of each family below e1, then all of them bisected together
+    K = _count(np.arange(4)[:, None], q1[None, :], a1[None, :]).reshape(4, mu.size)
+    Kf = K.reshape(-1)
+    r = np.repeat(np.tile(np.arange(mu.size), 4), Kf)
+    fam = np.repeat(np.repeat(np.arange(4), mu.size), Kf)
+    k = np.arange(r.size) - np.repeat(np.cumsum(Kf) - Kf, Kf)
+    below, above = _crossing(fam, k, mu[r], np.zeros(r.size), e1[r])
+    first = np.cumsum(Kf) - Kf  # where the crossings of (family, row) start
     rows, zone, lo, hi = [], [], [], []
     for par in (0, 1):
-        r, k, below, _, _ = roots[_LOWER[par]]
-        ru, ku, _, above, Ku = roots[_UPPER[par]]
-        # the upper crossing k of row r, where there is one in the window
-        start = np.cumsum(Ku) - Ku
-        has = k < Ku[r]
-        up = np.full(r.size, np.inf)
-        up[has] = above[start[r[has]] + k[has]]
-        rows.append(r)
-        zone.append(2 * k + par)
-        lo.append(below)
-        hi.append(np.maximum(up, below))
+        sel = fam == _LOWER[par]
+        rl, kl = r[sel], k[sel]
+        fu = _UPPER[par]
+        has = kl < K[fu, rl]
+        up = np.full(rl.size, np.inf)
+        up[has] = above[first[fu * mu.size + rl[has]] + kl[has]]
+        rows.append(rl)
+        zone.append(2 * kl + par)
+        lo.append(below[sel])
+        hi.append(np.maximum(up, below[sel]))
     return np.concatenate(rows), np.concatenate(zone), np.concatenate(lo), np.concatenate(hi)
 
 
@@ -460,7 +472,7 @@ def _band(mu):
 def _total_count(eps, mu):
     """Characteristic values of all four families below the ray point at ``eps`` (flat arrays)."""
     q, a = _qa(eps, mu)
-    return sum(_count_below(*f, q, a) for f in _FAMILIES)
+    return _count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0)
 
 
 def _sine_zone_of(eps, mu):
@@ -663,25 +675,64 @@ def _sine_traces(eps, mu):
     return tau, log_tau, tau_m1, err
 
 
-def _sine_recheck(eps, mu, rows, lo, hi, out):
-    """Re-decide the pixels of a chart painted from :func:`_sine_window`'s edges that lie within
-    twice the rounding band (:func:`_band`) of an edge, point by point as :func:`_sine_floquet0`
-    decides them (certified where rounding may decide), so that the chart equals ``is_stable`` at
-    the same doubles. ``eps`` ascending, ``out[i, j]`` the pixel of ``(eps[j], mu[i])``."""
-    edge = np.concatenate([lo, hi])
-    r = np.concatenate([rows, rows])
-    ok = np.isfinite(edge)
-    edge, r = edge[ok], r[ok]
-    d = 2.0 * _band(mu[r])
-    j0 = np.searchsorted(eps, edge * (1.0 - d), side="left")
-    j1 = np.searchsorted(eps, edge * (1.0 + d), side="right")
-    cnt = np.maximum(j1 - j0, 0)
-    if not cnt.any():
+def _sine_grid(eps, mu, out):
+    """Paint ``out[i, j] = stable(eps[j], mu[i])`` for the undamped sine drive (``eps`` ascending,
+    ``out`` zeroed), equal to ``is_stable`` at the same doubles.
+
+    Each crossing of a row with a characteristic value in view is bisected on the *pixels*: ten
+    steps for 1024 columns find the two neighbouring pixels it lies between (the Sturm count
+    at each pixel itself). A pixel within twice the rounding band (:func:`_band`) of the crossing
+    -- seen by probing just inside the pair -- is decided point by point as
+    :func:`_sine_floquet0` decides it (certified where rounding may decide).
+    """
+    ok = np.flatnonzero(mu < 1.0)
+    if not ok.size:
         return out
-    rr = np.repeat(r, cnt)
-    jj = np.repeat(j0, cnt) + np.arange(cnt.sum()) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-    key = np.unique(rr.astype(np.int64) * eps.size + jj)
-    rr, jj = key // eps.size, key % eps.size
-    zone = _sine_floquet0(eps[jj], mu[rr])[4]
-    out[rr, jj] = zone >= 0
+    W = eps.size
+    m = mu[ok]
+    q1, a1 = _qa(np.full(m.size, float(eps[-1])), m)
+    K = _count(np.arange(4)[:, None], q1[None, :], a1[None, :]).reshape(-1)  # crossings up to eps[-1]
+    r = np.repeat(np.tile(np.arange(m.size), 4), K)
+    fam = np.repeat(np.repeat(np.arange(4), m.size), K)
+    k = np.arange(r.size) - np.repeat(np.cumsum(K) - K, K)
+    # pixel indices either side: -1 stands for eps = 0 (below every crossing), W - 1 is above
+    lo = np.full(r.size, -1, np.int64)
+    hi = np.full(r.size, W - 1, np.int64)
+    live = np.flatnonzero(hi - lo > 1)
+    while live.size:
+        mid = (lo[live] + hi[live]) // 2
+        up = _above(fam[live], k[live], eps[mid], m[r[live]])
+        hi[live[up]] = mid[up]
+        lo[live[~up]] = mid[~up]
+        live = live[hi[live] - lo[live] > 1]
+    # pixels too close to their crossing to be sure of their side
+    d = 2.0 * _band(m[r])
+    e_lo = np.where(lo >= 0, eps[np.maximum(lo, 0)], 0.0)
+    probe = np.concatenate([e_lo * (1.0 + d), eps[hi] * (1.0 - d)])
+    sure = _above(np.tile(fam, 2), np.tile(k, 2), probe, np.tile(m[r], 2)) == np.repeat([False, True], r.size)
+    # zones: a_n's crossing (family 0 or 1) to b_{n+1}'s (3 or 1 + ... see _UPPER)
+    first = np.cumsum(K) - K
+    flat = out.reshape(-1)
+    starts, stops = [], []
+    for par in (0, 1):
+        sel = np.flatnonzero(fam == _LOWER[par])
+        rl, kl = r[sel], k[sel]
+        fu = _UPPER[par]
+        has = kl < K[fu * m.size + rl]
+        stop = np.full(sel.size, W - 1, np.int64)  # an upper edge beyond the chart
+        stop[has] = lo[first[fu * m.size + rl[has]] + kl[has]]
+        starts.append((ok[rl] * W + hi[sel]))
+        stops.append((ok[rl] * W + stop + 1))
+    starts, stops = np.concatenate(starts), np.concatenate(stops)
+    for a, b in zip(starts[stops > starts].tolist(), stops[stops > starts].tolist()):
+        flat[a:b] = True
+    unsure = np.flatnonzero(~sure)
+    if unsure.size:
+        j = np.concatenate([lo, hi])[unsure]
+        rr = ok[np.tile(r, 2)[unsure]]
+        keep = j >= 0
+        key = np.unique(rr[keep].astype(np.int64) * W + j[keep])
+        if key.size:
+            rr, jj = key // W, key % W
+            out[rr, jj] = _sine_floquet0(eps[jj], mu[rr])[4] >= 0
     return out

@@ -129,6 +129,10 @@ def grid(eps, mu, drive, zeta, out):
 
     ``eps`` sorted ascending, ``out`` zeroed, shape ``(len(mu), len(eps))``.
     """
+    if drive.name == "sine" and not np.any(zeta > 0):
+        from ..mathieu import _sine_grid  # crossings bisected only until no pixel is left inside
+
+        return _sine_grid(eps, mu, out)
     rows, _, lo, hi = window_edges(drive, mu, float(eps[0]), float(eps[-1]), zeta)
     i0 = np.searchsorted(eps, lo, side="right")
     i1 = np.searchsorted(eps, hi, side="left")
@@ -138,10 +142,6 @@ def grid(eps, mu, drive, zeta, out):
     base = rows[keep] * W
     for a, b in zip((base + i0[keep]).tolist(), (base + i1[keep]).tolist()):
         flat[a:b] = True
-    if drive.name == "sine" and not np.any(zeta > 0):
-        from ..mathieu import _sine_recheck  # pixels within rounding of an edge: decided as is_stable does
-
-        _sine_recheck(eps, mu, rows, lo, hi, out)
     return out
 
 
