@@ -11,25 +11,24 @@ with ``d_r`` on the diagonal and ``q`` beside it:
     b_{2k+2}:  d = (4, 16, 36, ...)                                         (sin (2r+2)z)
 
 The ``k``-th eigenvalue (ascending) of each is the characteristic value of that order (the
-curves of one family do not cross). The matrix is truncated at ``N`` rows, ``N`` chosen from
-``q`` (the coefficients decay super-exponentially beyond ``r ~ sqrt(q)``) and raised until two
-sizes agree to the requested accuracy. ``scipy.special.mathieu_a/b`` are not used: they are
-known to return wrong values and to jump branches (scipy issues 4479, 14526).
+curves of one family do not cross). Each is found by bisection with the Sturm count of the
+*infinite* matrix (:func:`_count`: the LDL^T pivots stop where they provably stay positive), so
+no truncation is chosen and no eigensolver (nor BLAS) runs. ``scipy.special.mathieu_a/b`` are not
+used: they are known to return wrong values and to jump branches (scipy issues 4479, 14526).
 
 **The sine drive.** With ``z = pi t/(2T) - pi/4`` the upright's linearisation under the
 acceleration ``A sin(pi t/T)`` is Mathieu's equation with ``q = 16 eps^2/pi^2`` and
-``a = -2 mu^2 q`` (``docs/mathieu.md``). Zone ``n`` is ``a_n(q) < a < b_{n+1}(q)`` on that line.
-An edge solves ``a_n(q) = -2 mu^2 q``: the eigenvalue equation ``(D + q O) v = -2 mu^2 q v``
-is the pencil ``D v = -q B v``, ``B = O + 2 mu^2 I`` (``O``: the ``q``-parts), and with ``D``
-diagonal and positive (the ``a_{2k}`` family after eliminating its first coefficient) it is the
-symmetric tridiagonal eigenproblem ``D^{-1/2} B D^{-1/2} w = nu w``, ``q = -1/nu``: every edge
-of a family at one ``mu`` from one eigenproblem, with no root search.
+``a = -2 mu^2 q`` (``docs/mathieu.md``). Zone ``n`` is ``a_n(q) < a < b_{n+1}(q)`` on that ray,
+and along it ``a_0 < b_1 < a_1 < b_2 < ...``: the number of characteristic values below the ray
+point is odd (``2n + 1``) on zone ``n`` and even (``2k``) in the gap where the rotation angle is
+locked at ``k pi``. Verdicts are that count (four Sturm sequences at the point); edges are the
+doubles where it changes, bisected with the same count. Where an edge lies within the rounding
+band of the point (:func:`_band`), the exact trace decides (:func:`_exact_tau`).
 
-**Floquet data.** Hill's determinant (Whittaker and Watson, 19.42):
-``tr M / 2 = 1 - 2 Delta(0) sin^2(pi sqrt(a)/2)`` over the period ``pi``, ``Delta(0)`` the
-determinant of the matrix with 1 on the diagonal and ``q/(4 r^2 - a)`` beside it in row ``r``.
-For ``a < 0`` (always, for the sine drive) no denominator vanishes and
-``tr M / 2 = 1 + 2 Delta(0) sinh^2(pi sqrt(-a)/2)``.
+**Floquet data.** ``tr M / 2 = w_I(pi) = 2 w_I(pi/2) w_II'(pi/2) - 1 = 1 + 2 w_I'(pi/2) w_II(pi/2)``
+(DLMF 28.2.(iv); ``w_I``, ``w_II`` the even and odd solutions), by Taylor series over half a
+period: in double precision for the reported trace (:func:`_sine_traces`), in fixed-point
+integers with as many bits as the growth needs where a verdict must be certified.
 """
 from __future__ import annotations
 
@@ -40,7 +39,6 @@ from . import _validate as _v
 __all__ = ["characteristic_a", "characteristic_b", "sine_zone_edges"]
 
 PI = np.pi
-_TOL = 1e-14
 
 
 # ---------------------------------------------------------------- the four matrices
@@ -91,33 +89,6 @@ def _size(k, q):
     return N
 
 
-def _eigs(kind, parity, q, N):
-    """Ascending eigenvalues, shape ``(len(q), N)``, of the truncated matrices at each q."""
-    d_of, s0, shift = _family(kind, parity)
-    r = np.arange(N, dtype=float)
-    if N > 64:
-        # large truncations: the tridiagonal solver, O(N^2) per q instead of O(N^3)
-        from scipy.linalg import eigvalsh_tridiagonal
-
-        out = np.empty((q.size, N))
-        for i, qi in enumerate(q):
-            d = d_of(r).astype(float)
-            d[0] += shift * qi
-            e = np.full(N - 1, qi)
-            e[0] *= s0
-            out[i] = eigvalsh_tridiagonal(d, e)
-        return out
-    M = np.zeros((q.size, N, N))
-    idx = np.arange(N)
-    M[:, idx, idx] = d_of(r)[None, :]
-    M[:, 0, 0] += shift * q
-    off = np.broadcast_to(q[:, None], (q.size, N - 1)).copy()
-    off[:, 0] *= s0
-    M[:, idx[:-1], idx[1:]] = off
-    M[:, idx[1:], idx[:-1]] = off
-    return np.linalg.eigvalsh(M)
-
-
 def _characteristic(kind, n, q):
     n, q = np.broadcast_arrays(np.asarray(n, np.int64), np.asarray(q, float))
     shape = n.shape
@@ -139,26 +110,31 @@ def _characteristic(kind, n, q):
 
 
 def _converged(kind, parity, k, q):
-    """The k-th eigenvalue of each family matrix, with the truncation raised until two sizes agree."""
-    res = np.empty(q.size)
-    todo = np.arange(q.size)
-    N = np.array([_size(kk, qq) for kk, qq in zip(k, q)])
-    for _ in range(12):
-        if todo.size == 0:
+    """The k-th characteristic value of a family at each ``q >= 0``: bisection on ``x`` with the
+    Sturm count of the infinite matrix (:func:`_count`), no eigensolver and no truncation to
+    choose; the rows it takes are bounded as those of a truncated matrix would be (:func:`_size`).
+
+    The bracket is Weyl's: the k-th eigenvalue of ``D + q O`` lies within ``||q O|| <= 3 q`` of
+    ``D_k``. Bisected to a relative width of 2 ulp (1e-17 absolute near 0)."""
+    code = _CODE[(kind, parity)]
+    kmax, qmax = int(np.max(k, initial=0)), float(np.max(q, initial=0.0))
+    _size(kmax, qmax)  # the same bounds on the work as before: order and |q|
+    Dk = (2.0 * k + _OFF[code]) ** 2
+    lo = Dk - 3.0 * q - 1.0 - np.abs(_SHIFT[code]) * q
+    hi = Dk + 3.0 * q + 1.0 + np.abs(_SHIFT[code]) * q
+    live = np.flatnonzero(q > 0)
+    while live.size:
+        l, h = lo[live], hi[live]
+        mid = l + 0.5 * (h - l)
+        go = (mid > l) & (mid < h) & (h - l > np.maximum(2.0 * 2.0**-52 * np.maximum(np.abs(l), np.abs(h)), 1e-17))
+        live, mid = live[go], mid[go]
+        if not live.size:
             break
-        nxt = []
-        for Nv in np.unique(N[todo]):
-            grp = todo[N[todo] == Nv]
-            e1 = _eigs(kind, parity, q[grp], Nv)[np.arange(grp.size), k[grp]]
-            e2 = _eigs(kind, parity, q[grp], Nv + 16)[np.arange(grp.size), k[grp]]
-            ok = np.abs(e1 - e2) <= _TOL * np.maximum(1.0, np.abs(e2))
-            res[grp[ok]] = e2[ok]
-            nxt.append(grp[~ok])
-        todo = np.concatenate(nxt) if nxt else np.zeros(0, np.int64)
-        N[todo] = 2 * N[todo]
-    if todo.size:
-        raise _v.KapitzaValueError(f"q is too large for the characteristic value to converge; got {float(q[todo[0]])!r}")
-    return res
+        up = _count(code, q[live], mid) >= k[live] + 1
+        hi[live[up]] = mid[up]
+        lo[live[~up]] = mid[~up]
+    # q = 0: the diagonal itself (n^2, exactly)
+    return np.where(q > 0, 0.5 * (lo + hi), Dk)
 
 
 @_v.shapes_named
@@ -175,12 +151,12 @@ def characteristic_a(n, q):
     Returns
     -------
     ndarray
-        ``a_n(q)`` to about 1e-14 relative (absolute near 0).
+        ``a_n(q)`` to a few ulp of ``|a_n| + q`` (1e-17 absolute near 0).
 
     Notes
     -----
-    DLMF 28.2, 28.4: eigenvalues of the symmetric tridiagonal matrices in the module notes;
-    ``docs/mathieu.md``.
+    DLMF 28.2, 28.4: eigenvalues of the symmetric tridiagonal matrices in the module notes, by
+    Sturm bisection; ``docs/mathieu.md``.
     """
     n = _v.nonnegative_int("n", n)
     q = _v.finite("q", q)
@@ -368,12 +344,17 @@ def sine_zone_edges(mu, n):
     eps_lo, eps_hi : ndarray
         Zone ``n`` is ``a_n(q) < -2 mu^2 q < b_{n+1}(q)``, ``q = 16 eps^2 / pi^2``; the lower
         edge carries a 2T-periodic motion for even ``n`` (4T for odd), the upper the other.
+        Each is the double on the unstable side of its crossing (``eps_lo`` the last double
+        below it, ``eps_hi`` the first above), so zone ``n`` is ``eps_lo < eps < eps_hi``. A zone
+        thinner than the spacing of doubles (large ``q``) has no double inside: then
+        ``eps_lo == eps_hi`` or they are neighbours.
 
     Notes
     -----
-    Each family's edges are the eigenvalues of one symmetric tridiagonal matrix (module
-    notes; ``docs/mathieu.md``). Damped zones: :func:`kapitza.zone_edges` with
-    ``drive=SineWave()`` and ``zeta``.
+    Each crossing of the ray with its characteristic value is bisected on doubles with the
+    Sturm count of DLMF's tridiagonal matrix (module notes; ``docs/mathieu.md``), to within
+    ``4e-15 + 4u / (1 - mu^2)`` relative (``u`` the unit roundoff: the root's own conditioning
+    as ``mu -> 1``). Damped zones: :func:`kapitza.zone_edges` with ``drive=SineWave()`` and ``zeta``.
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     n = _v.nonnegative_int("n", n)
