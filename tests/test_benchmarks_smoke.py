@@ -81,3 +81,10 @@ def test_bench_sweep_integrated_tiny_runs():
     for needle in ("exact path (square, undamped) -- baseline", "integrated path (square, zeta = 0.05)",
                    "integrated path (sine, undamped)", "ratio (this / exact)", "integrated vs exact"):
         assert needle in out, needle
+
+
+def test_bench_sine_tiny_runs():
+    out = run_tiny("bench_sine.py")
+    for needle in ("kapitza stability_grid", "scipy mathieu_a/b chart", "ratio scipy / kapitza", "pixels that differ",
+                   "kapitza zone_edges", "scipy brentq on mathieu_a/b"):
+        assert needle in out, needle

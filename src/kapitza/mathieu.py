@@ -211,8 +211,10 @@ def _count(fam, q, x):
     characteristic value compares with ``x`` correctly unless they agree to a few ulp of ``|x| + q``.
     All four families go through one loop (one numpy call per row for every point at once).
     """
-    fam, q, x = np.broadcast_arrays(np.asarray(fam, np.int64), np.asarray(q, float), np.asarray(x, float))
-    fam, q, x = fam.reshape(-1), q.reshape(-1), x.reshape(-1)
+    fam, q, x = np.asarray(fam), np.asarray(q, float), np.asarray(x, float)
+    if not (fam.shape == q.shape == x.shape and q.ndim == 1):
+        fam, q, x = np.broadcast_arrays(fam, q, x)
+        fam, q, x = fam.reshape(-1), q.reshape(-1), x.reshape(-1)
     off = _OFF[fam]
     out = np.zeros(q.size, np.int64)
     if not q.size:
@@ -233,7 +235,7 @@ def _count(fam, q, x):
             d = Dr - e2 / d
             cnt += d < 0.0
             e2 = q2
-            if r % 4 == 0:
+            if r % 4 == 0 or r == 2:  # half the points are done after two rows, nearly all after four
                 t = t + 2.0
                 done = (Dr > 0.0) & (d >= 0.5 * Dr) & ((t * t - x) * Dr >= 4.0 * q2)
                 if done.any():
@@ -691,7 +693,7 @@ def _sine_grid(eps, mu, out):
     e_lo = np.where(lo >= 0, eps[np.maximum(lo, 0)], 0.0)
     probe = np.concatenate([e_lo * (1.0 + d), eps[hi] * (1.0 - d)])
     sure = _above(np.tile(fam, 2), np.tile(k, 2), probe, np.tile(m[r], 2)) == np.repeat([False, True], r.size)
-    # zones: a_n's crossing (family 0 or 1) to b_{n+1}'s (3 or 1 + ... see _UPPER)
+    # zones: from the crossing of a_n (lower) to that of b_{n+1} (upper; _LOWER, _UPPER)
     first = np.cumsum(K) - K
     flat = out.reshape(-1)
     starts, stops = [], []
