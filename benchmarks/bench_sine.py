@@ -20,6 +20,7 @@ import argparse
 import datetime
 import os
 import sys
+import time
 
 import numpy as np
 from scipy.optimize import brentq
@@ -31,6 +32,17 @@ from _timing import machine, median_time  # noqa: E402
 import kapitza as K  # noqa: E402
 
 PI = np.pi
+
+
+def cpu_median(fn, repeats):
+    """Median CPU time of the process over ``repeats`` calls (steadier than wall time on a shared machine)."""
+    fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.process_time()
+        fn()
+        times.append(time.process_time() - t0)
+    return sorted(times)[len(times) // 2]
 
 
 def axes(n):
@@ -94,7 +106,10 @@ def main(argv=None):
     print(f"\nchart {size} x {size} (eps in (0, 4], mu in (0, 1))")
     print(f"  kapitza stability_grid     {t_k[0] * 1e3:9.2f} ms  (min {t_k[1] * 1e3:.2f}, max {t_k[2] * 1e3:.2f})")
     print(f"  scipy mathieu_a/b chart    {t_s[0] * 1e3:9.2f} ms  (min {t_s[1] * 1e3:.2f}, max {t_s[2] * 1e3:.2f})")
-    print(f"  ratio scipy / kapitza      {t_s[0] / t_k[0]:9.2f}x")
+    print(f"  ratio scipy / kapitza      {t_s[0] / t_k[0]:9.2f}x  (wall time)")
+    c_k = cpu_median(lambda: K.stability_grid(eps, mu, drive="sine"), reps)
+    c_s = cpu_median(lambda: scipy_chart(eps, mu), reps)
+    print(f"  CPU time kapitza / scipy   {c_k * 1e3:9.2f} ms / {c_s * 1e3:.2f} ms: ratio {c_s / c_k:.2f}x")
     print(f"  pixels that differ         {int(np.count_nonzero(ours != theirs))} of {ours.size}")
 
     mus = np.linspace(0.05, 0.95, n_mu)
@@ -108,7 +123,10 @@ def main(argv=None):
     print(f"\nzone_edges: zones 0-3 x {n_mu} mu in [0.05, 0.95] ({2 * lo.size} edges)")
     print(f"  kapitza zone_edges         {t_k[0] * 1e3:9.2f} ms  (min {t_k[1] * 1e3:.2f}, max {t_k[2] * 1e3:.2f})")
     print(f"  scipy brentq on mathieu_a/b{t_s[0] * 1e3:9.2f} ms  (min {t_s[1] * 1e3:.2f}, max {t_s[2] * 1e3:.2f})")
-    print(f"  ratio scipy / kapitza      {t_s[0] / t_k[0]:9.2f}x")
+    print(f"  ratio scipy / kapitza      {t_s[0] / t_k[0]:9.2f}x  (wall time)")
+    c_k = cpu_median(lambda: K.zone_edges(M, Z, drive="sine"), reps)
+    c_s = cpu_median(lambda: scipy_edges(mus, zones, (lo, hi)), max(1, reps // 2))
+    print(f"  CPU time kapitza / scipy   {c_k * 1e3:9.2f} ms / {c_s * 1e3:.2f} ms: ratio {c_s / c_k:.2f}x")
     bad = ~np.isfinite(rel) | (rel > 1e-12)
     print(f"  edges where they differ by more than 1e-12 relative: {int(np.count_nonzero(bad))} of {rel.size}"
           f" (scipy failed to bracket {int(np.count_nonzero(~np.isfinite(ref)))})")
