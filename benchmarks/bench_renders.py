@@ -1,5 +1,5 @@
-"""Speed of the renders: ``kapitza animate`` (GIF) and ``kapitza chart`` (PNG + SVG), against the plain
-matplotlib/Pillow way of drawing the same pictures, in the same run.
+"""Speed of ``kapitza animate`` (GIF) against the plain matplotlib/Pillow way of drawing the same
+frames, in the same run.
 
 Run by hand (``python benchmarks/bench_renders.py``); ``--tiny`` is a smoke run for CI.
 
@@ -7,9 +7,6 @@ Run by hand (``python benchmarks/bench_renders.py``); ``--tiny`` is a smoke run 
   pixels). Baseline: the same function with ``animation._LEGACY = True`` -- every glyph of the clock
   rasterised by FreeType anew each frame, every GIF frame quantised to its own palette by Pillow
   (what matplotlib's ``PillowWriter`` does). The two GIFs are compared frame by frame.
-* chart: ``kapitza chart`` through its command line (the figure and its files). Baseline: the same
-  with ``figures._style._LEGACY = True`` -- ``savefig`` laying the figure out again for every file.
-  The two PNGs are compared pixel by pixel.
 
 Medians of the wall time and of the process's CPU time (steadier on a shared machine).
 """
@@ -34,7 +31,6 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 
 import kapitza as K  # noqa: E402
-from kapitza.figures import _style  # noqa: E402
 from kapitza.figures import animation as anim  # noqa: E402
 
 
@@ -90,31 +86,6 @@ def main(argv=None):
           f"(largest channel difference {max(int(d.max()) for d in diff)} of 255, mean "
           f"{np.mean([np.abs(a - b).mean() for a, b in zip(old, new)]):.3f})")
 
-    from kapitza.cli import main as cli
-
-    n = "64" if args.tiny else "400"
-    chart_res = {}
-    for legacy in (True, False):
-        _style._LEGACY = legacy
-        out = tmp / ("old" if legacy else "new")
-        argv_c = ["chart", "--points", n, "--out", str(out)]
-        cli(argv_c)  # warm-up
-        chart_res[legacy] = timed(lambda argv_c=argv_c: cli(argv_c), reps)
-    _style._LEGACY = False
-    from PIL import Image
-
-    a = np.asarray(Image.open(tmp / "old.png").convert("RGB")).astype(np.int16)
-    b = np.asarray(Image.open(tmp / "new.png").convert("RGB")).astype(np.int16)
-    print(f"\nchart: kapitza chart --points {n} (PNG and SVG)")
-    print(f"  baseline (savefig lays the figure out per file)       wall {chart_res[True][0]:8.2f} s   "
-          f"cpu {chart_res[True][1]:8.2f} s")
-    print(f"  kapitza (laid out once)                               wall {chart_res[False][0]:8.2f} s   "
-          f"cpu {chart_res[False][1]:8.2f} s")
-    print(f"  ratio (baseline / kapitza)                            wall {chart_res[True][0] / chart_res[False][0]:7.2f}x   "
-          f"cpu {chart_res[True][1] / chart_res[False][1]:7.2f}x")
-    same = a.shape == b.shape
-    print(f"  PNG: {a.shape[1]} x {a.shape[0]} and {b.shape[1]} x {b.shape[0]} pixels; "
-          + (f"pixels differing: {np.mean(np.abs(a - b).max(axis=-1) > 0):.2%}" if same else "sizes differ"))
 
 
 if __name__ == "__main__":

@@ -88,3 +88,9 @@ def test_bench_sine_tiny_runs():
     for needle in ("kapitza stability_grid", "scipy mathieu_a/b chart", "ratio scipy / kapitza", "pixels that differ",
                    "kapitza zone_edges", "scipy brentq on mathieu_a/b"):
         assert needle in out, needle
+
+
+def test_bench_renders_tiny_runs():
+    out = run_tiny("bench_renders.py")
+    for needle in ("animate:", "baseline (glyphs rasterised", "ratio (baseline / kapitza)", "pixels differing"):
+        assert needle in out, needle

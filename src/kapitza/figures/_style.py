@@ -183,6 +183,3 @@ def place_legend(ax, inside=False, **kw):
         return ax.legend(loc=kw.pop("loc", "best"), fontsize=kw.pop("fontsize", 8), framealpha=0.9, **kw)
     return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=kw.pop("fontsize", 8), frameon=False,
                      borderaxespad=0.0, **kw)
-
-#: The baseline of ``benchmarks/bench_renders.py``: save as matplotlib would by itself.
-_LEGACY = False
