@@ -403,10 +403,74 @@ def _sine_log_tau(eps, mu):
 
 
 def _sine_tau_minus_one(eps, mu):
-    """``tr M / 2 - 1 = 2 w_I'(pi/2) w_II(pi/2)`` of the undamped sine drive over 2T, free of the
-    cancellation of the 1 (non-finite where it overflows)."""
+    """``tr M / 2 - 1`` of the undamped sine drive over 2T, free of the cancellation of the 1
+    (non-finite where it overflows), for the short phases where the damping layer asks for it
+    (``tr M / 2`` near 1): Hill's determinant, ``2 Delta(0) sinh^2(pi sqrt(-a)/2)``, keeps its
+    relative accuracy there, where the half-period integration's ``w_I'(pi/2)`` is a sum of terms
+    of size ``q`` cancelling to ``pi mu^2 q``."""
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
-    return _sine_traces(eps.ravel(), mu.ravel())[2].reshape(eps.shape)
+    e, m = eps.ravel(), mu.ravel()
+    q = 16.0 * e * e / PI**2
+    out = np.empty(e.size)
+    for i in range(0, e.size, 2048):
+        out[i:i + 2048] = _hill_half_trace(-2.0 * m[i:i + 2048] ** 2 * q[i:i + 2048], q[i:i + 2048], minus_one=True)
+    return out.reshape(eps.shape)
+
+
+def _hill_half_trace(a, q, minus_one=False):
+    """``(tau, log|tau|)`` of Mathieu's monodromy over z in [0, pi] for ``a < 0`` (Hill);
+    with ``minus_one``, ``tau - 1 = 2 Delta(0) sinh^2(pi sqrt(-a) / 2)`` itself (no 1 added and
+    taken away: accurate where ``tau`` is near 1).
+
+    ``Delta(0)`` is the continuant of ``xi_r = q/(4 r^2 - a)``, ``r`` in Z, computed by the
+    three-term recurrence over ``|r| <= R`` (``R = 200 + 4 sqrt q``) and the far tails as
+    ``log p_r = -xi_r xi_{r-1} - xi_r xi_{r-1}^2 xi_{r-2} - (xi_r xi_{r-1})^2 / 2 + O(xi^6)`` summed to
+    ``|r| = 2 R`` and integrated beyond: a plain truncation would leave a relative error
+    ``q^2 / (24 R^3)``.
+    """
+    a = np.asarray(a, float)
+    q = np.asarray(q, float)
+    R = int(200 + np.ceil(4.0 * np.sqrt(np.max(np.abs(q), initial=0.0))))
+    r = np.arange(-R, R + 1, dtype=float)
+    xi = q[..., None] / (4.0 * r * r - a[..., None])
+    D_prev = np.ones(a.shape)
+    D = np.ones(a.shape)
+    logs = np.zeros(a.shape)
+    for i in range(1, 2 * R + 1):
+        D, D_prev = D - xi[..., i] * xi[..., i - 1] * D_prev, D
+        m = np.maximum(np.abs(D), np.abs(D_prev))
+        big = m > 1e100
+        if np.any(big):
+            s = np.where(big, m, 1.0)
+            D, D_prev = D / s, D_prev / s
+            logs = logs + np.log(s)
+    # both tails (r > R and r < -R are the same by symmetry)
+    R1 = 2 * R
+    rt = np.arange(R + 1, R1 + 1, dtype=float)
+    x0 = q[..., None] / (4.0 * rt * rt - a[..., None])
+    x1 = q[..., None] / (4.0 * (rt - 1.0) ** 2 - a[..., None])
+    x2 = q[..., None] / (4.0 * (rt - 2.0) ** 2 - a[..., None])
+    tail = -np.sum(x0 * x1 + x0 * x1 * x1 * x2 + 0.5 * (x0 * x1) ** 2, axis=-1)
+    # beyond R1 the terms are q^2 / (16 r^2 (r - 1)^2) to 1e-15: their sum is the integral from
+    # X = R1 + 1/2 (midpoint rule, error ~ q^2 / (19 R1^6)), which has the closed form
+    # 1/(X - 1) + 1/X - 2 log(X / (X - 1))
+    X = R1 + 0.5
+    tail = tail - q * q / 16.0 * (1.0 / (X - 1.0) + 1.0 / X + 2.0 * np.log1p(-1.0 / X))
+    logs = logs + 2.0 * tail
+    x = 0.5 * PI * np.sqrt(-a)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        delta0 = D * np.exp(np.minimum(logs, 700.0))
+        sh2 = np.sinh(x) ** 2
+        if minus_one:
+            return 2.0 * delta0 * sh2
+        tau = 1.0 + 2.0 * delta0 * sh2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_big = np.log(2.0 * np.abs(D)) + logs + 2.0 * x - 2.0 * np.log(2.0) + 2.0 * np.log1p(-np.exp(-2.0 * x))
+        log_tau = np.where(np.isfinite(tau) & (np.abs(tau) < 1e300), np.log(np.abs(tau)), log_big)
+        tau = np.where(np.isfinite(tau), tau, np.sign(D) * np.inf)
+    return tau, log_tau
+
+
 
 
 def _sine_window(mu, e1):
