@@ -321,6 +321,13 @@ def _sine_edges(mu, n):
     mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
     shape = mu.shape
     mu, n = mu.ravel(), n.ravel()
+    # the crossing lies near sqrt(q) (1 - mu^2) = 2n + 1; the Sturm counts there take sqrt(q/2) rows
+    q_est = ((2.0 * n + 1.0) / np.maximum(1.0 - mu * mu, 1e-300)) ** 2 + 4.0 * n * n
+    if np.any(q_est > 1e8):
+        bad = int(np.argmax(q_est > 1e8))
+        raise _v.KapitzaValueError(
+            f"mu and n put the sine drive's zone edge beyond q = 1e8 (mu too close to 1 or the zone n too high); "
+            f"got mu={float(mu[bad])!r} with n={int(n[bad])}")
     k = np.concatenate([n // 2, n // 2])
     fam = np.concatenate([np.where(n % 2 == 0, _LOWER[0], _LOWER[1]), np.where(n % 2 == 0, _UPPER[0], _UPPER[1])])
     m = np.concatenate([mu, mu])
@@ -662,8 +669,10 @@ def _half_period(eps, mu):
     mu = np.asarray(mu, float).reshape(-1)
     q, _ = _qa(eps, mu)
     L = np.sqrt(2.0 * q * (1.0 + mu * mu)) + 2.0
-    # steps rounded up to powers of two: a few batches, each with the step of its largest q
-    steps = (2.0 ** np.ceil(np.log2(np.maximum(np.ceil(0.5 * PI * L), 8.0)))).astype(np.int64)
+    # steps rounded up to powers of two (multiples of 64 beyond): a few batches, each with the
+    # step of its largest q
+    steps = np.maximum(np.ceil(0.5 * PI * L), 8.0)
+    steps = np.where(steps <= 64.0, 2.0 ** np.ceil(np.log2(steps)), 64.0 * np.ceil(steps / 64.0)).astype(np.int64)
     out = np.empty((6, eps.size))
     fact = np.cumprod(np.concatenate([[1.0], np.arange(1.0, _TERMS + 2)]))
     sign = np.array([1.0, -1.0, -1.0, 1.0])  # d^k/ds^k cos(x + s): cos, -sin, -cos, sin
@@ -702,10 +711,18 @@ def _half_period(eps, mu):
     return out
 
 
+#: the largest eps whose sine-drive trace is integrated (q = 16 eps^2/pi^2 = 1e6)
+_EPS_TRACE = 0.25 * PI * 1000.0
+
+
 def _sine_traces(eps, mu):
     """``(tau, log|tau|, tau - 1, err)`` of the undamped sine drive over ``2T`` (flat arrays):
     ``tau = tr M/2 = 1 + 2 w_I' w_II = 2 w_I w_II' - 1`` at ``z = pi/2`` (DLMF 28.2.(iv)); ``tau - 1``
     free of the cancellation of the 1; ``err`` an estimate of the error of ``tau`` from rounding."""
+    eps = np.asarray(eps, float).reshape(-1)
+    if eps.size and not np.max(eps) <= _EPS_TRACE:  # the integration's steps grow like sqrt(q)
+        raise _v.KapitzaValueError(f"eps must satisfy eps <= {_EPS_TRACE:.6g} for the sine drive's Floquet data "
+                                   f"(Mathieu's q = 16 eps^2/pi^2 up to 1e6); got {float(np.max(eps))!r}")
     wI, dwI, wII, dwII, s, s_max = _half_period(eps, mu)
     m1, p1 = 2.0 * dwI * wII, 2.0 * wI * dwII  # (tau - 1) e^{-2s}, (tau + 1) e^{-2s}
     with np.errstate(over="ignore", invalid="ignore"):
