@@ -98,3 +98,16 @@ def test_bench_drives_generic_tiny_runs():
                    "chart (eps in (0, 4], mu in (0, 1)) from exact edges"):
         assert needle in out, needle
     assert "pointwise verdicts disagreeing with the chart: 0 of 40" in out
+
+
+def test_bench_sine_tiny_runs():
+    out = run_tiny("bench_sine.py")
+    for needle in ("kapitza stability_grid", "scipy mathieu_a/b chart", "ratio scipy / kapitza", "pixels that differ",
+                   "kapitza zone_edges", "scipy brentq on mathieu_a/b"):
+        assert needle in out, needle
+
+
+def test_bench_renders_tiny_runs():
+    out = run_tiny("bench_renders.py")
+    for needle in ("animate:", "baseline (glyphs rasterised", "ratio (baseline / kapitza)", "pixels differing"):
+        assert needle in out, needle

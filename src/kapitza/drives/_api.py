@@ -260,9 +260,8 @@ def _window0(drive, mu, e0, e1):
         from ..mathieu import _sine_window
 
         ok = np.flatnonzero(mu < 1.0)
-        q_max = np.full(ok.size, 16.0 * e1 * e1 / PI**2)
-        rows, zone, q_lo, q_hi = _sine_window(mu[ok], q_max)
-        return ok[rows], zone, 0.25 * PI * np.sqrt(q_lo), 0.25 * PI * np.sqrt(q_hi)
+        rows, zone, lo, hi = _sine_window(mu[ok], e1)
+        return ok[rows], zone, lo, hi
     return drive._window0(mu, np.full(mu.size, e0), np.full(mu.size, e1))
 
 
@@ -326,6 +325,10 @@ def grid(eps, mu, drive, zeta, out):
 
     ``eps`` sorted ascending, ``out`` zeroed, shape ``(len(mu), len(eps))``.
     """
+    if drive.name == "sine" and not np.any(zeta > 0):
+        from ..mathieu import _sine_grid  # crossings bisected only until no pixel is left inside
+
+        return _sine_grid(eps, mu, out)
     rows, _, lo, hi = window_edges(drive, mu, float(eps[0]), float(eps[-1]), zeta)
     i0 = np.searchsorted(eps, lo, side="right")
     i1 = np.searchsorted(eps, hi, side="left")

@@ -9,9 +9,10 @@ rod to the left, as in the paper's figure of the pendulum.
 from __future__ import annotations
 
 import shutil
-import textwrap
 import sys
+import textwrap
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -103,16 +104,149 @@ class AnimationResult:
     message: str = ""
 
 
+#: Render as matplotlib and Pillow would by themselves (a palette per GIF frame, every glyph
+#: rasterised anew): the baseline of ``benchmarks/bench_renders.py``.
+_LEGACY = False
+
+
 class _BlitPillowWriter(mpl_animation.PillowWriter):
     """:class:`matplotlib.animation.PillowWriter` that takes each frame from the canvas as
-    drawn (static background plus the moving artists) instead of re-rendering the figure."""
+    drawn (static background plus the moving artists) instead of re-rendering the figure, and
+    writes the GIF with one palette for all frames.
+
+    Pillow would quantise every RGBA frame to its own adaptive palette (most of the time of a
+    render). The frames share their background, so one palette, taken from a few frames spread
+    over the clip, serves them all; each frame is then mapped to it (nearest colour, no
+    dithering, as Pillow's own conversion does not dither either).
+    """
 
     def grab_frame(self, **savefig_kwargs):
         from PIL import Image
 
         canvas = self.fig.canvas
         w, h = canvas.get_width_height(physical=True)
-        self._frames.append(Image.frombuffer("RGBA", (w, h), bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1))
+        frame = Image.frombuffer("RGBA", (w, h), bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1)
+        self._frames.append(frame if _LEGACY else frame.convert("RGB"))
+
+    def finish(self):
+        if _LEGACY or len(self._frames) < 2:
+            return super().finish()
+        from PIL import Image
+
+        frames = self._frames
+        picks = sorted({0, len(frames) // 3, (2 * len(frames)) // 3, len(frames) - 1})
+        w, h = frames[0].size
+        sample = Image.new("RGB", (w, h * len(picks)))
+        for i, j in enumerate(picks):
+            sample.paste(frames[j], (0, i * h))
+        palette = sample.quantize(colors=256, method=Image.Quantize.FASTOCTREE)
+        self._frames = [f.quantize(palette=palette, dither=Image.Dither.NONE) for f in frames]
+        super().finish()
+
+
+class _GlyphCache:
+    """Rasterised glyphs kept between frames while an animation is drawn.
+
+    matplotlib's Agg renderer asks FreeType for every glyph of every string anew; the clock is
+    redrawn each frame, so a clip rasterises the same dozen characters thousands of times. The
+    bitmap of a glyph depends only on the font, size, glyph and the sub-pixel part of its
+    position (the whole-pixel part only moves it), so each is kept under that key and drawn
+    again where matplotlib would draw it: the same pixels, without FreeType. Used as a context
+    manager around the frames; anything but plain upright antialiased text (mathtext boxes,
+    rotation, slant) goes through matplotlib's own path.
+    """
+
+    def __init__(self, renderer):
+        self.renderer = renderer
+        self.cache = {}
+        self.fonts = []  # keep the fonts alive: their ids are part of the keys
+        self.mono = {}  # (font file, size, dpi) -> [checked strings, advance, {char: (font, glyph)}]
+
+    def __enter__(self):
+        r = self.renderer
+        try:
+            from matplotlib.backends.backend_agg import get_hinting_flag
+            from matplotlib.ft2font import RenderMode
+
+            self._flags, self._mode = get_hinting_flag, RenderMode.NORMAL
+            self._orig = r._draw_text_glyphs_and_boxes
+            r._renderer.draw_text_image  # noqa: B018 - the private API this relies on
+        except (ImportError, AttributeError):
+            self._orig = None
+            return self
+        self._orig_text = r.draw_text
+        r._draw_text_glyphs_and_boxes = self._draw
+        r.draw_text = self._draw_text
+        return self
+
+    def __exit__(self, *exc):
+        if self._orig is not None:
+            del self.renderer._draw_text_glyphs_and_boxes  # the class's methods again
+            del self.renderer.draw_text
+        return False
+
+    def _draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
+        """The layout of a string in a monospaced font is its characters at a fixed advance: laid
+        out from the characters once seen, after the first strings of that font were checked
+        against matplotlib's own layout (any difference, or another font: its own layout)."""
+        r = self.renderer
+        if ismath or angle or (mtext is not None and (mtext.get_fontfeatures() or mtext.get_language())):
+            return self._orig_text(gc, x, y, s, prop, angle, ismath=ismath, mtext=mtext)
+        font = r._prepare_font(prop)
+        key = (font.fname, prop.get_size_in_points(), r.dpi)
+        entry = self.mono.get(key)
+        if entry is None:
+            pair = font._layout("00", flags=self._flags())
+            adv = pair[1].x - pair[0].x if len(pair) == 2 else None
+            entry = self.mono[key] = [0, adv, {}]
+        checked, adv, chars = entry
+        items = None
+        if adv and checked >= 0 and "\n" not in s:
+            glyphs = []
+            for c in s:
+                g = chars.get(c)
+                if g is None:
+                    one = font._layout(c, flags=self._flags())
+                    g = chars[c] = (one[0].ft_object, one[0].glyph_index) if len(one) == 1 and one[0].x == 0 else False
+                if not g:
+                    break
+                glyphs.append(g)
+            else:
+                items = [(f, gi, i * adv) for i, (f, gi) in enumerate(glyphs)]
+        if items is not None and checked < 3:
+            real = font._layout(s, flags=self._flags())
+            same = len(real) == len(items) and all(
+                it.ft_object is f and it.glyph_index == gi and it.x == gx and it.y == 0
+                for it, (f, gi, gx) in zip(real, items))
+            entry[0] = checked + 1 if same else -1
+            if not same:
+                items = None
+        if items is None:
+            return self._orig_text(gc, x, y, s, prop, angle, ismath=ismath, mtext=mtext)
+        size = prop.get_size_in_points()
+        self._draw(gc, x, y, angle, [(f, size, gi, 0, 1, gx, 0.0) for f, gi, gx in items], [])
+
+    def _draw(self, gc, x, y, angle, glyphs, boxes):
+        glyphs = list(glyphs)
+        if angle or boxes or not gc.get_antialiased() or any(g[3] != 0 or g[4] != 1 for g in glyphs):
+            return self._orig(gc, x, y, angle, glyphs, boxes)
+        r = self.renderer
+        height = r.height
+        flags = self._flags()
+        for font, size, glyph_index, _, _, dx, dy in glyphs:
+            # the position FreeType is given, in 1/64 pixel (as matplotlib computes it)
+            px = round(0x40 * (x + dx))
+            py = round(0x40 * (height - y + dy))
+            key = (id(font), size, r.dpi, glyph_index, px & 63, py & 63, flags)
+            hit = self.cache.get(key)
+            if hit is None:
+                font.set_size(size, r.dpi)
+                font._set_transform(np.array([[0x10000, 0], [0, 0x10000]]), [px & 63, py & 63])
+                bitmap = font._render_glyph(glyph_index, flags, self._mode)
+                hit = self.cache[key] = (np.array(bitmap.buffer), bitmap.left, bitmap.top)
+                self.fonts.append(font)
+            buf, left, top = hit
+            r._renderer.draw_text_image(buf, left + (px >> 6), int(height) - (top + (py >> 6)) + buf.shape[0], 0, gc)
 
 
 def ffmpeg_available() -> bool:
@@ -323,7 +457,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     writer = _BlitPillowWriter(fps=fps) if fmt == "gif" else mpl_animation.FFMpegWriter(fps=fps)
     try:
         with atomic_path(path) as tmp:
-            with writer.saving(fig, str(tmp), dpi):
+            with writer.saving(fig, str(tmp), dpi), \
+                    (nullcontext() if _LEGACY else _GlyphCache(fig.canvas.get_renderer())):
                 for k in range(times.size):
                     fig.canvas.restore_region(background)
                     for a in draw(k):
