@@ -74,7 +74,7 @@ def test_from_rig_sine_shaker():
     (lambda: kd.StepDrive([1, -1, 0], [0.5, 0.5]), "same length"),
     (lambda: kd.StepDrive([0, 0], [0.5, 0.5]), "not all be 0"),
     (lambda: kd.StepDrive([1, float("inf")], [0.5, 0.5]), "levels"),
-    (lambda: kd.as_drive("triangle"), "drive"),
+    (lambda: kd.as_drive("sawtooth"), "drive"),
 ])
 def test_bad_drive_definitions_name_the_parameter(make, match):
     with pytest.raises(KapitzaValueError, match=match):

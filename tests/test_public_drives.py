@@ -85,7 +85,7 @@ def test_period_and_amplitude_edges_of_a_damped_drive_are_zone_edges():
 @pytest.mark.parametrize("call, match", [
     (lambda: K.is_stable(0.5, 0.3, zeta=-0.1), "zeta"),
     (lambda: K.is_stable(0.5, 0.3, zeta=float("nan")), "zeta"),
-    (lambda: K.is_stable(0.5, 0.3, drive="triangle"), "drive"),
+    (lambda: K.is_stable(0.5, 0.3, drive="sawtooth"), "drive"),
     (lambda: K.analyze(T=0.1, A=100, damping=-1), "damping"),
     (lambda: K.analyze(eps=0.5, mu=0.3, damping=1.0), "zeta"),
     (lambda: K.analyze(T=0.1, A=100, zeta=0.1, damping=0.2), "damping"),
