@@ -56,7 +56,9 @@ def _xD(T, A, l, g):
 
 @_v.shapes_named
 def alpha(T, A, l=1.0, g=G_EARTH):
-    """``alpha(T) = 2 atan(D (e^{w_h T} - 1) / (e^{w_h T} + 1)) = 2 atan(D tanh(w_h T / 2))``.
+    """The angle ``alpha`` of Theorem 3.3: ``alpha(T) = 2 atan(D tanh(w_h T / 2))``.
+
+    In the paper's form ``alpha(T) = 2 atan(D (e^{w_h T} - 1) / (e^{w_h T} + 1))``.
 
     Parameters
     ----------
@@ -68,9 +70,24 @@ def alpha(T, A, l=1.0, g=G_EARTH):
     ndarray
         Increasing and concave in ``T``, ``0 < alpha < 2 atan D``.
 
+    Raises
+    ------
+    ValueError
+        If a parameter is not finite and positive, or ``A <= g`` (naming it, its value and the range).
+
+    See Also
+    --------
+    beta : the other angle; zone ``n`` is ``alpha + n pi < w_e T < beta + n pi``.
+
     Notes
     -----
     Left-hand side of (3.10) and (3.12); section 4 of the paper.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.alpha(0.15, 100.0)
+    np.float64(1.2532...)
     """
     x, _, D = _xD(T, A, l, g)
     return X.alpha_x(x, D)
@@ -78,7 +95,9 @@ def alpha(T, A, l=1.0, g=G_EARTH):
 
 @_v.shapes_named
 def beta(T, A, l=1.0, g=G_EARTH):
-    """``beta(T) = 2 atan(D (e^{w_h T} + 1) / (e^{w_h T} - 1)) = 2 atan(D coth(w_h T / 2))``.
+    """The angle ``beta`` of Theorem 3.3: ``beta(T) = 2 atan(D coth(w_h T / 2))``.
+
+    In the paper's form ``beta(T) = 2 atan(D (e^{w_h T} + 1) / (e^{w_h T} - 1))``.
 
     Parameters
     ----------
@@ -90,9 +109,24 @@ def beta(T, A, l=1.0, g=G_EARTH):
     ndarray
         Decreasing and convex in ``T``, ``2 atan D < beta < pi``.
 
+    Raises
+    ------
+    ValueError
+        If a parameter is not finite and positive, or ``A <= g`` (naming it, its value and the range).
+
+    See Also
+    --------
+    alpha : the other angle.
+
     Notes
     -----
     Left-hand side of (3.11) and (3.13); section 4 of the paper.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.beta(0.15, 100.0)
+    np.float64(2.0687...)
     """
     x, _, D = _xD(T, A, l, g)
     return X.beta_x(x, D)
