@@ -238,7 +238,10 @@ def _label(n: int, upper: bool):
 
 @_v.shapes_named
 def boundary_table(A, count, l=1.0, g=G_EARTH):
-    """``T_1 .. T_count`` and ``T~_1 .. T~_count`` in increasing order, each labelled.
+    """The boundary half-periods of Corollary 4.1 in increasing order, each labelled.
+
+    ``T_1``, ..., ``T_count`` (2T-periodic motions) and ``T~_1``, ..., ``T~_count`` (4T-periodic),
+    with the equation and ``k`` that produced each and the zone edge it is.
 
     Parameters
     ----------
@@ -253,6 +256,17 @@ def boundary_table(A, count, l=1.0, g=G_EARTH):
     -------
     list of BoundaryPeriod
         ``2 * count`` entries in the order of Corollary 4.1.
+
+    Raises
+    ------
+    ValueError
+        If ``A <= g``, a parameter is not finite and positive, or ``count`` is out of range.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> [(row.name, round(float(row.T), 6)) for row in kapitza.boundary_table(100.0, 2)]
+    [('T_1', 0.1091), ('T~_1', 0.200866), ('T~_2', 0.505503), ('T_2', 0.507578)]
     """
     A = _v.one("A", _v.positive("A", A))
     l = _v.one("l", _v.positive("l", l))
