@@ -92,6 +92,7 @@ sphinx_gallery_conf = {
     "within_subsection_order": "FileNameSortKey",
     "image_scrapers": ("matplotlib",),
     "reset_modules": ("matplotlib",),
+    "write_computation_times": False,  # its page loads DataTables from a CDN
 }
 
 # -- HTML ---------------------------------------------------------------------------------------
@@ -106,9 +107,9 @@ html_theme_options = {
     "navbar_align": "left",
     "show_toc_level": 2,
     "navigation_with_keys": False,
-    "header_links_before_dropdown": 7,
+    "header_links_before_dropdown": 6,
     "footer_start": ["copyright"],
-    "footer_end": ["sphinx-version"],
+    "footer_end": [],
     "secondary_sidebar_items": ["page-toc"],
 }
 html_context = {"default_mode": "light"}
