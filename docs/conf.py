@@ -40,12 +40,10 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 
-exclude_patterns = ["_build", "gallery_src/README.rst", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store",
+exclude_patterns = ["_build", "gallery_src/README.rst", "sg_execution_times.rst", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store",
                     "gallery/*.ipynb", "gallery/*.py", "gallery/*.codeobj.json", "gallery/*.zip"]
-templates_path = ["_templates"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
 root_doc = "index"
-suppress_warnings = ["myst.xref_missing"] if QUICK else []
 
 # -- API reference ------------------------------------------------------------------------------
 autosummary_generate = True
