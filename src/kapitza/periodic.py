@@ -152,11 +152,26 @@ def boundary_periods(A, count, l=1.0, g=G_EARTH):
         ``T_tilde[..., j] = T~_{j+1}`` (a 4T-periodic one), so that
         ``T_1 < T~_1 < T~_2 < T_2 < T_3 < T~_3 < ...``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``T_{n+1}`` and ``T~_{n+1}`` are the edges of zone ``n`` (``docs/theory.md``
     section 5): for even ``n`` the lower edge solves (3.10) and the upper (3.13),
     for odd ``n`` the lower solves (3.12) and the upper (3.11), with ``k = n // 2``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> T, T_tilde = kapitza.boundary_periods(A=100.0, count=2)
+    >>> T
+    array([0.1091..., 0.5075...])
+    >>> T_tilde
+    array([0.2008..., 0.5055...])
     """
     A = _v.positive("A", A)
     l = _v.positive("l", l)
@@ -371,11 +386,26 @@ def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
     -------
     PeriodicSolution
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     Proofs of Theorems 3.3 and 3.4 (sufficiency): the solution starting at the
     angle ``phi0 = atan((1 - e^{w_h T}) / (1 + e^{w_h T}))`` (3.19) or
     ``phi0 = -atan((e^{w_h T} + 1) / (e^{w_h T} - 1))`` (3.22) is periodic.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> sol = kapitza.periodic_solution(A=100.0, index=1)
+    >>> sol.boundary
+    <BoundaryPeriod: T_1 = 0.1091... s, 2T-periodic (eq. 3.10, k = 0), lower edge of zone 0>
+    >>> sol.period
+    0.2182...
     """
     index = _v.bounded_count("index", index, MAX_COUNT, minimum=1)
     tilde = _v.flag("tilde", tilde)
