@@ -14,6 +14,7 @@ from kapitza.figures import plot_phase_portrait, plot_time_series
 traj = kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=40)
 fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
 plot_time_series(traj, a, legend="inside")
+a.set_xlabel("t (s)")
 plot_phase_portrait(traj, b, legend="inside")
 plt.show()
 
