@@ -18,7 +18,6 @@ from pathlib import Path
 DOCS = Path(__file__).resolve().parent
 sys.path.insert(0, str(DOCS.parent / "src"))
 
-import kapitza  # noqa: E402
 from kapitza._version import __version__  # noqa: E402
 
 ONLINE = os.environ.get("KAPITZA_DOCS_ONLINE") == "1"
