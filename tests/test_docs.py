@@ -121,7 +121,7 @@ def _check_api_pages(out):
 def test_site_builds_offline_with_warnings_as_errors(tmp_path):
     out = _build(tmp_path, quick=True)
     index = (out / "index.html").read_text()
-    assert "explorer.png" in index and "nonlinear-chart.png" in index
+    assert "explorer.png" in index and "drives-compare.png" in index
     for page in ("getting-started", "theory", "user-guide", "citing", "changelog", "drives", "motion", "nonlinear",
                  "sweeps", "figures", "paper", "api/index", "api/core", "gallery/index", "tutorials/index"):
         assert (out / f"{page}.html").exists(), page
