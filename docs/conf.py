@@ -110,3 +110,5 @@ html_theme_options = {
     "secondary_sidebar_items": ["page-toc"],
 }
 html_context = {"default_mode": "light"}
+# Pages without sub-pages: no empty "Section Navigation" column.
+html_sidebars = {page: [] for page in ("index", "getting-started", "theory", "citing", "changelog")}
