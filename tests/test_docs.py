@@ -84,9 +84,10 @@ def _build(tmp_path, quick):
     shutil.copytree(DOCS, src, ignore=shutil.ignore_patterns("_build", "gallery", "generated", "jupyter_execute"))
     for name in ("CHANGELOG.md", "CITATION.cff"):
         shutil.copy(ROOT / name, tmp_path / name)
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.pathsep.join([str(ROOT / "src"),
-                                                                         os.environ.get("PYTHONPATH", "")]))
-    env.pop("KAPITZA_DOCS_ONLINE", None)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]))
+    # sphinx-gallery picks its own backend; a backend forced here would keep the notebooks' figures out
+    for name in ("KAPITZA_DOCS_ONLINE", "MPLBACKEND"):
+        env.pop(name, None)
     env["KAPITZA_DOCS_QUICK"] = "1" if quick else "0"
     out = tmp_path / "html"
     run = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(src), str(out)],
