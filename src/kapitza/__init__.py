@@ -42,7 +42,7 @@ from .periodic import BoundaryPeriod, PeriodicSolution, alpha, beta, boundary_pe
 # ---- the high-frequency limit
 from .limits import averaging_threshold, threshold_table
 
-__version__ = "0.1.0"
+from ._version import __version__  # noqa: E402  (the one version: pyproject.toml, read from the metadata)
 
 #: Loaded on first use: name -> (module, attribute or None for the module itself).
 _LAZY = {

@@ -248,11 +248,24 @@ def period_map_taylor(eps, mu):
     -------
     TaylorMap
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``docs/nonlinear.md`` sections 1-2: the ``+A`` phase (``k = x^2``) then the ``-A`` phase
     (``k = -u^2``), each of unit length in ``s = t/T``; the linear part is ``docs/theory.md``
     section 3's ``M`` with ``theta'`` scaled by ``T``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> P = kapitza.period_map_taylor(0.5, 0.3)
+    >>> P.linear.shape
+    (2, 2)
     """
     eps = _v.positive("eps", eps)
     mu = _v.in_range("mu", mu, 0.0, 1.0)
@@ -459,10 +472,23 @@ def birkhoff_normal_form(eps, mu):
     Takes and validates ``eps, mu`` as :func:`twist_coefficient` does; returns a
     :class:`BirkhoffNormalForm` of their broadcast shape.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``docs/nonlinear.md`` section 3. The resonant coefficients are invariant under the
     near-identity changes that remove the others, so they are read off directly.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> bnf = kapitza.birkhoff_normal_form(0.5, 0.3)
+    >>> (bnf.rotation_number, bnf.twist)
+    (np.float64(0.1289...), np.float64(-0.0677...))
     """
     eps, mu = _stable_arnold(eps, mu)
     return _normal_form(eps, mu)[0]
@@ -495,6 +521,12 @@ def twist_coefficient(eps, mu):
     -----
     ``docs/nonlinear.md`` section 3: ``tau = Im(c21 / lambda) / (8 pi m12^2)``, closed forms
     throughout (no ODE solve).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.twist_coefficient(0.5, 0.3)
+    np.float64(-0.0677...)
     """
     eps, mu = _stable_arnold(eps, mu)
     return _normal_form(eps, mu)[0].twist
@@ -516,6 +548,12 @@ def averaged_twist(eps, mu):
         ``3 T c4 / (2 pi Omega)`` with, in units of ``T``, ``(Omega T)^2 = 16 eps^4/3 - 8 eps^2 mu^2``
         and ``c4 T^2 = eps^2 mu^2 / 3 - 8 eps^4 / 9`` (always < 0: a soft well).
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``docs/nonlinear.md`` section 5. The effective potential is
@@ -523,6 +561,12 @@ def averaged_twist(eps, mu):
     square wave; ``U = Omega^2 theta^2 / 2 + c4 theta^4 + ...`` and a Duffing oscillation of
     amplitude ``r`` has frequency ``Omega + 3 c4 r^2 / (2 Omega)``; a period ``2T`` turns it
     by ``2 T Omega(r)``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.averaged_twist(0.5, 0.3)
+    np.float64(-0.0585...)
     """
     eps = _v.positive("eps", eps)
     mu = _v.positive("mu", mu)
@@ -692,6 +736,13 @@ def nonlinear_stability(eps, mu, *, tol=1e-15):
     ``c03 zbar^3`` is resonant: stable if ``|beta| > |c03|``, unstable if ``|beta| < |c03|``
     (Markeev 1978; Bardin & Markeev 1995). Points exactly on a curve have measure zero; near
     1:4 the stable region around the upright shrinks with the distance to it.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> verdict = kapitza.nonlinear_stability(0.5, 0.3)
+    >>> verdict.stable
+    np.True_
     """
     tol = _v.one("tol", _v.in_range("tol", tol, 0.0, 1.0, lo_open=False))
     eps, mu = _stable_arnold(eps, mu)

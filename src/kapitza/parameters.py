@@ -51,9 +51,21 @@ def to_arnold(T, A, l=1.0, g=G_EARTH):
         ``eps = T sqrt(A / (8 l))``, ``mu = sqrt(g / A)``. ``mu >= 1`` means
         ``A <= g``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     Section 4 of the paper ("Stability zones").
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.to_arnold(T=0.15, A=100.0, l=1.0)
+    (np.float64(0.5303...), np.float64(0.3132...))
     """
     T = _v.positive("T", T)
     A = _v.positive("A", A)
@@ -113,6 +125,18 @@ def to_physical(eps, mu, l=1.0, g=G_EARTH):
     -------
     T, A : ndarray
         ``A = g / mu^2`` and ``T = eps sqrt(8 l / A)``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.to_physical(0.5, 0.3)
+    (np.float64(0.1354...), np.float64(109.0000...))
     """
     eps = _v.positive("eps", eps)
     mu = _v.positive("mu", mu)
@@ -146,9 +170,21 @@ def frequencies(A, l=1.0, g=G_EARTH):
         ``D = inf`` are returned, and the upright position is unstable for
         every ``T`` (see :func:`kapitza.analyze`).
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     Equations (2.4)-(2.5) of the paper.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.frequencies(100.0)
+    (np.float64(10.4790...), np.float64(9.4968...), np.float64(1.1034...))
     """
     A = _v.positive("A", A)
     l = _v.positive("l", l)
@@ -174,10 +210,22 @@ def phase_angles(eps, mu):
     -------
     x, u, D : ndarray
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``docs/theory.md`` section 2. ``1 - mu^2`` is formed as ``(1 - mu)(1 + mu)``
     so that ``u`` and ``D`` keep full relative accuracy as ``mu -> 1``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.phase_angles(0.5, 0.3)
+    (np.float64(1.4764...), np.float64(1.3490...), np.float64(1.0944...))
     """
     eps, _ = _v.arnold(eps, 0.5, together=False)  # eps <= EPS_MAX: x and u stay doubles
     mu = _v.in_range("mu", mu, 0.0, 1.0)

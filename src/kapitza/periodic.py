@@ -65,7 +65,9 @@ def _xD(T, A, l, g):
 
 @_v.shapes_named
 def alpha(T, A, l=1.0, g=G_EARTH):
-    """``alpha(T) = 2 atan(D (e^{w_h T} - 1) / (e^{w_h T} + 1)) = 2 atan(D tanh(w_h T / 2))``.
+    """The angle ``alpha`` of Theorem 3.3: ``alpha(T) = 2 atan(D tanh(w_h T / 2))``.
+
+    In the paper's form ``alpha(T) = 2 atan(D (e^{w_h T} - 1) / (e^{w_h T} + 1))``.
 
     Parameters
     ----------
@@ -77,9 +79,24 @@ def alpha(T, A, l=1.0, g=G_EARTH):
     ndarray
         Increasing and concave in ``T``, ``0 < alpha < 2 atan D``.
 
+    Raises
+    ------
+    ValueError
+        If a parameter is not finite and positive, or ``A <= g`` (naming it, its value and the range).
+
+    See Also
+    --------
+    beta : the other angle; zone ``n`` is ``alpha + n pi < w_e T < beta + n pi``.
+
     Notes
     -----
     Left-hand side of (3.10) and (3.12); section 4 of the paper.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.alpha(0.15, 100.0)
+    np.float64(1.2532...)
     """
     x, _, D = _xD(T, A, l, g)
     return X.alpha_x(x, D)
@@ -87,7 +104,9 @@ def alpha(T, A, l=1.0, g=G_EARTH):
 
 @_v.shapes_named
 def beta(T, A, l=1.0, g=G_EARTH):
-    """``beta(T) = 2 atan(D (e^{w_h T} + 1) / (e^{w_h T} - 1)) = 2 atan(D coth(w_h T / 2))``.
+    """The angle ``beta`` of Theorem 3.3: ``beta(T) = 2 atan(D coth(w_h T / 2))``.
+
+    In the paper's form ``beta(T) = 2 atan(D (e^{w_h T} + 1) / (e^{w_h T} - 1))``.
 
     Parameters
     ----------
@@ -99,9 +118,24 @@ def beta(T, A, l=1.0, g=G_EARTH):
     ndarray
         Decreasing and convex in ``T``, ``2 atan D < beta < pi``.
 
+    Raises
+    ------
+    ValueError
+        If a parameter is not finite and positive, or ``A <= g`` (naming it, its value and the range).
+
+    See Also
+    --------
+    alpha : the other angle.
+
     Notes
     -----
     Left-hand side of (3.11) and (3.13); section 4 of the paper.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.beta(0.15, 100.0)
+    np.float64(2.0687...)
     """
     x, _, D = _xD(T, A, l, g)
     return X.beta_x(x, D)
@@ -127,11 +161,26 @@ def boundary_periods(A, count, l=1.0, g=G_EARTH):
         ``T_tilde[..., j] = T~_{j+1}`` (a 4T-periodic one), so that
         ``T_1 < T~_1 < T~_2 < T_2 < T_3 < T~_3 < ...``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``T_{n+1}`` and ``T~_{n+1}`` are the edges of zone ``n`` (``docs/theory.md``
     section 5): for even ``n`` the lower edge solves (3.10) and the upper (3.13),
     for odd ``n`` the lower solves (3.12) and the upper (3.11), with ``k = n // 2``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> T, T_tilde = kapitza.boundary_periods(A=100.0, count=2)
+    >>> T
+    array([0.1091..., 0.5075...])
+    >>> T_tilde
+    array([0.2008..., 0.5055...])
     """
     A = _v.positive("A", A)
     l = _v.positive("l", l)
@@ -213,7 +262,10 @@ def _label(n: int, upper: bool):
 
 @_v.shapes_named
 def boundary_table(A, count, l=1.0, g=G_EARTH):
-    """``T_1 .. T_count`` and ``T~_1 .. T~_count`` in increasing order, each labelled.
+    """The boundary half-periods of Corollary 4.1 in increasing order, each labelled.
+
+    ``T_1``, ..., ``T_count`` (2T-periodic motions) and ``T~_1``, ..., ``T~_count`` (4T-periodic),
+    with the equation and ``k`` that produced each and the zone edge it is.
 
     Parameters
     ----------
@@ -228,6 +280,17 @@ def boundary_table(A, count, l=1.0, g=G_EARTH):
     -------
     list of BoundaryPeriod
         ``2 * count`` entries in the order of Corollary 4.1.
+
+    Raises
+    ------
+    ValueError
+        If ``A <= g``, a parameter is not finite and positive, or ``count`` is out of range.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> [(row.name, round(float(row.T), 6)) for row in kapitza.boundary_table(100.0, 2)]
+    [('T_1', 0.1091), ('T~_1', 0.200866), ('T~_2', 0.505503), ('T_2', 0.507578)]
     """
     A = _v.one("A", _v.positive("A", A))
     l = _v.one("l", _v.positive("l", l))
@@ -332,11 +395,26 @@ def periodic_solution(A, index, tilde=False, l=1.0, g=G_EARTH):
     -------
     PeriodicSolution
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     Proofs of Theorems 3.3 and 3.4 (sufficiency): the solution starting at the
     angle ``phi0 = atan((1 - e^{w_h T}) / (1 + e^{w_h T}))`` (3.19) or
     ``phi0 = -atan((e^{w_h T} + 1) / (e^{w_h T} - 1))`` (3.22) is periodic.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> sol = kapitza.periodic_solution(A=100.0, index=1)
+    >>> sol.boundary
+    <BoundaryPeriod: T_1 = 0.1091... s, 2T-periodic (eq. 3.10, k = 0), lower edge of zone 0>
+    >>> sol.period
+    0.2182...
     """
     index = _v.bounded_count("index", index, MAX_COUNT, minimum=1)
     tilde = _v.flag("tilde", tilde)

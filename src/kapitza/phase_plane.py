@@ -56,9 +56,21 @@ def f(phi, d):
     ndarray
         ``rho(r, phi; d) = f(phi; d) r``. Even and ``pi``-periodic in ``phi``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     Section 2 of the paper, definition of ``rho`` and ``f``.
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import f
+    >>> f(0.3, 2.0)
+    np.float64(1.1233...)
     """
     phi = _v.finite("phi", phi)
     d = _ratio("d", d)
@@ -89,6 +101,12 @@ def angle_map(phi, d):
         ``result = phi`` at odd multiples of ``pi/2``, and the result stays in the
         quadrant of ``phi``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     Section 2: ``arctan(d tan phi) + [(phi + pi/2)/pi] pi``. Evaluated as
@@ -96,6 +114,12 @@ def angle_map(phi, d):
     of the difference), which needs no case split, so that the listed properties
     hold to rounding: odd in ``phi``, ``angle_map(phi + k pi) = angle_map(phi) + k pi``,
     ``angle_map(angle_map(phi; d); 1/d) = phi``.
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import angle_map
+    >>> angle_map(0.3, 2.0)
+    np.float64(0.5540...)
     """
     phi = _v.finite("phi", phi)
     d = _ratio("d", d)
@@ -121,6 +145,20 @@ def G(phi):
     ndarray
         On ``(-pi/4, pi/4)`` and ``(-3pi/4, -pi/4)`` this is the two-branch
         formula (2.9); it increases on each branch from ``-inf`` to ``+inf``.
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import G, G_inverse
+    >>> G(0.3)
+    np.float64(0.3198...)
+    >>> round(float(G_inverse(G(0.3))), 12)
+    0.3
     """
     phi = _v.finite("phi", phi)
     t = np.abs(np.tan(QPI - phi))
@@ -170,6 +208,12 @@ def h(phi, D):
     ndarray
         Even and ``pi``-periodic in ``phi``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     Used in the proof of Lemma 3.1: a 2T-periodic solution needs
@@ -177,6 +221,12 @@ def h(phi, D):
     to 0) and increases strictly on ``[pi/4 + m pi, pi/2 + m pi]`` (from 0 to ``1/D^2``);
     by evenness the other way round on ``[-pi/2, 0]``. The paper calls ``h`` periodic
     of period ``pi/2``; that holds only for ``D = 1`` (``h(0) = 1``, ``h(pi/2) = 1/D^2``).
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import h
+    >>> h(0.3, 1.1)
+    np.float64(0.8104...)
     """
     phi = _v.finite("phi", phi)
     D = _ratio("D", D)
@@ -208,6 +258,12 @@ def phi_h(t, phi0, w_h):
         ``phi_h(t)``, continuous in ``t``, tending to the unstable asymptote
         ``pi/4 (mod pi)`` as ``t -> inf``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``tan(phi - pi/4)`` is multiplied by ``e^{-2 w_h t}`` along the flow, which
@@ -216,6 +272,12 @@ def phi_h(t, phi0, w_h):
     same line through the origin but at the antipodal point (it equals
     ``phi0 + pi`` at ``t = 0``); this function returns the continuous branch
     ``-3pi/4 + atan(e^{-2 w_h t} tan(phi0 + 3pi/4))``.
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import phi_h
+    >>> phi_h(0.1, 0.3, 10.5)
+    np.float64(0.7208...)
     """
     t = _v.finite("t", t)
     phi0 = _v.finite("phi0", phi0)
@@ -273,6 +335,12 @@ def notable_points(phi0, T, A, r0=1.0, l=1.0, g=G_EARTH):
     -------
     NotablePoints
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     The four steps of section 2: ``phi_1 = phi_h(T; phi_0)`` (2.10) with
@@ -283,6 +351,13 @@ def notable_points(phi0, T, A, r0=1.0, l=1.0, g=G_EARTH):
     ``r_2 = f(phi_1; D) r_1``, ``phi_2 = phi(phi_1; D)``; the clockwise rotation
     ``r_3 = r_2``, ``phi_3 = phi_2 - w_e T`` (2.13); the contraction
     ``r_4 = f(phi_3; 1/D) r_3``, ``phi_4 = phi(phi_3; 1/D)``.
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import notable_points
+    >>> pts = notable_points(0.3, 0.15, 100.0)
+    >>> pts.phi.shape
+    (5,)
     """
     phi0 = _v.finite("phi0", phi0)
     T = _v.positive("T", T)

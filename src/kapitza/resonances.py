@@ -64,6 +64,18 @@ def resonance_curve(mu, n, order):
     -------
     ndarray
         ``eps`` with ``tr M = 2 cos(2 pi / order)`` inside zone ``n`` (to a few ulps).
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
+    Examples
+    --------
+    >>> from kapitza.resonances import resonance_curve
+    >>> resonance_curve([0.3], 0, 4)
+    array([0.6138...])
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     n = int(_v.nonnegative_int("n", n))
@@ -92,6 +104,18 @@ def twist_zeros(mu, n, samples=400):
     -------
     ndarray
         The ``eps`` of each sign change of ``tau`` found (empty if none).
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
+    Examples
+    --------
+    >>> from kapitza.resonances import twist_zeros
+    >>> twist_zeros(0.3, 0)
+    array([], dtype=float64)
     """
     from scipy.optimize import brentq
 

@@ -82,6 +82,15 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
     and 4T-periodic edges (``T~_n``) are styled apart. Each edge is drawn as a
     line, so a tongue thinner than a pixel still shows; :func:`plot_tongue`
     magnifies one.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from kapitza.figures import plot_zones
+    >>> fig, ax = plt.subplots()
+    >>> drawn = plot_zones(ax, eps_range=(0, 2))
+    >>> sorted(drawn)
+    ['G', 'edges', 'fill', 'legend']
     """
     import matplotlib.pyplot as plt
 
@@ -231,6 +240,13 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     -------
     Drawn
         Artists ``"fill"``, ``"lower"``, ``"upper"``; ``.data`` the :class:`TongueCurves`.
+
+    Examples
+    --------
+    >>> from kapitza.figures import plot_tongue
+    >>> drawn = plot_tongue(2)
+    >>> sorted(drawn)
+    ['fill', 'lower', 'upper']
     """
     import matplotlib.pyplot as plt
 

@@ -93,6 +93,15 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     -------
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures import plot_time_series
+    >>> traj = kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=10)
+    >>> drawn = plot_time_series(traj)
+    >>> drawn.data is traj
+    True
     """
     ax = _ax(ax)
     out = Drawn(ax, {"theta": ax.plot(traj.t, traj.theta, label=_model_label(traj), **NONLINEAR_STYLE)[0]}, data=traj)
@@ -166,6 +175,15 @@ def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None, legend=None):
     -------
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures import plot_phase_portrait
+    >>> traj = kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=10)
+    >>> drawn = plot_phase_portrait(traj)
+    >>> drawn.ax.get_xlabel()
+    'θ  (rad from upright)'
     """
     ax = _ax(ax)
     if wrap is None:

@@ -289,6 +289,13 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
         number of whole periods completed before the first exit (0 if it leaves
         during the first period or starts outside).
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range; also if the work asked for (periods, states) is beyond
+        the library's limit (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+
     Notes
     -----
     Two paths (:func:`exact_path` says which):
@@ -302,6 +309,12 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
       between them on the cubic Hermite interpolant through ``(theta, theta')`` (error about
       ``(w dt)^4 / 384``, below ``5e-6`` of the swing). Sampled, so an excursion beyond ``tol`` by
       less than that can be missed; far slower (bounded by :func:`bound_integrated`).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.survival([0.01, 0.2], 0.0, 0.15, 100.0, periods=300, tol=0.5)
+    array([300,   0])
     """
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
@@ -489,6 +502,20 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     Returns
     -------
     Basin
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range; also if the work asked for (periods, states) is beyond
+        the library's limit (``KAPITZA_ALLOW_LARGE=1`` lifts it).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> b = kapitza.basin(0.15, 100.0, periods=20, n_theta=11, n_dtheta=11)
+    >>> b.periods_survived.shape
+    (11, 11)
     """
     T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
     tol = _tolerance(tol)

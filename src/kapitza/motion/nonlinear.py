@@ -212,6 +212,12 @@ def phase_flow(t, theta0, dtheta0, s):
     ``tanh``/``sech``) motions are all covered; ``1 - k^2`` is computed as a
     product and drives the functions near ``k = 1`` through the complementary
     nome (see :mod:`kapitza.motion._elliptic`).
+
+    Examples
+    --------
+    >>> from kapitza.motion import phase_flow
+    >>> phase_flow(0.3, 0.5, 1.0, 109.81)
+    (np.float64(4.1005...), np.float64(17.8853...))
     """
     t = _v.finite("t", t)
     theta0 = _v.finite("theta0", theta0)
@@ -409,12 +415,26 @@ def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, ep
         Of the broadcast shape. ``theta`` is not wrapped: a full turn adds
         ``2 pi``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
     Notes
     -----
     ``docs/theory.md`` sections 1 and 6. The exact path maps the state through
     each whole phase with :func:`phase_flow` and finishes the current phase from
     its start, so the error does not grow with the number of steps taken: there
     are none.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from kapitza.motion import nonlinear_motion
+    >>> theta, dtheta = nonlinear_motion(np.linspace(0, 0.3, 3), 0.1, 0.0, 0.15, 100.0)
+    >>> theta
+    array([0.1       , 0.2506..., 0.2916...])
     """
     t = _times(t)
     theta0 = _v.finite("theta0", theta0)
@@ -795,6 +815,13 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     ------
     OverflowError
         For the linear model, where the motion grows beyond a double.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> traj = kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=50)
+    >>> traj.summary()['stays_up']
+    True
     """
     theta0 = _v.one("theta0", _v.finite("theta0", theta0))
     dtheta0 = _v.one("dtheta0", _v.finite("dtheta0", dtheta0))

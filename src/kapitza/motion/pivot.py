@@ -76,6 +76,12 @@ def pivot_acceleration(t, T, A):
     -------
     ndarray
         ``+A`` on ``[2kT, (2k+1)T)``, ``-A`` on ``[(2k+1)T, (2k+2)T)``.
+
+    Examples
+    --------
+    >>> from kapitza.motion import pivot_acceleration
+    >>> pivot_acceleration([0.05, 0.2], 0.15, 100.0)
+    array([ 100., -100.])
     """
     return _v.scalars(np.asarray(_acceleration(*_checked(t, T, A))))
 
@@ -134,6 +140,18 @@ def pivot_stroke(T, A):
     Returns
     -------
     ndarray
+
+    Raises
+    ------
+    ValueError
+        If an argument is outside its allowed range: a :class:`kapitza.KapitzaValueError` naming
+        the argument, its value and the range.
+
+    Examples
+    --------
+    >>> from kapitza.motion import pivot_stroke
+    >>> pivot_stroke(0.15, 100.0)
+    np.float64(0.5625)
     """
     T = _v.positive("T", T)
     A = _v.positive("A", A)

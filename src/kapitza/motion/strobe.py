@@ -167,6 +167,13 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     (2.4)-(2.5) for the linear model and their nonlinear counterparts); with
     ``method='exact'`` it has no step-size error, so the map may be iterated for
     as long as the motion's own sensitivity allows.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> orb = kapitza.stroboscopic_map([0.05, 0.1], 0.0, 0.15, 100.0, periods=100, every=1)
+    >>> orb.theta.shape
+    (101, 2)
     """
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
