@@ -15,6 +15,7 @@ from ._validate import KapitzaValueError
 from .drives import RectangularWave, SineWave, SquareWave, StepDrive, parse_drive
 from .limits import averaging_threshold, threshold_table
 from .system import Pendulum, Rig
+from .chain import Chain, ChainReport, analyze_chain, chain_floquet
 from .analysis import *  # noqa: F401,F403
 from .parameters import *  # noqa: F401,F403
 from .periodic import *  # noqa: F401,F403
@@ -43,6 +44,11 @@ __all__ = [
     "parse_drive",
     "Pendulum",
     "Rig",
+    # the tower of linked pendulums: docs/tower.md
+    "Chain",
+    "ChainReport",
+    "analyze_chain",
+    "chain_floquet",
     "averaging_threshold",
     "threshold_table",
     "drives",
