@@ -871,3 +871,190 @@ def _growth_mp(chain, segs, dps=40):
             P = mp.expm(G * mp.mpf(h)) * P
         ev = mp.eig(P, left=False, right=False)
         return float(mp.log(max(abs(z) for z in ev)))
+
+
+# ====================================================================== the tower's chart (rig plane)
+@dataclass(frozen=True, repr=False)
+class TowerCurves(Summary):
+    """The tower's stable band on the rig plane (drive frequency [Hz] against stroke [m]).
+
+    Attributes
+    ----------
+    modal_lengths : tuple of float
+        ``l_k``, longest first.
+    mu : ndarray, shape (P,)
+        The ``mu = sqrt(g/A)`` samples of the edge curves.
+    frequency_lo, stroke_lo : ndarray, shape (N, P)
+        Mode ``k``'s lower edge of zone 0 (a 2T-periodic motion; below it the mode falls).
+    frequency_hi, stroke_hi : ndarray, shape (N, P)
+        Mode ``k``'s upper edge of zone 0 (4T-periodic: beyond it the mode doubles its period).
+    frequency, stroke : ndarray, shapes (F,), (S,)
+        The grid of the band.
+    stable : ndarray of bool, shape (S, F)
+        The tower's verdict on the grid (every mode, every zone; with friction the 2N monodromy's).
+    frequency_range, stroke_range : tuple
+        The window.
+    drive, chain : str
+        Descriptions.
+    """
+
+    modal_lengths: tuple
+    mu: np.ndarray
+    frequency_lo: np.ndarray
+    stroke_lo: np.ndarray
+    frequency_hi: np.ndarray
+    stroke_hi: np.ndarray
+    frequency: np.ndarray
+    stroke: np.ndarray
+    stable: np.ndarray
+    frequency_range: tuple
+    stroke_range: tuple
+    drive: str
+    chain: str
+    n_links: int
+
+    def rows(self):
+        """``(mode, l, edge, mu, frequency, stroke)`` rows of the edge curves, for CSV."""
+        for k, l in enumerate(self.modal_lengths):
+            for edge, F, S in (("lower (falls)", self.frequency_lo, self.stroke_lo),
+                               ("upper (period doubling)", self.frequency_hi, self.stroke_hi)):
+                for j, m in enumerate(self.mu):
+                    if np.isfinite(F[k, j]) and np.isfinite(S[k, j]):
+                        yield k + 1, l, edge, float(m), float(F[k, j]), float(S[k, j])
+
+    def as_dict(self) -> dict:
+        return {"chain": self.chain, "drive": self.drive, "modal_lengths": list(self.modal_lengths),
+                "frequency_range": list(self.frequency_range), "stroke_range": list(self.stroke_range),
+                "modes": [{"mode": k + 1, "l": l,
+                           "lower": {"frequency": _finite_list(self.frequency_lo[k]), "stroke": _finite_list(self.stroke_lo[k])},
+                           "upper": {"frequency": _finite_list(self.frequency_hi[k]), "stroke": _finite_list(self.stroke_hi[k])}}
+                          for k, l in enumerate(self.modal_lengths)],
+                "mu": self.mu.tolist(),
+                "band": {"frequency": self.frequency.tolist(), "stroke": self.stroke.tolist(),
+                         "stable": self.stable.astype(int).tolist()}}
+
+    def lines(self):
+        return [("tower", self.chain), ("drive", self.drive),
+                ("window", f"frequency {num(self.frequency_range[0])} .. {num(self.frequency_range[1])} Hz, stroke "
+                           f"{num(1e3 * self.stroke_range[0])} .. {num(1e3 * self.stroke_range[1])} mm"),
+                ("stable", f"{100 * float(np.mean(self.stable)):.3g} % of the window (log grid)")]
+
+    def headline(self):
+        return f"band of a {self.n_links}-link tower, {self.drive}"
+
+
+def _finite_list(a):
+    return [float(x) if np.isfinite(x) else None for x in a]
+
+
+def _mode_edges(drive, l, g, mu, n=0):
+    """Zone ``n``'s edges of a pendulum ``l`` as (frequency, stroke) curves along ``mu``."""
+    from . import zone_edges
+
+    lo, hi = zone_edges(mu, n, drive=drive)
+    A = g / mu**2
+    out = []
+    for eps in (lo, hi):
+        with np.errstate(invalid="ignore"):
+            T = eps * np.sqrt(8.0 * l / A)
+            out.append((0.5 / T, drive._stroke_coefficient * A * T * T))
+    return out
+
+
+def default_window(chain, drive=None, g=G_EARTH):
+    """A rig-plane window showing the tower's whole band: the stroke from 1/100 of the band's
+    top (the shortest mode's period doubling at high frequency) to 5 times it, the frequency from
+    a fifth of the band's lowest (where the longest mode's lower edge meets that stroke) to 30 times it."""
+    from .drives import as_drive
+
+    d = as_drive(drive)
+    (_, _), (_, s_top) = _mode_edges(d, chain.modal_lengths[-1], g, np.array([1e-3]))
+    s_top = float(s_top[0])
+    mu = np.geomspace(1e-3, 0.9 * d.mu_max, 400)
+    (f1, s1), _ = _mode_edges(d, chain.modal_lengths[0], g, mu)
+    ok = np.isfinite(f1) & np.isfinite(s1)
+    order = np.argsort(s1[ok])
+    f_c = float(np.exp(np.interp(np.log(s_top), np.log(s1[ok][order]), np.log(f1[ok][order]))))
+    return (f_c / 5.0, 30.0 * f_c), (s_top / 100.0, 5.0 * s_top)
+
+
+def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_range=None, points=600, grid=200):
+    """The tower's band on the rig plane: each mode's zone-0 edges and the verdict on a grid.
+
+    Parameters
+    ----------
+    chain : Chain
+    drive : Drive or str, optional
+    g : float
+    frequency_range, stroke_range : (float, float), optional
+        The window [Hz], [m]; :func:`default_window` by default.
+    points : int
+        ``mu`` samples per edge curve (2 .. 20000).
+    grid : int
+        Grid points per axis for the band (2 .. 2000; with joint friction each point is a 2N
+        monodromy, so the grid is capped at 60 there).
+
+    Returns
+    -------
+    TowerCurves
+
+    Notes
+    -----
+    Mode ``k`` is the pendulum ``l_k``: its zone-0 edges ``eps_lo(mu), eps_hi(mu)``
+    (:func:`kapitza.zone_edges`) map to ``A = g / mu^2``, ``T = eps sqrt(8 l_k / A)``,
+    frequency ``1/(2T)`` and stroke ``k_s A T^2 = 8 k_s l_k eps^2`` (``k_s`` the drive's stroke
+    coefficient): on log axes the modes' curves are copies shifted by ``l_k``. The band is
+    where every mode is stable (:func:`kapitza.is_stable` of each mode on the grid).
+    """
+    from .drives import as_drive
+
+    if not isinstance(chain, Chain):
+        raise _v.KapitzaValueError(f"chain must be a kapitza.Chain; got {chain!r}")
+    d = as_drive(drive)
+    g = _v.one("g", _v.positive("g", g))
+    points = int(_v.bounded_count("points", points, 20_000, minimum=2))
+    grid = int(_v.bounded_count("grid", grid, 2000, minimum=2))
+    fr0, sr0 = default_window(chain, d, g)
+    fr = fr0 if frequency_range is None else _window("frequency_range", frequency_range)
+    sr = sr0 if stroke_range is None else _window("stroke_range", stroke_range)
+    # the mu the window reaches: A = stroke / (k T^2) = 4 k^-1 stroke f^2
+    k_s = d._stroke_coefficient
+    A_lo, A_hi = 4.0 * sr[0] * fr[0] ** 2 / k_s, 4.0 * sr[1] * fr[1] ** 2 / k_s
+    mu_a = max(math.sqrt(g / A_hi), 1e-6)
+    mu_b = min(math.sqrt(g / A_lo), d.mu_max * (1 - 1e-9))
+    if mu_a >= mu_b:
+        mu = np.array([min(mu_a, 0.5 * d.mu_max)])
+    else:
+        # log-spaced, and as densely towards mu_max, where the edges run off to low frequency
+        top = d.mu_max - np.geomspace(d.mu_max - mu_b, max(d.mu_max - mu_a, 1e-9), points // 2)
+        mu = np.unique(np.concatenate([np.geomspace(mu_a, mu_b, points - points // 2), top[(top > mu_a) & (top < mu_b)]]))
+    F_lo, S_lo, F_hi, S_hi = [], [], [], []
+    for l in chain.modal_lengths:
+        (f1, s1), (f2, s2) = _mode_edges(d, l, g, mu)
+        F_lo.append(f1), S_lo.append(s1), F_hi.append(f2), S_hi.append(s2)
+    coupled = chain.joint_damping > 0 and chain.n > 1
+    ng = min(grid, 60) if coupled else grid
+    f = np.geomspace(fr[0], fr[1], ng)
+    s = np.geomspace(sr[0], sr[1], ng)
+    Fg, Sg = np.meshgrid(f, s)
+    Tg = 0.5 / Fg
+    Ag = Sg / (k_s * Tg * Tg)
+    if coupled:
+        stable = np.array([chain_floquet(chain, T=t, A=a, g=g, drive=d, _certify=False).stable
+                           for t, a in zip(Tg.ravel(), Ag.ravel())]).reshape(Tg.shape)
+    else:
+        stable = _modes_stable(chain, Tg, Ag, g, d)
+    return TowerCurves(modal_lengths=chain.modal_lengths, mu=mu, frequency_lo=np.array(F_lo), stroke_lo=np.array(S_lo),
+                       frequency_hi=np.array(F_hi), stroke_hi=np.array(S_hi), frequency=f, stroke=s, stable=stable,
+                       frequency_range=tuple(fr), stroke_range=tuple(sr), drive=d.describe(), chain=chain.describe(),
+                       n_links=chain.n)
+
+
+def _window(name, value):
+    try:
+        lo, hi = (float(x) for x in value)
+    except (TypeError, ValueError):
+        raise _v.KapitzaValueError(f"{name} must be two numbers (low, high); got {value!r}") from None
+    if not (0.0 < lo < hi < math.inf):
+        raise _v.KapitzaValueError(f"{name} must satisfy 0 < low < high < inf; got ({lo!r}, {hi!r})")
+    return lo, hi
