@@ -15,7 +15,8 @@ from ._validate import KapitzaValueError
 from .drives import RectangularWave, SineWave, SquareWave, StepDrive, parse_drive
 from .limits import averaging_threshold, threshold_table
 from .system import Pendulum, Rig
-from .chain import Chain, ChainReport, analyze_chain, chain_floquet
+from .chain import Chain, ChainReport, analyze_chain, chain_floquet, tower_curves
+from .motion.chain import chain_motion, tower_safe_tilt
 from .analysis import *  # noqa: F401,F403
 from .parameters import *  # noqa: F401,F403
 from .periodic import *  # noqa: F401,F403
@@ -49,6 +50,9 @@ __all__ = [
     "ChainReport",
     "analyze_chain",
     "chain_floquet",
+    "tower_curves",
+    "chain_motion",
+    "tower_safe_tilt",
     "averaging_threshold",
     "threshold_table",
     "drives",

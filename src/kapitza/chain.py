@@ -39,7 +39,8 @@ from . import _validate as _v
 from ._display import Summary, multipliers as _fmt_multipliers, num
 from .parameters import G_EARTH
 
-__all__ = ["Chain", "ChainReport", "ModeReport", "ChainFloquet", "analyze_chain", "chain_floquet", "LINKS"]
+__all__ = ["Chain", "ChainReport", "ModeReport", "ChainFloquet", "analyze_chain", "chain_floquet", "TowerCurves",
+           "tower_curves", "default_window", "LINKS"]
 
 #: the link models: a uniform rod, or a point mass on a massless rod's upper end
 LINKS = ("rod", "point")

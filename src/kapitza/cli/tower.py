@@ -62,7 +62,17 @@ def register(sub):
     c.add_argument("--stroke-range", nargs=2, type=positive_float, metavar=("LO", "HI"), help="in m")
     c.add_argument("--points", type=int, default=600, help="samples per edge curve (default 600, at most 20000)")
     c.add_argument("--grid", type=int, default=200, help="grid points per axis of the band (default 200, at most 2000)")
-    c.add_argument("--no-chart", action="store_true", help="only the point's verdict: write no files")
+    c.add_argument("--no-chart", action="store_true", help="no chart (the point's verdict and motion only)")
+    m = p.add_argument_group("the full (nonlinear) motion at the point")
+    m.add_argument("--theta0", type=finite_float, default=0.1, metavar="RAD",
+                   help="starting tilt at rest, every link (default 0.1)")
+    m.add_argument("--along-mode", action="store_true",
+                   help="tilt along the longest mode's shape instead (--theta0 for its most tilted link)")
+    m.add_argument("--duration", type=positive_float, default=3.0, metavar="S", help="seconds of motion (default 3)")
+    m.add_argument("--simulate", metavar="STEM", help="write the motion as STEM.csv (t, pivot height, link angles)")
+    m.add_argument("--animate", metavar="FILE.gif", help="write an animation of the tower at the point")
+    m.add_argument("--safe-tilt", action="store_true",
+                   help="the largest starting tilts the tower survives for 50 periods (together; along mode 1)")
     p.add_argument("--out", default="kapitza-tower", metavar="STEM", help="output path without suffix")
     p.add_argument("--json", action="store_true", help="print JSON (the point's report, the files written)")
     p.set_defaults(func=cmd_tower)
@@ -86,6 +96,40 @@ def _point(args):
     return dict(T=args.T, A=args.A)
 
 
+def _motion(args, chain, drive, report, out):
+    import numpy as np
+
+    from ..motion.chain import chain_motion
+
+    v = np.ones(chain.n)
+    if args.along_mode:
+        v = chain.mode_shapes[:, 0] / np.max(np.abs(chain.mode_shapes[:, 0]))
+    periods = args.duration / (2.0 * report.T)
+    motion = chain_motion(chain, args.theta0 * v, 0.0, T=report.T, A=report.A, g=args.g, drive=drive, periods=periods,
+                          points_per_period=max(8, min(200, int(2000 / periods) + 1)))
+    out["motion"] = {"toppled": motion.toppled, "t_topple": motion.t_topple,
+                     "largest_tilt": float(np.max(np.abs(motion.theta)))}
+    written = []
+    if args.simulate:
+        stem = out_stem(args.simulate)
+        cols = [motion.t, motion.pivot, *motion.theta]
+        written.append(_io.write_csv(stem.with_suffix(".csv"),
+                                     ["t", "pivot", *[f"theta{j + 1}" for j in range(chain.n)]],
+                                     columns=cols, comments=[f"full motion of the tower (kapitza tower): {chain.describe()}; "
+                                                             f"T = {report.T!r} s, A = {report.A!r} m/s^2; "
+                                                             "t in s, pivot height in m, angles from the upright in rad"]))
+    if args.animate:
+        from ..figures.tower import animate_tower
+
+        what = "falls" if motion.toppled else "stands"
+        written.append(animate_tower(motion, args.animate, titles=[
+            f"{report.frequency:.4g} Hz, stroke {1e3 * report.stroke:.3g} mm: {what}"], fps=20.0))
+    if not args.json:
+        state = f"toppled at t = {motion.t_topple:.4g} s" if motion.toppled else "stands"
+        print(f"full motion from a tilt of {args.theta0:g} rad: {state}")
+    return written
+
+
 def cmd_tower(args):
     from ..chain import Chain, tower_curves
 
@@ -100,7 +144,24 @@ def cmd_tower(args):
     out = {"chain": chain.as_dict(), "drive": drive.as_dict(), "g": args.g}
     if report is not None:
         out["report"] = report.as_dict()
+    if not args.json:
+        print(f"tower: {chain.describe()}")
+        print("modal lengths: " + ", ".join(f"{x:.6g}" for x in chain.modal_lengths) + " m (longest first)")
+        if report is not None:
+            print(report)
     written = []
+    if (args.simulate or args.animate or args.safe_tilt) and report is None:
+        raise CLIError("--simulate, --animate and --safe-tilt need a point: --frequency with --stroke, or --T with --A")
+    if report is not None and (args.simulate or args.animate):
+        written += _motion(args, chain, drive, report, out)
+    if report is not None and args.safe_tilt:
+        from ..motion.chain import tower_safe_tilt
+
+        tilt = tower_safe_tilt(chain, T=report.T, A=report.A, g=args.g, drive=drive)
+        out["safe_tilt"] = {"together": tilt.together, "mode": tilt.mode, "shape": list(tilt.shape),
+                            "periods": tilt.periods, "tol": tilt.tol, "accuracy": tilt.accuracy}
+        if not args.json:
+            print(tilt)
     if not args.no_chart:
         count("--points", args.points, 20_000, minimum=2)
         count("--grid", args.grid, 2000, minimum=2)
@@ -133,11 +194,6 @@ def cmd_tower(args):
         written.append(_io.write_json(stem.with_suffix(".json"), out))
     if args.json:
         print_json({k: v for k, v in out.items() if k != "curves"} | {"files": [str(p) for p in written]})
-    else:
-        print(f"tower: {chain.describe()}")
-        print("modal lengths: " + ", ".join(f"{x:.6g}" for x in chain.modal_lengths) + " m (longest first)")
-        if report is not None:
-            print(report)
-        if written:
-            print("wrote " + ", ".join(str(p) for p in written))
+    elif written:
+        print("wrote " + ", ".join(str(p) for p in written))
     return 0

@@ -8,7 +8,7 @@ import numpy as np
 from ..chain import Chain, TowerCurves, tower_curves
 from ._style import ZONE_FILL, Drawn, caption, new_figure
 
-__all__ = ["plot_tower_chart", "tower_chart_figure", "tower_family"]
+__all__ = ["plot_tower_chart", "tower_chart_figure", "tower_family", "animate_tower"]
 
 #: one colour per mode, longest (mode 1) first
 MODE_COLOURS = ("#1f4e9c", "#2e8b57", "#d48a00", "#8e44ad", "#c0392b", "#555555")
@@ -171,3 +171,85 @@ def tower_chart_figure(chains, drive=None, g=9.81, frequency_range=None, stroke_
                  f"the mode falls: the longest mode sets it); dashed, its upper edge (beyond it, too large a stroke, "
                  f"the mode doubles its period: the shortest mode sets it). More links: a narrower band.{friction}")
     return fig, drawn
+
+
+def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80, duration=None):
+    """Animate one or more tower motions side by side (:func:`kapitza.motion.chain.chain_motion`) as a GIF.
+
+    Parameters
+    ----------
+    motions : ChainMotion or list of ChainMotion
+    path : str or Path
+        The ``.gif`` written (atomically).
+    titles : list of str, optional
+        One per panel.
+    fps : float
+        Frames per second of playback (1 .. 60).
+    slowdown : float
+        Playback seconds per second of motion (> 0).
+    dpi : int
+    duration : float, optional
+        Seconds of motion shown; the longest motion by default (a toppled tower stays fallen).
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    from pathlib import Path
+
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    from .. import _validate as _v
+    from .._io import atomic_path
+
+    if not isinstance(motions, (list, tuple)):
+        motions = [motions]
+    fps = _v.one("fps", _v.in_range("fps", fps, 1.0, 60.0, lo_open=False, hi_open=False))
+    slowdown = _v.one("slowdown", _v.positive("slowdown", slowdown))
+    t_end = max(float(m.t[-1]) for m in motions) if duration is None else _v.one("duration", _v.positive("duration", duration))
+    n_frames = int(t_end * fps * slowdown) + 1
+    _v.bounded_work("the frames, duration * fps * slowdown", n_frames, 2000, what="a GIF of a few minutes' render")
+    times = np.arange(n_frames) / (fps * slowdown)
+    k = len(motions)
+    fig, axes = plt.subplots(1, k, figsize=(3.2 * k, 2.6), squeeze=False)
+    axes = axes.ravel()
+    artists = []
+    for i, (ax, m) in enumerate(zip(axes, motions)):
+        H = sum(m.lengths)
+        amp = float(np.max(np.abs(m.pivot))) if m.pivot.size else 0.0
+        ax.set_xlim(-1.1 * H, 1.1 * H)
+        ax.set_ylim(-0.3 * H - amp, 1.15 * H + amp)
+        ax.set_aspect("equal")
+        ax.axhline(-amp, color="0.6", lw=0.8)
+        ax.set_xticks([])
+        ax.set_yticks([])
+        if titles:
+            ax.set_title(titles[i], fontsize=9)
+        (line,) = ax.plot([], [], "-o", color=_colour(0), lw=3, ms=4, mfc="k", mec="k")
+        (base,) = ax.plot([], [], "s", color="0.3", ms=9)
+        clock = ax.text(0.03, 0.03, "", transform=ax.transAxes, fontsize=8)
+        x, y = m.joints()
+        artists.append((m, x, y, line, base, clock))
+    fig.tight_layout()
+
+    def frame(j):
+        t = times[j]
+        out = []
+        for m, x, y, line, base, clock in artists:
+            tt = min(t, float(m.t[-1]))  # a toppled tower lies where it fell
+            xs = [np.interp(tt, m.t, xi) for xi in x]
+            ys = [np.interp(tt, m.t, yi) for yi in y]
+            line.set_data(xs, ys)
+            base.set_data([xs[0]], [ys[0]])
+            state = "fallen" if m.toppled and t >= m.t_topple else f"t = {t:5.2f} s"
+            clock.set_text(state)
+            out += [line, base, clock]
+        return out
+
+    anim = FuncAnimation(fig, frame, frames=n_frames, blit=False)
+    path = Path(path)
+    with atomic_path(path, suffix=".gif") as tmp:
+        anim.save(tmp, writer=PillowWriter(fps=fps), dpi=dpi)
+    plt.close(fig)
+    return path
