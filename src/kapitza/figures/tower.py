@@ -120,8 +120,11 @@ def _edge_labels(ax, curves, k, colour, mm, fr, sr):
             continue
         # a point part-way along the visible piece, spread by mode so that labels do not pile up
         j = idx[int((where + 0.12 * k) % 1.0 * (idx.size - 1))]
-        out.append(ax.annotate(text, (F[j], mm * S[j]), fontsize=7, color=colour, ha="left", va="bottom",
-                               xytext=(2, 2), textcoords="offset points"))
+        # "falls" under its solid line (the side where the mode falls), "doubles" above its dashed one
+        below = text.endswith("falls")
+        out.append(ax.annotate(text, (F[j], mm * S[j]), fontsize=7, color=colour, ha="right" if below else "left",
+                               va="top" if below else "bottom", xytext=(-2, -2) if below else (2, 2),
+                               textcoords="offset points"))
     return out
 
 
