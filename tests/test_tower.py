@@ -225,3 +225,19 @@ def test_docs_quick_start_runs():
     assert ns["report"].stable is True
     np.testing.assert_allclose(ns["tower"].modal_lengths, (0.4124, 0.0667, 0.0187), atol=6e-5)
     assert "mode 1" in ns["text"] and "band" in ns["text"]
+
+
+def test_with_friction_the_report_says_which_mode_fails_and_how():
+    ch = Chain([0.2, 0.2, 0.2], joint_damping=0.01)
+    near_top = ch.analyze(T=0.0038, A=4000.0)
+    assert near_top.stable and near_top.critical_mode == 3 and near_top.failure == "period doubling"
+    assert near_top.growth < 0 and len(near_top.multipliers) == 6
+    assert "exact product" in near_top.method
+    below = ch.analyze(T=0.0015, A=4000.0)
+    assert not below.stable and below.critical_mode == 1 and below.failure == "falls"
+    beyond = ch.analyze(T=0.0045, A=4000.0)
+    assert not beyond.stable and beyond.critical_mode == 3 and beyond.failure == "period doubling"
+    # the band found by the verdict's bisection: a hair inside and outside each edge
+    for edge, inside in ((near_top.T_lo, 1 + 1e-7), (near_top.T_hi, 1 - 1e-7)):
+        assert kapitza.chain_floquet(ch, T=edge * inside, A=4000.0).stable
+        assert not kapitza.chain_floquet(ch, T=edge / inside, A=4000.0).stable

@@ -618,21 +618,23 @@ def _modal_report(chain, modes, T, A, g, drive, stroke):
         joint_damping=chain.joint_damping, **band)
 
 
-def _coupled_report(chain, modes, T, A, g, drive, stroke):
-    fl = chain_floquet(chain, T=T, A=A, g=g, drive=drive)
-    # which mode the fastest motion is made of: its eigenvector's modal coordinates q = V^-1 theta
-    V = chain.mode_shapes
-    q = np.linalg.solve(V, fl.vectors[: chain.n, 0])
+def _dominant(chain, fl, lower):
+    """The mode the largest multiplier's motion is mostly made of (its modal coordinates
+    ``q = V^-1 theta``), and how it grows: ``"flutter"`` (complex), ``"period doubling"`` (real,
+    negative), ``"falls"`` (real, positive, below the band) or ``"2T resonance"``."""
+    q = np.linalg.solve(chain.mode_shapes, fl.vectors[: chain.n, 0])
     k = int(np.argmax(np.abs(q)))
     lam = fl.multipliers[0]
-    if fl.stable:
-        failure = "flutter" if abs(lam.imag) > 1e-9 * abs(lam) else ("period doubling" if lam.real < 0 else "falls")
-    elif abs(lam.imag) > 1e-9 * abs(lam):
-        failure = "flutter"
-    elif lam.real < 0:
-        failure = "period doubling"
-    else:
-        failure = "falls" if modes[k].nearest_zone == 0 and modes[k].eps <= modes[k].eps_lo else "2T resonance"
+    if abs(lam.imag) > 1e-9 * abs(lam):
+        return k, "flutter"
+    if lam.real < 0:
+        return k, "period doubling"
+    return k, "falls" if lower else "2T resonance"
+
+
+def _coupled_report(chain, modes, T, A, g, drive, stroke):
+    fl = chain_floquet(chain, T=T, A=A, g=g, drive=drive)
+    lam = fl.multipliers[0]
     band = {}
     if fl.stable:
         def stable_at(Ts, As):
@@ -650,10 +652,20 @@ def _coupled_report(chain, modes, T, A, g, drive, stroke):
         d_lo = 1.0 - T_lo / T if T_lo else math.inf  # as the single pendulum's margin: relative to T
         d_hi = T_hi / T - 1.0 if T_hi else math.inf
         margin = min(d_lo, d_hi)
-        failure = "falls" if d_lo <= d_hi else failure
+        # how it fails at the nearer edge: the motion that grows just beyond it
+        lower = d_lo <= d_hi
+        if math.isfinite(margin):
+            beyond = chain_floquet(chain, T=T_lo * (1 - 1e-5) if lower else T_hi * (1 + 1e-5), A=A, g=g, drive=drive)
+            k, failure = _dominant(chain, beyond, lower)
+            what = (f"; mode {k + 1} (l = {num(chain.modal_lengths[k], 6)} m) is the nearest to failing: it "
+                    f"{_how(failure)} if T {'falls' if lower else 'grows'} by {100 * margin:.3g} % at this A")
+        else:  # pragma: no cover - a band open on both sides within a factor 16
+            k, failure = _dominant(chain, fl, True)
+            what = ""
         verdict = (f"stable: all {2 * chain.n} multipliers inside the unit circle (largest |lambda| = "
-                   f"{abs(lam):.6g}), motions decay; the slowest decay is mostly mode {k + 1}")
+                   f"{abs(lam):.6g}), motions decay{what}")
     else:
+        k, failure = _dominant(chain, fl, modes[0].nearest_zone == 0 and modes[0].eps <= modes[0].eps_lo)
         margin = -min(abs(m.margin) for m in modes) if all(m.stable for m in modes) else min(m.margin for m in modes)
         verdict = (f"unstable: |lambda| = {abs(lam):.6g} > 1 (friction couples the modes); the growing motion is "
                    f"mostly mode {k + 1} (l = {num(chain.modal_lengths[k], 6)} m): it {_how(failure)}")
