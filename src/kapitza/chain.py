@@ -259,8 +259,8 @@ class ModeReport(Summary):
     margin: float
     growth: float
     multipliers: tuple
-    eps_lo: float
-    eps_hi: float
+    eps_lo: float | None
+    eps_hi: float | None
     T_lo: float | None = None
     T_hi: float | None = None
 
@@ -413,8 +413,8 @@ def _rig_point(drive, T, A, frequency, stroke, amplitude):
     if T is not None:
         raise _v.KapitzaValueError("give T or frequency, not both")
     for name, v in (("frequency", frequency), ("stroke", stroke), ("amplitude", amplitude), ("A", A)):
-        if v is not None and np.ndim(v) != 0:
-            raise _v.KapitzaValueError(f"{name} must be a single number; got {v!r}")
+        if v is not None:
+            _v.one(name, _v.positive(name, v))
     T_, A_ = drive.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A)
     return float(T_), float(A_)
 
@@ -466,12 +466,11 @@ def analyze_chain(chain, *, T=None, A=None, frequency=None, stroke=None, amplitu
     if not isinstance(chain, Chain):
         raise _v.KapitzaValueError(f"chain must be a kapitza.Chain; got {chain!r}")
     d = as_drive(drive)
-    if np.ndim(g) != 0:
-        raise _v.KapitzaValueError(f"g must be a single number; got {g!r}")
     g = _v.one("g", _v.positive("g", g))
     T, A = _rig_point(d, T, A, frequency, stroke, amplitude)
     modes = _mode_reports(chain, T, A, g, d)
-    stroke_v = float(d.stroke(T, A))
+    with np.errstate(over="ignore"):  # +inf for a stroke beyond a double
+        stroke_v = float(d.stroke(T, A))
     coupled = chain.joint_damping > 0 and chain.n > 1
     if not coupled:
         # one link with friction: the pendulum's damping c / I in its own (certified) report
@@ -493,8 +492,8 @@ def _mode_reports(chain, T, A, g, drive, damping=0.0):
         r = analyze_one(T=T, A=A, l=chain.modal_lengths[0], g=g, drive=drive, damping=damping)
         return (ModeReport(index=1, l=chain.modal_lengths[0], shape=shapes[0], eps=r.eps, mu=r.mu, stable=r.stable,
                            verdict=r.verdict, zone=r.zone, nearest_zone=r.nearest_zone, margin=r.margin,
-                           growth=r.growth, multipliers=tuple(r.multipliers), eps_lo=r.eps_lo, eps_hi=r.eps_hi,
-                           T_lo=r.T_lo, T_hi=r.T_hi),)
+                           growth=r.growth, multipliers=tuple(r.multipliers), eps_lo=_finite(r.eps_lo),
+                           eps_hi=_finite(r.eps_hi), T_lo=_finite(r.T_lo), T_hi=_finite(r.T_hi)),)
     l = np.array(chain.modal_lengths)
     eps, mu = to_arnold(T, A, l, g)
     mu = float(np.asarray(mu).flat[0])
@@ -503,12 +502,12 @@ def _mode_reports(chain, T, A, g, drive, damping=0.0):
     out = []
     for k in range(chain.n):
         stable, nz = bool(fl.stable[k]), int(mg.zone[k])
-        lo, hi = float(mg.eps_lo[k]), float(mg.eps_hi[k])
+        lo, hi = _finite(mg.eps_lo[k]), _finite(mg.eps_hi[k])  # None: no zone to measure against
         if stable:
             verdict = f"stable (zone {int(fl.zone[k])})"
         elif mu >= drive.mu_max:
             verdict = "always unstable: the pivot never accelerates down faster than g"
-        elif nz == 0 and eps[k] <= lo:
+        elif nz == 0 and lo is not None and eps[k] <= lo:
             verdict = "unstable: the drive is too weak to hold it up (it falls; below zone 0)"
         elif fl.trace[k] > 0:
             verdict = "unstable: parametric resonance, 2T-type (multipliers real, positive)"
@@ -519,8 +518,17 @@ def _mode_reports(chain, T, A, g, drive, damping=0.0):
             index=k + 1, l=float(l[k]), shape=shapes[k], eps=float(eps[k]), mu=mu, stable=stable, verdict=verdict,
             zone=int(fl.zone[k]), nearest_zone=nz, margin=float(mg.margin[k]), growth=float(fl.growth[k]),
             multipliers=tuple(complex(z) for z in fl.multipliers[k]), eps_lo=lo, eps_hi=hi,
-            T_lo=lo * scale if math.isfinite(lo) else None, T_hi=hi * scale if math.isfinite(hi) else None))
+            T_lo=_finite(lo * scale) if lo is not None else None,
+            T_hi=_finite(hi * scale) if hi is not None else None))
     return tuple(out)
+
+
+def _finite(v):
+    """``v`` as a float, or None where it is missing or not finite (no zone: the single pendulum's NaN)."""
+    if v is None:
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
 
 
 def _modes_stable(chain, T, A, g, drive):
@@ -665,7 +673,8 @@ def _coupled_report(chain, modes, T, A, g, drive, stroke):
         verdict = (f"stable: all {2 * chain.n} multipliers inside the unit circle (largest |lambda| = "
                    f"{abs(lam):.6g}), motions decay{what}")
     else:
-        k, failure = _dominant(chain, fl, modes[0].nearest_zone == 0 and modes[0].eps <= modes[0].eps_lo)
+        m0 = modes[0]
+        k, failure = _dominant(chain, fl, m0.nearest_zone == 0 and m0.eps_lo is not None and m0.eps <= m0.eps_lo)
         margin = -min(abs(m.margin) for m in modes) if all(m.stable for m in modes) else min(m.margin for m in modes)
         verdict = (f"unstable: |lambda| = {abs(lam):.6g} > 1 (friction couples the modes); the growing motion is "
                    f"mostly mode {k + 1} (l = {num(chain.modal_lengths[k], 6)} m): it {_how(failure)}")
@@ -758,10 +767,14 @@ def chain_floquet(chain, *, T, A, g=G_EARTH, drive=None, rtol=1e-12, _certify=Tr
     """
     from .drives import as_drive
 
+    if not isinstance(chain, Chain):
+        raise _v.KapitzaValueError(f"chain must be a kapitza.Chain; got {chain!r}")
     d = as_drive(drive)
     T = _v.one("T", _v.positive("T", T))
     A = _v.one("A", _v.positive("A", A))
     g = _v.one("g", _v.positive("g", g))
+    rtol = _tolerance("rtol", rtol)
+    _scale_check(chain, T, A, g, d)
     Minv_K, Minv_C = chain._modes[2]
     segs = _segments(d, T, A, g)
     if segs is not None:
@@ -999,6 +1012,7 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
     chain : Chain
     drive : Drive or str, optional
     g : float
+        Gravity [m/s^2], 1e-3 .. 1e3.
     frequency_range, stroke_range : (float, float), optional
         The window [Hz], [m]; :func:`default_window` by default.
     points : int
@@ -1024,7 +1038,7 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
     if not isinstance(chain, Chain):
         raise _v.KapitzaValueError(f"chain must be a kapitza.Chain; got {chain!r}")
     d = as_drive(drive)
-    g = _v.one("g", _v.positive("g", g))
+    g = _v.one("g", _v.in_range("g", g, 1e-3, 1e3, lo_open=False, hi_open=False))
     points = int(_v.bounded_count("points", points, 20_000, minimum=2))
     grid = int(_v.bounded_count("grid", grid, 2000, minimum=2))
     fr0, sr0 = default_window(chain, d, g)
@@ -1061,6 +1075,27 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
                        frequency_hi=np.array(F_hi), stroke_hi=np.array(S_hi), frequency=f, stroke=s, stable=stable,
                        frequency_range=tuple(fr), stroke_range=tuple(sr), drive=d.describe(), chain=chain.describe(),
                        n_links=chain.n)
+
+
+def _tolerance(name, value, lo=1e-14, hi=1e-3):
+    """A single integration tolerance in ``[lo, hi]``."""
+    return _v.one(name, _v.in_range(name, value, lo, hi, lo_open=False, hi_open=False))
+
+
+#: the most e-folds ``sqrt((g + A max s) / l_N) 2T`` of the fastest mode over one period that the
+#: double-precision products and integrations are asked to resolve
+MAX_EFOLDS = 1e4
+
+
+def _scale_check(chain, T, A, g, drive):
+    """Refuse a period over which the shortest mode could grow by more than ``e^MAX_EFOLDS``."""
+    peak = max(abs(float(x)) for x in getattr(drive, "levels", (1.0, -1.0)))
+    with np.errstate(over="ignore"):
+        x = math.sqrt((g + A * peak) / chain.modal_lengths[-1]) * 2.0 * T
+    if not x <= MAX_EFOLDS:
+        raise _v.KapitzaValueError(
+            f"T, A and g (T = {T!r} s, A = {A!r} m/s^2, g = {g!r} m/s^2) let this tower's shortest mode grow by "
+            f"e^{x:.3g} over one period, beyond the e^{MAX_EFOLDS:g} a double resolves: give a smaller T, A or g")
 
 
 def _window(name, value):

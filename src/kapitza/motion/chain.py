@@ -168,16 +168,23 @@ def chain_motion(chain, theta0, dtheta0=0.0, *, T, A, g=G_EARTH, drive=None, per
 
     from ..drives import as_drive
 
+    from ..chain import Chain, _scale_check, _tolerance
+
+    if not isinstance(chain, Chain):
+        raise _v.KapitzaValueError(f"chain must be a kapitza.Chain; got {chain!r}")
     d = as_drive(drive)
-    T = _v.one("T", _v.positive("T", T))
+    rtol = _tolerance("rtol", rtol)
+    atol = _tolerance("atol", atol, 1e-20, 1.0)
+    T = _v.one("T", _v.in_range("T", T, 1e-9, 1e6, lo_open=False, hi_open=False))
     A = _v.one("A", _v.nonnegative("A", A))
     g = _v.one("g", _v.positive("g", g))
-    periods = _v.one("periods", _v.positive("periods", periods))
-    if periods > MAX_PERIODS:
-        raise _v.KapitzaValueError(f"periods must be at most {MAX_PERIODS}; got {periods!r}")
+    periods = _v.one("periods", _v.in_range("periods", periods, 1e-3, MAX_PERIODS, lo_open=False, hi_open=False))
+    _scale_check(chain, T, A, g, d)
     ppp = _v.bounded_count("points_per_period", points_per_period, 10_000, minimum=4)
     tol = _v.one("tol", _v.in_range("tol", tol, 0.0, math.pi, hi_open=False))
     th0, om0 = _initial(chain, theta0, dtheta0)
+    if np.max(np.abs(om0)) > 1e6:
+        raise _v.KapitzaValueError(f"dtheta0 must lie within +-1e6 rad/s; got {om0.tolist()!r}")
     rhs, energy = _rhs_factory(chain, g)
     t_end = 2.0 * T * periods
     n_samples = int(round(periods * ppp)) + 1
@@ -211,7 +218,12 @@ def chain_motion(chain, theta0, dtheta0=0.0, *, T, A, g=G_EARTH, drive=None, per
     y = np.concatenate([th0, om0])
     ts, ys, accs = [], [], []
     t_top = None
-    if pieces is None:
+    if np.max(np.abs(th0)) >= tol:  # beyond the window from the start: fallen already
+        pieces, t_top = [], 0.0
+        ts, ys, accs = [np.zeros(1)], [y[:, None]], [np.zeros(1)]
+    if t_top == 0.0:
+        pass
+    elif pieces is None:
         def f(t, y):
             return rhs(A * float(d._shape(np.array(np.mod(t / T, 2.0)))), y)
 
@@ -241,6 +253,7 @@ def chain_motion(chain, theta0, dtheta0=0.0, *, T, A, g=G_EARTH, drive=None, per
             if done:
                 break
             y = sy[:, -1]
+    if pieces is not None or t_top == 0.0:
         ts = np.concatenate(ts)
         ys = np.concatenate(ys, axis=1) if ys else np.zeros((2 * chain.n, 0))
         accs = np.concatenate(accs)
@@ -313,7 +326,10 @@ def tower_safe_tilt(chain, *, T, A, g=G_EARTH, drive=None, periods=50.0, tol=mat
     if not isinstance(chain, Chain):
         raise _v.KapitzaValueError(f"chain must be a kapitza.Chain; got {chain!r}")
     accuracy = _v.one("accuracy", _v.in_range("accuracy", accuracy, 0.0, 1.0))
+    periods = _v.one("periods", _v.positive("periods", periods))
     tol = _v.one("tol", _v.in_range("tol", tol, 0.0, math.pi, hi_open=False))
+    T = _v.one("T", _v.positive("T", T))
+    A = _v.one("A", _v.positive("A", A))
     V = chain.mode_shapes[:, 0]
     v1 = V / np.max(np.abs(V))
 
