@@ -408,6 +408,7 @@ BASE_ARGV = {
     "animate": ["--T", "0.15", "--A", "100", "--periods", "0.1", "--dpi", "30", "--quiet", "--out", "a.gif"],
     "basin": ["--T", "0.15", "--A", "100", "--resolution", "4", "--periods", "2", "--quiet", "--out", "b"],
     "paper": ["--quick", "--quiet", "--out", "p"],
+    "tower": ["--chain", "0.2,0.2", "--grid", "12", "--points", "30", "--out", "t"],
 }
 #: Commands whose base run takes minutes (or starts a Dask cluster): fuzzed in the long profile only.
 SLOW_COMMANDS = {"paper", "sweep"}

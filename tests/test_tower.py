@@ -188,6 +188,8 @@ def test_rig_accepts_a_chain_and_gravity():
 @pytest.mark.parametrize("kwargs, match", [
     (dict(lengths=[]), "lengths"),
     (dict(lengths=[0.2, -1.0]), r"lengths\[1\]"),
+    (dict(lengths=[1e-300]), "lengths"),
+    (dict(lengths=[0.2], masses=[1e300]), "masses"),
     (dict(lengths=[0.2, float("nan")]), "lengths"),
     (dict(lengths="abc"), "lengths"),
     (dict(lengths=[0.2, 0.3], masses=[1.0]), "masses"),

@@ -48,7 +48,12 @@ LINKS = ("rod", "point")
 MAX_LINKS = 32
 
 
-def _positive_list(name, value):
+#: the lengths [m] and masses [kg] a link may have (far beyond any bench; the matrices stay within a double)
+LENGTH_RANGE = (1e-6, 1e4)
+MASS_RANGE = (1e-9, 1e9)
+
+
+def _positive_list(name, value, bounds):
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -58,10 +63,12 @@ def _positive_list(name, value):
         raise _v.KapitzaValueError(f"{name} must be a non-empty sequence of numbers; got {value!r}")
     if arr.size > MAX_LINKS:
         raise _v.KapitzaValueError(f"{name} may hold at most {MAX_LINKS} links (1 <= N <= {MAX_LINKS}); got {arr.size}")
-    bad = ~(np.isfinite(arr) & (arr > 0))
+    lo, hi = bounds
+    bad = ~(np.isfinite(arr) & (arr >= lo) & (arr <= hi))
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise _v.KapitzaValueError(f"{name} must be finite and > 0 (0 < {name}[i] < inf); got {name}[{i}] = {arr[i]!r}")
+        raise _v.KapitzaValueError(f"{name} must lie in [{lo:g}, {hi:g}] ({lo:g} <= {name}[i] <= {hi:g}); "
+                                   f"got {name}[{i}] = {arr[i]!r}")
     return tuple(float(x) for x in arr)
 
 
@@ -72,9 +79,9 @@ class Chain:
     Parameters
     ----------
     lengths : sequence of float
-        Link lengths [m] from the pivot up, each > 0 (1 to 32 links).
+        Link lengths [m] from the pivot up, each in [1e-6, 1e4] (1 to 32 links).
     masses : sequence of float, optional
-        Link masses [kg], each > 0; equal (1 kg each) if omitted. Only ratios matter
+        Link masses [kg], each in [1e-9, 1e9]; equal (1 kg each) if omitted. Only ratios matter
         without friction.
     links : {"rod", "point"}
         ``"rod"``: uniform rods (centre of mass at the middle, ``J = m L^2/12``);
@@ -97,8 +104,8 @@ class Chain:
     _modes: tuple = field(init=False, compare=False, hash=False, default=None)
 
     def __post_init__(self):
-        L = _positive_list("lengths", self.lengths)
-        m = (1.0,) * len(L) if self.masses is None else _positive_list("masses", self.masses)
+        L = _positive_list("lengths", self.lengths, LENGTH_RANGE)
+        m = (1.0,) * len(L) if self.masses is None else _positive_list("masses", self.masses, MASS_RANGE)
         if len(m) != len(L):
             raise _v.KapitzaValueError(
                 f"masses must have one value per link ({len(L)} lengths); got {len(m)} masses")
@@ -994,13 +1001,19 @@ def default_window(chain, drive=None, g=G_EARTH):
     from .drives import as_drive
 
     d = as_drive(drive)
-    (_, _), (_, s_top) = _mode_edges(d, chain.modal_lengths[-1], g, np.array([1e-3]))
-    s_top = float(s_top[0])
-    mu = np.geomspace(1e-3, 0.9 * d.mu_max, 400)
-    (f1, s1), _ = _mode_edges(d, chain.modal_lengths[0], g, mu)
-    ok = np.isfinite(f1) & np.isfinite(s1)
-    order = np.argsort(s1[ok])
-    f_c = float(np.exp(np.interp(np.log(s_top), np.log(s1[ok][order]), np.log(f1[ok][order]))))
+    g = _v.one("g", _v.in_range("g", g, 1e-3, 1e3, lo_open=False, hi_open=False))
+    if not 2e-3 < d.mu_max:
+        raise _v.KapitzaValueError(f"the drive's mu_max = {d.mu_max:.3g} leaves no window to draw (it needs mu_max > 2e-3)")
+    with np.errstate(all="ignore"):
+        (_, _), (_, s_top) = _mode_edges(d, chain.modal_lengths[-1], g, np.array([1e-3]))
+        s_top = float(s_top[0])
+        mu = np.geomspace(1e-3, 0.9 * d.mu_max, 400)
+        (f1, s1), _ = _mode_edges(d, chain.modal_lengths[0], g, mu)
+        ok = np.isfinite(f1) & np.isfinite(s1) & (f1 > 0) & (s1 > 0)
+        if not ok.any() or not (math.isfinite(s_top) and s_top > 0):
+            raise _v.KapitzaValueError("no window found for this tower and drive: give frequency_range and stroke_range")
+        order = np.argsort(s1[ok])
+        f_c = float(np.exp(np.interp(np.log(s_top), np.log(s1[ok][order]), np.log(f1[ok][order]))))
     return (f_c / 5.0, 30.0 * f_c), (s_top / 100.0, 5.0 * s_top)
 
 
