@@ -58,10 +58,10 @@ VALID = {
     "damping": 0.0, "c": 0.0, "periods": 2, "every": 1, "points_per_period": 8, "n_theta": 5, "n_dtheta": 5,
     "tol": 0.5, "chunk": 64, "workers": 1, "branch": 0, "tilde": False, "log": False, "model": "nonlinear",
     "method": None, "rtol": 1e-10, "atol": 1e-12, "theta_max": 0.3, "dtheta_max": 2.0, "out": None,
-    "progress": None, "r": 0.05, "a": [1.0, -1.0, 0.5, -0.5],
+    "progress": None, "r": 0.05, "a": [1.0, -1.0, 0.5, -0.5], "chain": kapitza.Chain([0.2, 0.2]),
 }
 #: Parameters that take something other than numbers (text, objects, callables).
-NON_NUMERIC = {"text", "drive", "drives", "model", "method", "out", "progress"}
+NON_NUMERIC = {"text", "drive", "drives", "model", "method", "out", "progress", "chain"}
 #: Parameters whose values are lists of numbers (a drive's steps).
 LISTS = {"levels", "fractions"}
 #: stability_grid's eps and mu are the grid's two axes (1-D each).
@@ -409,6 +409,7 @@ BASE_ARGV = {
     "animate": ["--T", "0.15", "--A", "100", "--periods", "0.1", "--dpi", "30", "--quiet", "--out", "a.gif"],
     "basin": ["--T", "0.15", "--A", "100", "--resolution", "4", "--periods", "2", "--quiet", "--out", "b"],
     "paper": ["--quick", "--quiet", "--out", "p"],
+    "tower": ["--chain", "0.2,0.2", "--grid", "12", "--points", "30", "--out", "t"],
 }
 #: Commands whose base run takes minutes (or starts a Dask cluster): fuzzed in the long profile only.
 SLOW_COMMANDS = {"paper", "sweep"}

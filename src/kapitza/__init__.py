@@ -26,6 +26,9 @@ from .drives import (Drive, RectangularWave, SineWave, SquareWave, StepDrive, Tr
                      register)
 from .system import Pendulum, Rig
 
+# ---- the tower of linked pendulums on one pivot: docs/tower.md
+from .chain import Chain, ChainReport, analyze_chain, chain_floquet, tower_curves
+
 # ---- stability zones and their edges
 from .zones import (G_m_curve, StabilityMargin, amplitude_edges, is_stable, period_edges, stability_grid,
                     stability_margin, zone_edges, zone_index, zone_width)
@@ -69,6 +72,8 @@ _LAZY = {
     "limits": ("kapitza.limits", None),
     "system": ("kapitza.system", None),
     "figures": ("kapitza.figures", None),
+    "chain_motion": ("kapitza.motion.chain", "chain_motion"),
+    "tower_safe_tilt": ("kapitza.motion.chain", "tower_safe_tilt"),
 }
 
 
@@ -98,6 +103,8 @@ __all__ = [
     # drives and the rig
     "Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples", "parse_drive", "register",
     "Pendulum", "Rig",
+    # the tower of linked pendulums: docs/tower.md
+    "Chain", "ChainReport", "analyze_chain", "chain_floquet", "tower_curves", "chain_motion", "tower_safe_tilt",
     "drives",
     # zones
     "is_stable", "zone_index", "zone_edges", "zone_width", "G_m_curve", "StabilityMargin", "stability_margin",

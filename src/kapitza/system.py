@@ -114,7 +114,9 @@ class Rig:
 
     Parameters
     ----------
-    pendulum : Pendulum
+    pendulum : Pendulum or Chain
+        What swings: one pendulum, or a tower of linked ones (:class:`kapitza.Chain`; its
+        ``analyze`` also takes ``g``).
     drive : Drive or str, optional
         The paper's square wave by default.
 
@@ -129,8 +131,10 @@ class Rig:
     drive: Drive | str | None = None
 
     def __post_init__(self):
-        if not isinstance(self.pendulum, Pendulum):
-            raise _v.KapitzaValueError(f"pendulum must be a kapitza.Pendulum; got {self.pendulum!r}")
+        from .chain import Chain
+
+        if not isinstance(self.pendulum, (Pendulum, Chain)):
+            raise _v.KapitzaValueError(f"pendulum must be a kapitza.Pendulum or kapitza.Chain; got {self.pendulum!r}")
         object.__setattr__(self, "drive", as_drive(self.drive))
 
     def arnold(self, T, A):
@@ -159,6 +163,8 @@ class Rig:
 
         from dataclasses import replace
 
+        if not isinstance(self.pendulum, Pendulum):  # a Chain: the tower's report (docs/tower.md)
+            return self.pendulum.analyze(drive=self.drive, **kwargs)
         T, A = self.physical(**kwargs)
         p = self.pendulum
         return replace(analyze(T=T, A=A, l=p.l, g=p.g, drive=self.drive, damping=p.damping), pendulum=p.describe())

@@ -12,7 +12,7 @@ from ._common import CLIError, Parser
 from .. import __version__
 
 #: Command modules, in the order their commands appear in ``kapitza --help``.
-COMMAND_MODULES = ["engine", "drives", "motion", "nonlinear", "sweep", "paper", "web"]
+COMMAND_MODULES = ["engine", "drives", "motion", "nonlinear", "sweep", "paper", "web", "tower"]
 
 DESCRIPTION = """\
 Exact stability of the inverted pendulum whose pivot is shaken up and down with a
