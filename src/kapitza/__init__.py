@@ -20,6 +20,7 @@ from .parameters import *  # noqa: F401,F403
 from .periodic import *  # noqa: F401,F403
 from .propagation import *  # noqa: F401,F403
 from .zones import *  # noqa: F401,F403
+from .safety import safe_tilt
 from .motion import basin, nonlinear_motion, phase_flow, simulate, stroboscopic_map, survival
 from . import normal_form
 from .normal_form import (BirkhoffNormalForm, NonlinearVerdict, TaylorMap, averaged_twist, birkhoff_normal_form,
@@ -55,6 +56,7 @@ __all__ = [
     "stroboscopic_map",
     "survival",
     "basin",
+    "safe_tilt",
     # nonlinear (Lyapunov) stability of the upright: docs/nonlinear.md
     "normal_form",
     "twist_coefficient",
