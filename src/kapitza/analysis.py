@@ -229,7 +229,8 @@ def _unstable_verdict(tau, nearest, eps, eps_lo):
 
 def _pct(edge, value):
     """The change from ``value`` to ``edge`` in percent, with its sign."""
-    return f"{100.0 * (edge / value - 1.0):+.3g} %"
+    x = 100.0 * (edge / value - 1.0)
+    return f"{x:+,.0f} %" if abs(x) >= 100 else f"{x:+.3g} %"
 
 
 def _rig_margins(eps, mu, zone, drive, zeta, T, A, stroke):

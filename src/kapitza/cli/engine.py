@@ -18,15 +18,21 @@ def register(sub):
         "stability",
         help="verdict, zone, Floquet multipliers, growth and margins for one parameter set",
         description="Is the upright position stable for these parameters, in which zone, and by what margin?\n\n"
-        "margin: signed relative distance to the nearest zone edge along eps, i.e. the fraction by which\n"
-        "the drive period may change at fixed A (> 0 inside a zone, < 0 outside). With --T/--A the zone is\n"
-        "also given as intervals of T (at this A) and of A (at this T).",
+        "safe tilt: the largest starting tilt from rest the real (nonlinear) pendulum survives above the\n"
+        "horizontal for --safe-periods periods; the small-tilt verdict holds only below it.\n"
+        "to hold it / room: which knob to turn which way and how far to reach the nearest zone (or how far\n"
+        "each may go inside it), in the quantity given (frequency with stroke or amplitude, or T and A).\n"
+        "margin (JSON): signed relative distance to the nearest zone edge along eps at fixed mu.",
         epilog="examples:\n  kapitza stability --T 0.15 --A 100\n  kapitza stability --eps 0.5 --mu 0.3 --json\n"
         "  kapitza stability --drive sine --frequency 40 --amplitude 0.01 --rod 0.3 --damping 0.2\n"
         "  kapitza stability --duty 0.3 --T 0.15 --A 100 --check && echo stable",
     )
     add_parameters(p, rig=True)
     p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    p.add_argument("--safe-periods", type=int, default=50, metavar="N",
+                   help="periods 2T a start must survive for the safe tilt (default 50)")
+    p.add_argument("--no-safe-tilt", dest="safe_tilt", action="store_false",
+                   help="skip the safe tilt (it follows the real pendulum: up to a second or so)")
     p.add_argument("--check", action="store_true",
                    help="exit with status 1 when the upright is unstable (0 when stable), for scripts")
     p.set_defaults(func=cmd_stability)
@@ -115,11 +121,21 @@ def register(sub):
 def cmd_stability(args):
     from dataclasses import replace
 
-    rep = analyze(**parameters_from(args))
+    rep = analyze(**(kw := parameters_from(args)))
     if getattr(args, "pendulum", None):
         rep = replace(rep, pendulum=args.pendulum)
+    if args.given:
+        rep = replace(rep, given=args.given)
+    if args.safe_tilt:
+        from ..safety import with_safe_tilt
+
+        count("--safe-periods", args.safe_periods, 100_000)
+        rep = with_safe_tilt(rep, kw.get("drive"), args.safe_periods)
     if args.json:
-        print_json(rep.as_dict())
+        d = rep.as_dict()
+        if args.rig_note:
+            d["warning"] = args.rig_note
+        print_json(d)
     else:
         print(rep)
     return 1 if (args.check and not rep.stable) else 0
