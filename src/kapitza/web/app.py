@@ -228,6 +228,33 @@ def create_app() -> FastAPI:
             rep = with_safe_tilt(rep, d, int(_bounded("periods", periods, LIMITS["periods"], 1)))
         return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
 
+    @app.get("/api/verdict", response_class=_JSON, summary="the verdict alone, at once (no margins)")
+    def verdict(eps: float | None = None, mu: float | None = None, T: float | None = None, A: float | None = None,
+                l: float = 1.0, g: float = G_EARTH, drive: str = "square", zeta: float = 0.0,
+                frequency: float | None = None, stroke: float | None = None, amplitude: float | None = None,
+                rod: float | None = None, damping: float | None = None):
+        """Stable or not and in which zone, from the Floquet multipliers alone (``kapitza.floquet``): the
+        answer the page shows the moment a point is chosen, before the full report (margins and
+        ranges, ``/api/point``) and the safe tilt (``/api/safe_tilt``). ``kind``: ``stable``,
+        ``2T`` (multipliers real and positive), ``4T`` (period doubling) or ``weak`` (the pivot never
+        accelerates down faster than g)."""
+        from ..propagation import floquet
+
+        P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+        f = floquet(P["eps"], P["mu"], drive=None if P["drive"].name == "square" else P["drive"], zeta=P["zeta"])
+        stable = bool(f.stable)
+        if stable:
+            kind, text = "stable", f"stable (zone {int(f.zone)})" + (", motions decay" if P["zeta"] > 0 else "")
+        elif P["mu"] >= P["drive"].mu_max:
+            kind, text = "weak", "always unstable: the pivot never accelerates down faster than g"
+        elif float(f.trace) < 0:
+            kind, text = "4T", "unstable: parametric resonance, 4T-type, period doubling"
+        else:
+            kind, text = "2T", "unstable: it falls (multipliers real, positive)"
+        return _JSON(dict(eps=P["eps"], mu=P["mu"], T=P["T"], A=P["A"], zeta=P["zeta"], stable=stable,
+                          zone=int(f.zone) if stable else -1, kind=kind, verdict=text, growth=float(f.growth),
+                          trace=float(f.trace), given=P["given"]))
+
     @app.get("/api/safe_tilt", response_class=_JSON, summary="the largest starting tilt the real pendulum survives")
     def safe_tilt_route(eps: float | None = None, mu: float | None = None, T: float | None = None,
                         A: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
@@ -409,6 +436,46 @@ def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
     if given or pendulum:
         rep = replace(rep, given=given, pendulum=pendulum or rep.pendulum)
     return rep, d
+
+
+def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping):
+    """A point as ``eps, mu, zeta`` (and ``T, A`` when physical) with its drive, validated as ``_report``."""
+    from ..drives._api import zeta_of
+
+    d = _drive(drive)
+    if rod is not None:
+        from ..system import Pendulum
+
+        l = Pendulum.uniform_rod(rod).l
+    given = None
+    if frequency is not None or stroke is not None or amplitude is not None:
+        if T is not None or eps is not None or mu is not None:
+            raise _v.KapitzaValueError("give a rig's frequency with stroke or amplitude (or A), without T, eps or mu")
+        if frequency is None:
+            raise _v.KapitzaValueError("stroke and amplitude go with frequency")
+        T, A = (float(v) for v in d.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
+        given = "stroke" if stroke is not None else "amplitude" if amplitude is not None else "A"
+    if damping is not None and zeta:
+        raise _v.KapitzaValueError("give the damping as zeta or as damping (c), not both")
+    if T is not None or A is not None:
+        if eps is not None or mu is not None:
+            raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
+        T = _v.one("T", _v.positive("T", T))
+        A = _v.one("A", _v.positive("A", A))
+        l = _v.one("l", _v.positive("l", l))
+        g = _v.one("g", _v.positive("g", g))
+        from ..parameters import to_arnold
+
+        eps, mu = (float(v) for v in to_arnold(T, A, l, g))
+        z = _zeta(float(zeta_of(_v.one("damping", _v.nonnegative("damping", damping)), l, g))) if damping is not None \
+            else _zeta(zeta)
+    else:
+        if damping is not None:
+            raise _v.KapitzaValueError("with eps and mu give the damping as zeta, not damping")
+        eps = _v.one("eps", _v.positive("eps", eps))
+        mu = _v.one("mu", _v.positive("mu", mu))
+        z = _zeta(zeta)
+    return dict(eps=eps, mu=mu, T=T, A=A, zeta=z, drive=d, given=given)
 
 
 def _docs_page(app):
