@@ -229,7 +229,7 @@ def create_app() -> FastAPI:
         return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
 
     @app.get("/api/verdict", response_class=_JSON, summary="the verdict alone, at once (no margins)")
-    def verdict(eps: float | None = None, mu: float | None = None, T: float | None = None, A: float | None = None,
+    async def verdict(eps: float | None = None, mu: float | None = None, T: float | None = None, A: float | None = None,
                 l: float = 1.0, g: float = G_EARTH, drive: str = "square", zeta: float = 0.0,
                 frequency: float | None = None, stroke: float | None = None, amplitude: float | None = None,
                 rod: float | None = None, damping: float | None = None):
@@ -237,7 +237,8 @@ def create_app() -> FastAPI:
         answer the page shows the moment a point is chosen, before the full report (margins and
         ranges, ``/api/point``) and the safe tilt (``/api/safe_tilt``). ``kind``: ``stable``,
         ``2T`` (multipliers real and positive), ``4T`` (period doubling) or ``weak`` (the pivot never
-        accelerates down faster than g)."""
+        accelerates down faster than g). A few milliseconds: answered on the event loop itself, never
+        queued behind the slower routes' worker threads."""
         from ..propagation import floquet
 
         P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
@@ -264,13 +265,17 @@ def create_app() -> FastAPI:
         """``safe_tilt`` [rad]: the largest starting tilt from rest whose motion stays above the horizontal
         for ``periods`` periods 2T (``kapitza.safe_tilt``; 0 where the upright is not stable), with the
         verdict it goes with and ``text``, the report's sentence."""
-        from ..safety import with_safe_tilt
+        from ..analysis import _safe_text
+        from ..safety import safe_tilt
+        from ..zones import is_stable
 
-        rep, d = _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
-        rep = with_safe_tilt(rep, d, int(_bounded("periods", periods, LIMITS["periods"], 1)))
-        text = dict(rep.lines()).get("safe tilt")
-        return _JSON(dict(safe_tilt=rep.safe_tilt, periods=rep.safe_tilt_periods, stable=rep.stable, eps=rep.eps,
-                          mu=rep.mu, verdict=rep.verdict, text=text))
+        P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+        n = int(_bounded("periods", periods, LIMITS["periods"], 1))
+        d = None if P["drive"].name == "square" else P["drive"]
+        stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
+        theta = float(safe_tilt(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"], periods=n)) if stable else 0.0
+        return _JSON(dict(safe_tilt=theta, periods=n, stable=stable, eps=P["eps"], mu=P["mu"],
+                          text=_safe_text(theta, n, stable)))
 
     # -------------------------------------------------------------- motion
     @app.get("/api/motion", response_class=_JSON, summary="linear and nonlinear motion, sampled for animation")

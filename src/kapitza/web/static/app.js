@@ -703,7 +703,10 @@ function onRod() {
 }
 $("rig-rod").addEventListener("change", onRod);
 $("rig-kind").addEventListener("change", onRod);
-$("rig-given").addEventListener("change", () => { S.given = $("rig-given").value; setPointInputs(); saveURL(); if (S.point) choosePoint(S.point); });
+$("rig-given").addEventListener("change", () => {
+  S.given = $("rig-given").value; setPointInputs(); saveURL();
+  if (S.point) { invalidatePoint(); clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point), 200); }
+});
 $("damp-unit").addEventListener("change", () => { S.dampUnit = $("damp-unit").value; setDampInput(); saveURL(); });
 $("damp").addEventListener("change", () => {
   const v = Math.max(0, parseFloat($("damp").value) || 0);
@@ -718,7 +721,7 @@ $("rig-mode").addEventListener("change", () => {
     setPlane("rig");
   }
   setPointInputs(); saveURL();
-  if (S.point) choosePoint(S.point);
+  if (S.point) { invalidatePoint(); clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point), 200); }
 });
 $("l-s").addEventListener("input", () => { $("l").value = Number(Math.pow(10, parseFloat($("l-s").value)).toPrecision(4)); onRig(); });
 $("theta0").addEventListener("change", () => { S.theta0 = parseFloat($("theta0").value) || 0; $("theta0-s").value = S.theta0; saveURL(); renderVerdict(); fetchMotion(); });
@@ -740,11 +743,17 @@ let pointSeq = 0, pointAbort = null;
 const PANEL = { verdict: null, report: null, safe: null };
 function pointQuery() {
   const q = { T: S.point.T, A: S.point.A, l: S.l, g: S.g, drive: driveText(), zeta: S.zeta };
+  if (S.rig) {  // the answers in the quantity the rig is set by (amplitude or stroke, frequency)
+    const st = strokeCoef() * S.point.A * S.point.T * S.point.T;
+    delete q.T; delete q.A;
+    q.frequency = 1 / (2 * S.point.T);
+    q[S.given] = S.given === "stroke" ? st : st / 2;
+  }
   return q;
 }
 function markBusy(what = "computing …") {
   PANEL.verdict = null; PANEL.report = null; PANEL.safe = null;
-  const el = $("verdict"); el.className = "verdict busy"; el.dataset.state = "busy";
+  const el = $("verdict"); el.className = "verdict busy"; el.dataset.state = "busy"; el.dataset.verdict = ""; PANEL.query = null;
   el.innerHTML = `<span class="head">${what}</span><small>${esc(describeChoice())}</small>`;
   $("report").innerHTML = ""; $("report-box").classList.add("stale");
   anim.clear("computing …");
@@ -768,7 +777,7 @@ async function choosePoint(Pt, from) {
   try {
     const v = await getJSON("/api/verdict?" + qs(q), signal);
     if (!current()) return;
-    PANEL.verdict = v; renderVerdict();
+    PANEL.verdict = v; PANEL.query = q; renderVerdict();
     const periods = safePeriods();
     const [rep, safe] = await Promise.all([
       getJSON("/api/point?" + qs(q), signal).then((r) => { if (current()) { PANEL.report = r; renderVerdict(); showReport(r); } return r; }),
@@ -797,17 +806,18 @@ function renderVerdict() {
   if (!v) return;
   el.className = "verdict " + (v.stable ? "stable" : "unstable");
   el.dataset.state = PANEL.report ? "report" : "verdict";
+  el.dataset.verdict = v.verdict; el.dataset.drive = PANEL.query ? PANEL.query.drive : "";
   const w = plain(v), parts = [];
   parts.push(`<span class="head">The pendulum ${w.head}</span> <span class="tech">(${esc(w.tech)})</span>`);
   const info = [];
   if (v.stable) {
     if (PANEL.safe && PANEL.safe.safe_tilt > 0) {
       const th = PANEL.safe.safe_tilt, deg = (th * 180) / Math.PI;
-      info.push(`<span id="safe-tilt" data-safe="${th}">stands for starting tilts below <b>${fmt(th, 2)} rad</b> (${fmt(deg, 2)}°)` +
+      info.push(`<span id="safe-tilt" data-safe="${th}">stands for starting tilts below <b>${angle(th)} rad</b> (${angle(deg)}°)` +
         ` over ${PANEL.safe.periods} periods</span>`);
       if (Math.abs(S.theta0) > th) {
         info.push(`<span class="warn" id="will-fall">This start (θ₀ = ${fmt(S.theta0, 3)} rad) will fall, although the small-tilt verdict is stable: ` +
-          `the real pendulum stands only for tilts below ${fmt(th, 2)} rad. <button id="set-safe">set θ₀ = ${fmt(safeStart(th), 2)} rad</button></span>`);
+          `the real pendulum stands only for tilts below ${angle(th)} rad. <button id="set-safe">set θ₀ = ${angle(safeStart(th))} rad</button></span>`);
       }
     } else if (PANEL.safe) info.push(`<span id="safe-tilt" data-safe="0">no starting tilt above ${"1e-9"} rad stays up over ${PANEL.safe.periods} periods</span>`);
     else info.push(`<span class="pending">safe starting tilt: computing …</span>`);
@@ -820,6 +830,13 @@ function renderVerdict() {
   el.innerHTML = parts.join("") + `<small>${info.join("<br>")}</small>`;
   const b = $("set-safe");
   if (b) b.onclick = () => { setTheta0(safeStart(PANEL.safe.safe_tilt)); };
+}
+// A small angle as a teacher reads it: 0.23, 0.0042, 3.5 × 10⁻⁶.
+function angle(th) {
+  if (th >= 1e-3) return fmt(th, 2);
+  const e = Math.floor(Math.log10(th)), m = th / Math.pow(10, e);
+  const sup = String(e).replace(/-/g, "⁻").replace(/\d/g, (c) => "⁰¹²³⁴⁵⁶⁷⁸⁹"[+c]);
+  return `${fmt(m, 2)} × 10${sup}`;
 }
 // A start comfortably inside the safe tilt: half of it, rounded down to two digits.
 function safeStart(th) { const x = 0.5 * th, p = Math.pow(10, Math.floor(Math.log10(x)) - 1); return Math.floor(x / p) * p; }
@@ -891,15 +908,18 @@ function drawStage(t) {
   ctx.clearRect(0, 0, w, h);
   if (!m) { ctx.fillStyle = "#6b7685"; ctx.font = "15px DejaVu Sans, sans-serif"; ctx.textAlign = "center";
     ctx.fillText(anim.note || "choose a point on the chart", w / 2, h / 2); return; }
-  const k = index(m, t), piv = lerp(m.pivot, k);
+  // A pivot travelling far more than the rod is long is drawn shortened (said under the picture),
+  // so the rod stays large enough to see.
+  const kp = Math.min(1, (0.6 * m.l) / m.pmax), pmax = m.pmax * kp;
+  const k = index(m, t), piv = lerp(m.pivot, k) * kp;
   const th = lerp(m.theta, k), thl = m.theta_linear ? lerp(m.theta_linear, k) : null;
   const solo = document.body.classList.contains("projector");
-  const L = m.l, s = Math.min((solo ? w : w / 2) * 0.4 / L, (h - 40) / (2.15 * L + 2 * m.pmax));
-  const baseY = 28 + (L + m.pmax) * s;
+  const L = m.l, s = Math.min((solo ? w : w / 2) * 0.4 / L, (h - 60) / (2.15 * L + 2 * pmax));
+  const baseY = 28 + (L + pmax) * s;
   const scene = (cx, theta, title, color, note, linear) => {
     // rail of the shaker and the pivot's travel
     ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 6; ctx.lineCap = "round";
-    ctx.beginPath(); ctx.moveTo(cx, baseY - m.pmax * s - 14); ctx.lineTo(cx, baseY + m.pmax * s + 14); ctx.stroke();
+    ctx.beginPath(); ctx.moveTo(cx, baseY - pmax * s - 14); ctx.lineTo(cx, baseY + pmax * s + 14); ctx.stroke();
     const py = baseY - piv * s;
     ctx.setLineDash([4, 4]); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1;
     ctx.beginPath(); ctx.moveTo(cx, py); ctx.lineTo(cx, py - L * s * 1.08); ctx.stroke(); ctx.setLineDash([]);
@@ -927,6 +947,10 @@ function drawStage(t) {
       fitText(ctx, st ? "bounded, but far beyond small angles within each period" : "grows without bound (unstable)", cx, h - 24, w / 2 - 12);
     }
   };
+  if (kp < 1) {
+    ctx.fillStyle = "#6b7685"; ctx.font = `${solo ? 15 : 11}px DejaVu Sans, sans-serif`; ctx.textAlign = "right"; ctx.textBaseline = "bottom";
+    ctx.fillText(`pivot travel drawn ${fmt(kp, 2)}× to scale`, w - 6, solo ? h - 30 : h - 40);
+  }
   if (solo) {
     scene(w * 0.5, th, "the real pendulum", COLORS.nonlinear, "", false);
     return;
@@ -1098,5 +1122,5 @@ if (S.point) choosePoint(S.point);
 window.addEventListener("resize", () => { drawChart(); anim.prepare(); });
 requestAnimationFrame(frame);
 // For tests and the console: where a point of the chart is on screen.
-window.kapitza = { S, anim, chart, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+window.kapitza = { S, anim, chart, panel: PANEL, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
   return { x: r.left + ax.X(x), y: r.top + ax.Y(y) }; } };
