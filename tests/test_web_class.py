@@ -47,8 +47,8 @@ def _open(browser, url, **context):
     page = ctx.new_page()
     errors = []
     page.on("pageerror", lambda e: errors.append(str(e)))
-    page.goto(url)
-    page.wait_for_function("document.getElementById('chart').dataset.fetches >= 1", timeout=LONG)
+    page.goto(url, timeout=LONG)  # the page's files wait behind earlier tests' computations on a loaded machine
+    page.wait_for_function("document.getElementById('chart').dataset.fetches >= 1", timeout=REPORT)
     return page, errors
 
 
@@ -169,11 +169,11 @@ def test_rig_mode_for_a_50_hz_shaker(site):
                            "document.getElementById('verdict').dataset.drive === 'sine' && "
                            "Math.abs(kapitza.panel.report.A - 296.088132) < 1e-3", timeout=REPORT)
     rep = page.evaluate("kapitza.panel.report")
-    assert not rep["stable"] and abs(rep["l"] - 0.25 * 2 / 3) < 1e-12
+    assert not rep["stable"] and rep["l"] == pytest.approx(0.25 * 2 / 3, rel=1e-10)
     text = page.inner_text("#verdict")
     assert text.startswith("The pendulum falls")
     assert "95.9 Hz" in text and "5.76" in text          # Kapitza's threshold, the amplitude that holds it
-    assert "30.2 g" in page.inner_text("#rig-g")
+    assert "30.18 g" in page.inner_text("#rig-g")
     page.wait_for_timeout(600)
     page.screenshot(path=str(SCREENS / "15-rig-50hz-3mm-25cm.png"))
     page.select_option("#rig-given", "stroke")
@@ -283,7 +283,7 @@ def test_api_docs_render_with_the_network_cut(site):
 
     ctx.route("**/*", only_local)
     page = ctx.new_page()
-    page.goto(base + "docs")
+    page.goto(base + "docs", timeout=REPORT)
     page.wait_for_selector(".swagger-ui .opblock", timeout=LONG)
     assert "/api/point" in page.inner_text("body")
     page.screenshot(path=str(SCREENS / "21-docs-offline.png"))

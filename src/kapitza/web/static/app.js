@@ -663,7 +663,12 @@ for (const id of ["T", "freq", "A", "eps", "mu", "T-s", "A-s", "eps-s", "mu-s", 
     if (["T-s", "A-s", "rig-f-s", "rig-x-s"].includes(id)) v = Math.pow(10, v);
     const P = pointFrom(id, v);
     if (!P) return;
-    S.point = P; setPointInputs(id); drawChart(); saveURL();
+    S.point = P; setPointInputs(id);
+    if (S.plane === "rig") {  // keep the rig in view: a point leaving it re-centres the window on it
+      const q = toPlane(P), v = view();
+      if (!(q.x > v.x0 && q.x < v.x1 && q.y > v.y0 && q.y < v.y1)) { S.views.rig = rigView(S.l, S.g, P); requestChart(150); }
+    }
+    drawChart(); saveURL();
     invalidatePoint();
     clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point, id), 180);
   });
@@ -698,7 +703,7 @@ function onRod() {
   const L = parseFloat($("rig-rod").value);
   if (!(L > 0)) return;
   S.rod = L; S.rodKind = $("rig-kind").value;
-  $("l").value = Number((S.rodKind === "rod" ? (2 * L) / 3 : L).toPrecision(8));
+  $("l").value = Number((S.rodKind === "rod" ? (2 * L) / 3 : L).toPrecision(12));
   onRig();
 }
 $("rig-rod").addEventListener("change", onRod);
