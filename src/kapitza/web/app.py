@@ -484,14 +484,17 @@ def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, ro
 
 
 def _docs_page(app):
-    """``/docs``: Swagger UI from files served here (the ``swagger-ui-bundle`` package), so the API page
-    works without a network; without the package a plain list of the routes from the schema."""
+    """``/docs``: Swagger UI from files served here (those of the ``fastapi-offline`` package, a Swagger
+    UI that reads OpenAPI 3.1), so the API page works without a network; without the package a plain
+    list of the routes from the schema."""
     from fastapi.responses import HTMLResponse
 
     try:
-        import swagger_ui_bundle
+        import fastapi_offline
 
-        assets = Path(swagger_ui_bundle.swagger_ui_path)
+        assets = Path(fastapi_offline.__file__).with_name("static")
+        if not (assets / "swagger-ui-bundle.js").is_file():  # pragma: no cover
+            assets = None
     except ImportError:  # pragma: no cover - the web extra installs it
         assets = None
     if assets is not None:
@@ -505,7 +508,7 @@ def _docs_page(app):
             return get_swagger_ui_html(openapi_url="/openapi.json", title="kapitza explorer: API",
                                        swagger_js_url="/docs-assets/swagger-ui-bundle.js",
                                        swagger_css_url="/docs-assets/swagger-ui.css",
-                                       swagger_favicon_url="/docs-assets/favicon-32x32.png",
+                                       swagger_favicon_url="/docs-assets/favicon.png",
                                        swagger_ui_parameters={"validatorUrl": None})
         import html
 
