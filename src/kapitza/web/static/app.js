@@ -55,7 +55,8 @@ function qs(obj) {
   return p.toString();
 }
 const short = (v) => (Math.abs(v) >= 1000 || (Math.abs(v) < 0.01 && v !== 0) ? v.toExponential(0) : String(Number(v.toPrecision(2))));
-const fmt = (v, d = 6) => (v === null || v === undefined || !isFinite(v) ? "–" : Number(v).toPrecision(d).replace(/\.?0+(e|$)/, "$1"));
+const fmt = (v, d = 6) => (v === null || v === undefined || !isFinite(v) ? "–"
+  : Number(v).toPrecision(d).replace(/(\.\d*?)0+(e|$)/, "$1$2").replace(/\.(e|$)/, "$1"));
 
 // ------------------------------------------------------------------ URL (shareable state)
 function saveURL() {
