@@ -34,7 +34,7 @@ def register(sub):
     p.add_argument("--no-safe-tilt", dest="safe_tilt", action="store_false",
                    help="skip the safe tilt (it follows the real pendulum: up to a second or so)")
     p.add_argument("--check", action="store_true",
-                   help="exit with status 1 when the upright is unstable (0 when stable), for scripts")
+                   help="exit with status 1 when the upright is unstable (0 when stable), for scripts (no safe tilt)")
     p.set_defaults(func=cmd_stability)
 
     p = sub.add_parser(
@@ -140,7 +140,7 @@ def cmd_stability(args):
         rep = replace(rep, pendulum=args.pendulum)
     if args.given:
         rep = replace(rep, given=args.given)
-    if args.safe_tilt:
+    if args.safe_tilt and not args.check:  # a script asking --check wants the verdict alone, at once
         from ..safety import with_safe_tilt
 
         count("--safe-periods", args.safe_periods, 100_000)
