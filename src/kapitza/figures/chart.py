@@ -54,7 +54,7 @@ def _draw_tongues(ax, n, y, x_lo, x_hi, x_range, label_zones=True):
 
 
 def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, points=1200, label_zones=True,
-               legend="outside"):
+               legend="outside", drive=None, zeta=0.0):
     """Draw the exact stability zones in the ``eps``-``mu`` plane.
 
     Parameters
@@ -72,11 +72,18 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
         Write the zone index beside each tongue.
     legend : {"outside", "inside", None}
         Legend just right of the axes, inside them, or none.
+    drive : Drive or str, optional
+        The pivot's motion (``"sine"``, ``"rectangular:0.3"``, a :class:`kapitza.drives.Drive`);
+        the paper's square wave by default.
+    zeta : float, optional
+        Damping ratio ``c / (2 sqrt(g/l))`` (0: undamped). With another drive or damping the edges
+        are root solves (:func:`kapitza.figures.drives.drive_curves`; ``show_G`` does not apply).
 
     Returns
     -------
     Drawn
-        Artists ``"fill"``, ``"edges"`` (lists), ``"G"``; ``.data`` the :class:`ZoneCurves`.
+        Artists ``"fill"``, ``"edges"`` (lists), ``"G"``; ``.data`` the :class:`ZoneCurves` (another
+        drive or damping: the drive's curves).
 
     Notes
     -----
@@ -89,6 +96,20 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
 
     if ax is None:
         _, ax = plt.subplots(layout="constrained")
+    general, _ = _v.general_drive(drive, zeta)
+    if general is not None:
+        from .drives import drive_curves, plot_drive_comparison
+
+        top = mu_top(general)
+        window_range(eps_range, mu_range, top)
+        mu_s = np.linspace(max(mu_range[0], 1e-3), min(mu_range[1], 0.999 * top), min(points, 4000))
+        dc = drive_curves(general, mu_s, eps_range[1], float(zeta))
+        out = plot_drive_comparison([dc], ax, eps_range=eps_range, mu_range=mu_range)
+        ax.set_xlabel(r"$\varepsilon = T\sqrt{A}/\sqrt{8l}$")
+        ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
+        if not legend and out.get("legend") is not None:
+            out["legend"].remove()
+        return out
     curves = zone_curves(eps_range, mu_range, points)
     out = Drawn(ax, _draw_tongues(ax, curves.n, curves.mu, curves.eps_lo, curves.eps_hi, eps_range, label_zones),
                 data=curves)
