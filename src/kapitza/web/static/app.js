@@ -893,7 +893,10 @@ const anim = {
     m.omMax = Math.max(lim(m.dtheta), 0.05) * 1.1;
     m.n = n; this.prepare(); this.seek(0);
   },
-  clear(note) { this.m = null; this.note = note; this.prepare(); },
+  clear(note) {
+    this.m = null; this.note = note; this.prepare();
+    for (const p of plots) { const { ctx, w, h } = fit(p.canvas); ctx.clearRect(0, 0, w, h); }  // no old motion beside a new choice
+  },
   simTime() { return this.playing ? ((performance.now() - this.t0) / 1000) * S.speed + this.offset : this.offset; },
   seek(t) { this.offset = t; this.t0 = performance.now(); this.last = -1; for (const p of plots) p.reset(); },
   toggle() {
