@@ -44,6 +44,7 @@ LIMITS = dict(
     zeta=10.0,             # damping ratio (10: far beyond critical damping)
     drive_text=200,        # characters of a drive's text form
     url=4096,              # characters of a request's path and query
+    safe_tilt_integrated_periods=60,  # periods of a safe tilt followed by DOP853 (sine drive or damping)
 )
 
 Plane = Literal["arnold", "physical", "rig"]
@@ -223,9 +224,11 @@ def create_app() -> FastAPI:
         it in a second request."""
         rep, d = _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
         if safe_tilt:
+            from ..motion.basins import exact_path
             from ..safety import with_safe_tilt
 
-            rep = with_safe_tilt(rep, d, int(_bounded("periods", periods, LIMITS["periods"], 1)))
+            cap = LIMITS["periods" if exact_path(d, rep.zeta) else "safe_tilt_integrated_periods"]
+            rep = with_safe_tilt(rep, d, int(_bounded("periods", periods, cap, 1)))
         return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
 
     @app.get("/api/verdict", response_class=_JSON, summary="the verdict alone, at once (no margins)")
@@ -269,8 +272,12 @@ def create_app() -> FastAPI:
         from ..safety import safe_tilt
         from ..zones import is_stable
 
+        from ..motion.basins import exact_path
+
         P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
-        n = int(_bounded("periods", periods, LIMITS["periods"], 1))
+        exact = exact_path(P["drive"], P["zeta"])
+        n = int(_bounded("periods" if exact else "periods (sine drive or damping: DOP853)", periods,
+                         LIMITS["periods"] if exact else LIMITS["safe_tilt_integrated_periods"], 1))
         d = None if P["drive"].name == "square" else P["drive"]
         stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
         theta = float(safe_tilt(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"], periods=n)) if stable else 0.0
