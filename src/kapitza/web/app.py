@@ -227,8 +227,7 @@ def create_app() -> FastAPI:
             from ..motion.basins import exact_path
             from ..safety import with_safe_tilt
 
-            cap = LIMITS["periods" if exact_path(d, rep.zeta) else "safe_tilt_integrated_periods"]
-            rep = with_safe_tilt(rep, d, int(_bounded("periods", periods, cap, 1)))
+            rep = with_safe_tilt(rep, d, _safe_periods(periods, exact_path(d, rep.zeta)))
         return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
 
     @app.get("/api/verdict", response_class=_JSON, summary="the verdict alone, at once (no margins)")
@@ -275,9 +274,7 @@ def create_app() -> FastAPI:
         from ..motion.basins import exact_path
 
         P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
-        exact = exact_path(P["drive"], P["zeta"])
-        n = int(_bounded("periods" if exact else "periods (sine drive or damping: DOP853)", periods,
-                         LIMITS["periods"] if exact else LIMITS["safe_tilt_integrated_periods"], 1))
+        n = _safe_periods(periods, exact_path(P["drive"], P["zeta"]))
         d = None if P["drive"].name == "square" else P["drive"]
         stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
         theta = float(safe_tilt(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"], periods=n)) if stable else 0.0
@@ -448,6 +445,17 @@ def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
     if given or pendulum:
         rep = replace(rep, given=given, pendulum=pendulum or rep.pendulum)
     return rep, d
+
+
+def _safe_periods(periods, exact):
+    """The periods of a safe tilt, bounded (far fewer where DOP853 follows the motion)."""
+    if exact:
+        return int(_bounded("periods", periods, LIMITS["periods"], 1))
+    hi = LIMITS["safe_tilt_integrated_periods"]
+    if not 1 <= periods <= hi:
+        raise _v.KapitzaValueError(f"periods must satisfy 1 <= periods <= {hi} in the explorer for the sine drive or "
+                                   f"damping (followed by DOP853); got {periods!r}")
+    return int(periods)
 
 
 def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping):
