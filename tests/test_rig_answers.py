@@ -199,3 +199,16 @@ def test_rig_plane_edges_are_the_reports_frequencies(drive):
         rep = K.analyze(T=float(T), A=float(A), l=L, drive=None if drive == "square" else d)
         if rep.nearest_zone == 0 and rep.frequency_lo is not None:
             assert c.f_lo[0, j] == pytest.approx(rep.frequency_lo, rel=2e-3)
+
+
+def test_zones_and_compare_take_a_rigs_damping(capsys):
+    from kapitza.drives._api import zeta_of
+
+    code, a, _ = run(["zones", "--zones", "1", "--points", "3", "--damping", "0.5", "--rod", "0.3", "--json"], capsys)
+    z = float(zeta_of(0.5, 0.2, 9.81))
+    code2, b, _ = run(["zones", "--zones", "1", "--points", "3", "--zeta", repr(z), "--json"], capsys)
+    assert code == code2 == 0 and json.loads(a) == json.loads(b)
+    code, _, err = run(["zones", "--rod", "0.3"], capsys)
+    assert_one_line_error(code, err, "--damping")
+    code, _, err = run(["compare", "--damping", "0.5", "--zeta", "0.1"], capsys)
+    assert_one_line_error(code, err, "not both")

@@ -235,6 +235,36 @@ def _implausible(args, A):
     return None
 
 
+def add_zeta_from_rig(g):
+    """--damping C [1/s] with the pendulum (--rod or --l, --g), instead of --zeta, for the commands on
+    Arnold's plane (the damping ratio is what that plane sees); read by :func:`zeta_from_rig`."""
+    g.add_argument("--damping", type=finite_float, default=None, metavar="1/S",
+                   help="viscous damping c of a rig, instead of --zeta (with --rod or --l, and --g)")
+    g.add_argument("--rod", type=finite_float, default=None, metavar="M",
+                   help="with --damping: a uniform rod of this length (l = 2/3 of it)")
+    g.add_argument("--l", type=finite_float, default=None, metavar="M", help="with --damping: equivalent length (default 1)")
+    g.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"with --damping: gravity (default {G_EARTH})")
+
+
+def zeta_from_rig(args, zeta):
+    """The damping ratio: ``zeta`` (--zeta), or ``c / (2 sqrt(g/l))`` of --damping with the rod."""
+    if args.damping is None:
+        if args.rod is not None or args.l is not None:
+            raise CLIError("--rod and --l go with --damping (the damping ratio needs the pendulum's length)")
+        return zeta
+    if zeta:
+        raise CLIError("give the damping as --zeta or as --damping C (1/s), not both")
+    if args.rod is not None and args.l is not None:
+        raise CLIError("give --l or --rod, not both")
+    l = 2.0 * args.rod / 3.0 if args.rod is not None else (1.0 if args.l is None else args.l)
+    if not (args.damping >= 0 and l > 0 and args.g > 0):
+        raise CLIError(f"need --damping >= 0 and a length and --g > 0; got damping={args.damping!r}, l={l!r}, "
+                       f"g={args.g!r}")
+    from ..drives._api import zeta_of
+
+    return float(zeta_of(args.damping, l, args.g))
+
+
 def print_json(obj):
     json.dump(to_jsonable(obj), sys.stdout, indent=2)
     sys.stdout.write("\n")

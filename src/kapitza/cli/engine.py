@@ -9,8 +9,8 @@ from .. import _io
 from ..analysis import analyze
 from ..periodic import boundary_table
 from .._validate import bounded_work
-from ._common import (CLIError, add_drive, add_parameters, count, drive_from, finite_float, format_table, out_stem,
-                      parameters_from, print_json)
+from ._common import (CLIError, add_drive, add_parameters, add_zeta_from_rig, count, drive_from, finite_float,
+                      format_table, out_stem, parameters_from, print_json, zeta_from_rig)
 
 
 def register(sub):
@@ -70,6 +70,7 @@ def register(sub):
                    help="print JSON to standard output (with --out: only a summary of what was written)")
     add_drive(p.add_argument_group("the pivot's motion"))
     p.add_argument("--zeta", type=finite_float, default=0.0, help="damping ratio c / (2 sqrt(g/l)) (default 0)")
+    add_zeta_from_rig(p.add_argument_group("the damping of a rig (instead of --zeta)"))
     p.set_defaults(func=cmd_zones)
 
     p = sub.add_parser(
@@ -202,6 +203,7 @@ def cmd_zones(args):
     if args.out and Path(args.out).suffix.lower() not in (".csv", ".json"):
         raise CLIError(f"--out must end in .csv or .json; got {args.out!r}")
     mu = np.linspace(args.mu_min, args.mu_max, args.points)
+    args.zeta = zeta_from_rig(args, args.zeta)
     if args.zeta < 0:
         raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
     n, lo, hi = _zone_rows(args.zones, mu, drive, args.zeta)
