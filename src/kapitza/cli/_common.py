@@ -151,12 +151,13 @@ PLAUSIBLE_G = 1000.0     # pivot acceleration in g
 PLAUSIBLE_TRAVEL = 1.0   # stroke or amplitude in m
 
 
-def parameters_from(args) -> dict:
+def parameters_from(args, arnold_damping=False) -> dict:
     """Keyword arguments for :func:`kapitza.analyze` from the parsed options.
 
     Also sets ``args.given`` (``"amplitude"``, ``"stroke"``, ``"A"`` or None: the quantity the answers
     come in), ``args.pendulum`` (a rod's description) and ``args.rig_note`` (one line when a value is
-    implausible, also printed to standard error)."""
+    implausible, also printed to standard error). ``arnold_damping``: --damping C is taken with --eps/--mu
+    too (the motion commands, which turn Arnold's parameters into physical ones with --l and --g)."""
     units = hasattr(args, "frequency")
     has_drive = hasattr(args, "drive") and hasattr(args, "duty")
     has_damping = hasattr(args, "zeta") and hasattr(args, "damping")
@@ -215,7 +216,12 @@ def parameters_from(args) -> dict:
         if args.eps is None or args.mu is None:
             raise CLIError("--eps and --mu must be given together")
         if has_damping:
-            extra.update(damping_from(args, physical=False))
+            if arnold_damping and args.damping:
+                if args.zeta is not None:
+                    raise CLIError("give the damping as --damping C (1/s) or as --zeta, not both")
+                extra["damping"] = args.damping
+            else:
+                extra.update(damping_from(args, physical=False))
         return dict(eps=args.eps, mu=args.mu, **extra)
     raise CLIError("give the parameters: --T and --A (physical), --frequency with --stroke or --amplitude (a rig), "
                    "or --eps and --mu (Arnold)")

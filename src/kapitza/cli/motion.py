@@ -113,7 +113,7 @@ def _physical_from(args):
     or --eps/--mu with --l, --g), validated; sets ``args.drive_obj`` and ``args.damping`` (c in 1/s)."""
     from dataclasses import replace
 
-    kw = parameters_from(args)
+    kw = parameters_from(args, arnold_damping=True)
     args.drive_obj = kw.pop("drive")
     if "eps" in kw:
         l = 1.0 if args.l is None else args.l
@@ -121,7 +121,8 @@ def _physical_from(args):
         zeta = kw.get("zeta") or 0.0
         from ..drives._api import damping_of
 
-        kw = dict(T=T, A=A, l=l, g=g, damping=float(damping_of(zeta, l, g)) if zeta else 0.0)
+        c = float(damping_of(zeta, l, g)) if zeta else kw.get("damping", 0.0)
+        kw = dict(T=T, A=A, l=l, g=g, damping=c)
     args.damping = kw.get("damping", 0.0) or 0.0
     rep = analyze(T=kw["T"], A=kw["A"], l=kw["l"], g=kw["g"], drive=args.drive_obj, damping=args.damping)
     if getattr(args, "pendulum", None) or args.given:
