@@ -92,7 +92,7 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
         Tv, Av = to_physical(e, m, l_, g_)
         c = 2.0 * z * np.sqrt(g_ / l_)
     else:
-        if zeta is not None:
+        if zeta is not None and np.any(np.asarray(zeta) != 0):
             raise _v.KapitzaValueError("with T and A give the damping as damping = c [1/s], not zeta")
         Tv, Av, l_, g_ = np.broadcast_arrays(_v.positive("T", T), _v.positive("A", A), _v.positive("l", l),
                                               _v.positive("g", g))
