@@ -116,21 +116,30 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
             raise _v.KapitzaValueError(f"{name} range must satisfy 0 < {name}_min < {name}_max < inf; got ({a:g}, {b:g})")
     k = stroke_coefficient(d)
     stroke = np.geomspace(s0, s1, points)
-    eps = np.sqrt(stroke / (8.0 * l * k))
-    K = np.sqrt(g * k / (4.0 * stroke))
+    eps_all = np.sqrt(np.array([s0, s1]) / (8.0 * l * k))
+    K_all = np.sqrt(g * k / (4.0 * np.array([s0, s1])))
     top = float(d.mu_max) if np.isfinite(d.mu_max) else 1.0
-    m_lo = max(float(K.min() / f1), 1e-9)
-    m_hi = min(float(K.max() / f0), 0.999999 * top)
-    n_max = min(MAX_ZONES, int(np.ceil(float(eps.max()) * np.sqrt(8.0) / np.pi)) + 2)
+    m_lo = max(float(K_all.min() / f1), 1e-9)
+    m_hi = min(float(K_all.max() / f0), 0.999999 * top)
+    n_max = min(MAX_ZONES, int(np.ceil(float(eps_all.max()) * np.sqrt(8.0) / np.pi)) + 2)
     general = None if d.name == "square" and zeta == 0 else d
-    f_lo = np.full((n_max, points), np.nan)
-    f_hi = np.full((n_max, points), np.nan)
     if mu_samples is None:
         mu_samples = 2000 if general is None else 160
+    edges = None
     if m_lo < m_hi:
         mu = np.geomspace(m_lo, m_hi, _v.bounded_count("mu_samples", mu_samples, 100_000, minimum=2))
         lo_e, hi_e = (np.asarray(a, float) for a in zone_edges(mu[None, :], np.arange(n_max)[:, None],
                                                                 drive=general, zeta=zeta))
+        edges = (mu, lo_e, hi_e)
+
+    def frequencies(st):
+        f_lo = np.full((n_max, st.size), np.nan)
+        f_hi = np.full((n_max, st.size), np.nan)
+        if edges is None:
+            return f_lo, f_hi
+        mu, lo_e, hi_e = edges
+        eps = np.sqrt(st / (8.0 * l * k))
+        K = np.sqrt(g * k / (4.0 * st))
         for i in range(n_max):
             a_mu = _inverse(hi_e[i], mu, eps)   # mu where the upper edge reaches eps: the highest frequency
             b_mu = _inverse(lo_e[i], mu, eps)   # mu where the lower edge reaches eps: the lowest frequency
@@ -140,6 +149,22 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
             empty = np.isnan(a_mu) | np.isnan(b_mu) | (a_mu >= b_mu)
             f_lo[i, empty] = np.nan
             f_hi[i, empty] = np.nan
+        return f_lo, f_hi
+
+    f_lo, f_hi = frequencies(stroke)
+    # An edge nearly level in this plane (the upper edge as mu -> 0) jumps between stroke samples:
+    # sample those gaps finely, so that it is drawn where it is.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        jump = np.zeros(points - 1, dtype=bool)
+        for f in (f_lo, f_hi):
+            a, b = f[:, :-1], f[:, 1:]
+            fin = np.isfinite(a) & np.isfinite(b)
+            jump |= np.any((fin & (np.abs(np.log(np.abs(b) / np.abs(a))) > 0.1))
+                           | (np.isfinite(a) != np.isfinite(b)) | (np.isnan(a) != np.isnan(b)), axis=0)
+    if jump.any():
+        extra = [np.geomspace(stroke[j], stroke[j + 1], 26)[1:-1] for j in np.flatnonzero(jump)[:200]]
+        stroke = np.unique(np.concatenate([stroke, *extra]))
+        f_lo, f_hi = frequencies(stroke)
     keep = [i for i in range(n_max) if np.any(np.isfinite(f_lo[i]) & (f_lo[i] < f1) | (f_lo[i] == -np.inf))
             and np.any((f_hi[i] > f0) & ~np.isnan(f_hi[i]))]
     return RigZoneCurves(n=np.array(keep, dtype=int), stroke=stroke, f_lo=f_lo[keep], f_hi=f_hi[keep], l=l, g=g,
