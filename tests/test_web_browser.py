@@ -98,7 +98,7 @@ def test_explorer_as_a_user_sees_it(site):
     assert x_hi - x_lo > 40
     x, y = _pixel(page, mid, 0.6)
     page.mouse.move(x, y)
-    page.wait_for_function("(document.getElementById('hover-verdict') || {}).textContent?.includes('stable (zone 2)')",
+    page.wait_for_function("(document.getElementById('hover-verdict') || {}).textContent?.includes('stable, zone 2')",
                            timeout=30000)
     page.screenshot(path=str(SCREENS / "02-zoom-zone2.png"))
 
@@ -108,7 +108,7 @@ def test_explorer_as_a_user_sees_it(site):
     eps, mu = (float(v) for v in kapitza.to_arnold(0.15, 100.0))
     x, y = _pixel(page, eps, mu)
     page.mouse.click(x, y)
-    page.wait_for_function("document.getElementById('verdict').textContent.startsWith('stable (zone 0)')",
+    page.wait_for_function("(document.getElementById('verdict').dataset.verdict || '').startsWith('stable (zone 0)')",
                            timeout=30000)
     page.wait_for_function("kapitza.anim.m !== null", timeout=30000)
     a = _clock(page)
@@ -125,7 +125,7 @@ def test_explorer_as_a_user_sees_it(site):
     # -- at T = 0.3 s the same rod falls (below zone 1's reach: unstable)
     page.fill("#T", "0.3")
     page.dispatch_event("#T", "input")
-    page.wait_for_function("document.getElementById('verdict').textContent.startsWith('unstable')", timeout=30000)
+    page.wait_for_function("(document.getElementById('verdict').dataset.verdict || '').startsWith('unstable')", timeout=30000)
     page.wait_for_function("kapitza.anim.m && kapitza.anim.m.T === 0.3", timeout=30000)
     assert page.evaluate("kapitza.anim.m.summary.motion.max_abs_theta") > 1.5
     page.select_option("#speed", "1")
@@ -147,7 +147,7 @@ def test_explorer_as_a_user_sees_it(site):
     state = page.evaluate("({plane: kapitza.S.plane, view: kapitza.S.views.physical, point: kapitza.S.point})")
     assert "plane=physical" in url and "T=0.15" in url
     other, errors2 = _new_page(context, url)
-    other.wait_for_function("document.getElementById('verdict').textContent.startsWith('stable (zone 0)')",
+    other.wait_for_function("(document.getElementById('verdict').dataset.verdict || '').startsWith('stable (zone 0)')",
                             timeout=30000)
     again = other.evaluate("({plane: kapitza.S.plane, view: kapitza.S.views.physical, point: kapitza.S.point})")
     assert again == state
@@ -196,7 +196,7 @@ def test_other_drive_with_damping_and_an_overlay(site):
                      "&T=0.2&A=150&theta0=0.3")
     page.wait_for_function("kapitza.chart.data && kapitza.chart.overlay", timeout=120000)
     page.wait_for_function("kapitza.anim.m !== null", timeout=120000)
-    page.wait_for_function("document.getElementById('verdict').textContent.includes('motions decay')", timeout=120000)
+    page.wait_for_function("(document.getElementById('verdict').dataset.verdict || '').includes('motions decay')", timeout=120000)
     main, over = page.evaluate("[kapitza.chart.data.drive, kapitza.chart.overlay.drive]")
     assert "duty 0.3" in main or "0.3" in main
     assert over.startswith("sine")

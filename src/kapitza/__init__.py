@@ -26,6 +26,9 @@ from .drives import (Drive, RectangularWave, SineWave, SquareWave, StepDrive, Tr
                      register)
 from .system import Pendulum, Rig
 
+# ---- the safe starting tilt of the real pendulum beside every verdict
+from .safety import safe_tilt
+
 # ---- the tower of linked pendulums on one pivot: docs/tower.md
 from .chain import Chain, ChainReport, analyze_chain, chain_floquet, tower_curves
 
@@ -118,6 +121,7 @@ __all__ = [
     # limits
     "averaging_threshold", "threshold_table",
     # loaded on first use
+    "safe_tilt",
     "mathieu", "phase_plane", "motion", "simulate", "nonlinear_motion", "phase_flow", "stroboscopic_map", "survival",
     "basin", "normal_form", "twist_coefficient", "nonlinear_stability", "NonlinearVerdict", "birkhoff_normal_form",
     "BirkhoffNormalForm", "period_map_taylor", "TaylorMap", "averaged_twist",

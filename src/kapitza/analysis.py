@@ -77,6 +77,14 @@ class StabilityReport(Summary):
         ``nearest_zone`` as an interval of strokes [m] at this frequency (``A`` scales with it).
     A_lo, A_hi : float or None
         ``nearest_zone`` as an interval of amplitudes at this ``T``.
+    safe_tilt : float or None
+        Where computed (``analyze(..., safe_tilt=True)``): the largest starting tilt from rest [rad]
+        that the real (nonlinear) pendulum survives above the horizontal for ``safe_tilt_periods``
+        periods (:func:`kapitza.safe_tilt`); 0 where linearly unstable.
+    safe_tilt_periods : int or None
+    given : str or None
+        The amplitude a rig was described by (``"amplitude"``, ``"stroke"`` or ``"A"``): the
+        intervals and :attr:`directions` answer in it.
     nonlinear : str or None
         The verdict on the full equation's upright where it is linearly stable (undamped
         square wave only): Lyapunov stable by Moser's twist theorem or Markeev's criterion,
@@ -117,6 +125,17 @@ class StabilityReport(Summary):
     zeta: float = 0.0
     determinant: float = 1.0
     nonlinear: str | None = None
+    safe_tilt: float | None = None
+    safe_tilt_periods: int | None = None
+    given: str | None = None
+
+    @property
+    def directions(self) -> list:
+        """Which knob to turn which way to reach (or how far one may leave) the nearest zone
+        (:func:`kapitza.advice.directions`): records with a ``text`` sentence each."""
+        from .advice import directions
+
+        return directions(self, self.given)
 
     @property
     def frequency(self) -> float | None:
@@ -128,7 +147,8 @@ class StabilityReport(Summary):
         rows = []
         if self.T is not None:
             rows.append(("parameters", f"T = {_fmt(self.T)} s (frequency {_fmt(self.frequency, 6)} Hz), "
-                                       f"A = {_fmt(self.A)} m/s^2, l = {_fmt(self.l)} m, g = {_fmt(self.g)} m/s^2"))
+                                       f"A = {_fmt(self.A)} m/s^2 ({_fmt(self.A / self.g, 4)} g), l = {_fmt(self.l)} m, "
+                                       f"g = {_fmt(self.g)} m/s^2"))
         if self.pendulum:
             rows.append(("pendulum", self.pendulum))
         rows.append(("drive", self.drive))
@@ -137,6 +157,8 @@ class StabilityReport(Summary):
             rows.append(("damping", f"{c}ratio zeta = {_fmt(self.zeta, 6)}; det M = {_fmt(self.determinant)}"))
         rows.append(("Arnold", f"eps = {_fmt(self.eps)}, mu = {_fmt(self.mu)}"))
         rows.append(("verdict", self.verdict))
+        if self.safe_tilt is not None:
+            rows.append(("safe tilt", _safe_text(self.safe_tilt, self.safe_tilt_periods, self.stable)))
         lam = multipliers(self.multipliers)
         crit = "|tr M| < 2" if self.zeta == 0 else "|tr M| < 1 + det M"
         rows.append(("trace tr M", f"{_fmt(self.trace)}   (stable iff {crit})"))
@@ -162,16 +184,13 @@ class StabilityReport(Summary):
                     rows.append(("", f"frequency > {_fmt(self.frequency_lo, 6)} Hz at this stroke "
                                      f"({_pct(self.frequency_lo, f)}; no upper limit)"))
             if self.stroke_lo is not None and self.stroke_hi is not None:
-                st = self.stroke
-                rows.append(("", f"{_fmt(1e3 * self.stroke_lo, 6)} < stroke < {_fmt(1e3 * self.stroke_hi, 6)} mm at "
-                                 f"this frequency ({_pct(self.stroke_lo, st)} / {_pct(self.stroke_hi, st)})"))
-            pct = 100.0 * self.margin
-            if self.stable:
-                rows.append(("margin",
-                             f"{pct:.4g}% (T may change by this fraction at fixed A before stability is lost)"))
-            else:
-                rows.append(("margin", f"{pct:.4g}% (T must change by this fraction at fixed A to reach zone "
-                                       f"{self.nearest_zone})"))
+                st, k, word = self.stroke, 1.0, "stroke"
+                if self.given == "amplitude":
+                    k, word = 0.5, "amplitude"
+                rows.append(("", f"{_fmt(1e3 * k * self.stroke_lo, 6)} < {word} < {_fmt(1e3 * k * self.stroke_hi, 6)} mm "
+                                 f"at this frequency ({_pct(self.stroke_lo, st)} / {_pct(self.stroke_hi, st)})"))
+            for i, d in enumerate(self.directions):
+                rows.append(("" if i else "to hold it" if not self.stable else "room", d["text"]))
         return rows
 
     def headline(self) -> str:
@@ -181,9 +200,19 @@ class StabilityReport(Summary):
     def as_dict(self) -> dict:
         """JSON-ready dictionary (complex multipliers as ``[re, im]`` pairs)."""
         d = asdict(self)
+        d["directions"] = self.directions
         d["multipliers"] = [[float(z.real), float(z.imag)] for z in self.multipliers]
         return {k: (None if isinstance(v, float) and not np.isfinite(v) and k not in ("trace", "margin") else v)
                 for k, v in d.items()}
+
+
+def _safe_text(theta, periods, stable):
+    """The safe tilt in words."""
+    over = f" over {periods} periods" if periods else ""
+    if not stable or not theta > 0:
+        return "none: the upright is not stable, any tilt grows"
+    return (f"stands for starting tilts from rest below {theta:.3g} rad ({math.degrees(theta):.3g} deg){over}; "
+            "a larger start falls")
 
 
 def _unstable_verdict(tau, nearest, eps, eps_lo):
@@ -198,7 +227,8 @@ def _unstable_verdict(tau, nearest, eps, eps_lo):
 
 def _pct(edge, value):
     """The change from ``value`` to ``edge`` in percent, with its sign."""
-    return f"{100.0 * (edge / value - 1.0):+.3g} %"
+    x = 100.0 * (edge / value - 1.0)
+    return f"{x:+,.0f} %" if abs(x) >= 100 else f"{x:+.3g} %"
 
 
 def _fmt(v, digits=12):
@@ -210,7 +240,7 @@ def _fmt(v, digits=12):
 
 
 def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=0.0,
-            zeta=None) -> StabilityReport:
+            zeta=None, safe_tilt=False) -> StabilityReport:
     """Stability report for one parameter set, given as ``(eps, mu)`` or ``(T, A, l, g)``.
 
     Parameters
@@ -227,6 +257,9 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
         Viscous damping ``c`` >= 0 [1/s] in ``theta'' + c theta' = ...`` (with ``T, A``).
     zeta : float, optional
         Damping ratio ``c / (2 sqrt(g/l))`` >= 0 (with ``eps, mu``).
+    safe_tilt : bool or int, optional
+        Also find the safe tilt (:func:`kapitza.safe_tilt`) over its default periods, or over this
+        many periods (an int); it follows the real pendulum, so it takes up to a second or so.
 
     Returns
     -------
@@ -237,7 +270,12 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     ValueError
         If neither or both parameter sets are given, or a value is out of range.
     """
-    return _analyze(eps, mu, T, A, l, g, drive, damping, zeta)
+    rep = _analyze(eps, mu, T, A, l, g, drive, damping, zeta)
+    if safe_tilt is not False and safe_tilt is not None:
+        from .safety import with_safe_tilt
+
+        rep = with_safe_tilt(rep, drive, None if safe_tilt is True else safe_tilt)
+    return rep
 
 
 def _analyze(eps, mu, T, A, l, g, drive, damping, zeta, pointwise=True):

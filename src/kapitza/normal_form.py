@@ -606,6 +606,8 @@ def sentence(kind, rho, tr, tau, c4) -> str:
         return f"Lyapunov stable at 1:4 (Markeev: |tau| > |c4| = {c4:.10g}); {nums}"
     if kind == "markeev unstable":
         return f"unstable at 1:4 (Markeev: |tau| < |c4| = {c4:.10g}); {nums}"
+    if kind == "linearly unstable":
+        return f"not linearly stable (outside the zones or on an edge): tr M = {tr:.10g}"
     return f"undecided at this order (twist tau = 0, or |tau| = |c4| at 1:4); {nums}, |c4| = {c4:.10g}"
 
 
@@ -659,6 +661,21 @@ class NonlinearVerdict:
 
     def __str__(self) -> str:
         return "\n".join(self.sentences())
+
+
+def _elementwise(eps, mu, st, tau, growth, tol):
+    """:func:`nonlinear_stability` of arrays with some points outside the zones: the stable ones
+    answered as usual, the others ``"linearly unstable"`` (``unstable`` where the growth is > 0)."""
+    nan = np.full(eps.shape, np.nan)
+    out = dict(stable=np.zeros(eps.shape, bool), unstable=growth > 0,
+               kind=np.full(eps.shape, "linearly unstable", dtype=object), rotation_number=nan.copy(),
+               trace=2.0 * tau, twist=nan.copy(), resonant_4=nan.copy())
+    if st.any():
+        sub = nonlinear_stability(eps[st], mu[st], tol=tol)
+        for k in out:
+            out[k][st] = getattr(sub, k)
+    out["kind"] = out["kind"].astype(str)
+    return NonlinearVerdict(eps=eps, mu=mu, **out)
 
 
 def _on_curve(eps, mu, w, target, tol):
@@ -726,7 +743,10 @@ def nonlinear_stability(eps, mu, *, tol=1e-15):
     Raises
     ------
     ValueError
-        Where a point is not linearly stable (``docs/theory.md`` section 5).
+        Where a single point is not linearly stable (``docs/theory.md`` section 5). Arrays are
+        answered element-wise: a point outside the zones (or on an edge) gets the kind
+        ``"linearly unstable"``, ``unstable`` where a multiplier lies outside the unit circle
+        (Lyapunov's theorem on instability by the first approximation), and NaN numbers.
 
     Notes
     -----
@@ -745,6 +765,12 @@ def nonlinear_stability(eps, mu, *, tol=1e-15):
     np.True_
     """
     tol = _v.one("tol", _v.in_range("tol", tol, 0.0, 1.0, lo_open=False))
+    e, m = np.broadcast_arrays(*_v.arnold(eps, mu))
+    if e.ndim > 0:
+        tau, growth, _, st, _ = _floquet(e, m)
+        st = np.asarray(st, bool)
+        if not st.all():
+            return _elementwise(e, m, st, np.asarray(tau, float), np.asarray(growth, float), tol)
     eps, mu = _stable_arnold(eps, mu)
     nf, _ = _normal_form(eps, mu)
     on4 = _on_curve(eps, mu, nf.w, 0.5 * PI, tol)

@@ -151,14 +151,16 @@ class Rig:
                 raise _v.KapitzaValueError("give T and A, or the frequency with the stroke, amplitude or A")
             if stroke is not None or amplitude is not None:
                 raise _v.KapitzaValueError("stroke and amplitude go with frequency, not with T and A")
-            return _v.one("T", _v.positive("T", T)), _v.one("A", _v.positive("A", A))
+            T_, A_ = np.broadcast_arrays(_v.positive("T", T), _v.positive("A", A))
+            return T_[()], A_[()]
         if T is not None:
             raise _v.KapitzaValueError("give T or frequency, not both")
-        T_, A_ = self.drive.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A)
-        return float(T_), float(A_)
+        T_, A_ = np.broadcast_arrays(*self.drive.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
+        return T_[()], A_[()]
 
     def analyze(self, **kwargs):
-        """The stability report of this rig at ``T, A`` or ``frequency`` with ``stroke``/``amplitude``/``A``."""
+        """The stability report of this rig at ``T, A`` or ``frequency`` with ``stroke``/``amplitude``/``A``;
+        arrays (broadcast together) give an object array of reports of their shape."""
         from .analysis import analyze
 
         from dataclasses import replace
@@ -167,4 +169,14 @@ class Rig:
             return self.pendulum.analyze(drive=self.drive, **kwargs)
         T, A = self.physical(**kwargs)
         p = self.pendulum
-        return replace(analyze(T=T, A=A, l=p.l, g=p.g, drive=self.drive, damping=p.damping), pendulum=p.describe())
+
+        def one(t, a):
+            return replace(analyze(T=float(t), A=float(a), l=p.l, g=p.g, drive=self.drive, damping=p.damping),
+                           pendulum=p.describe())
+
+        if np.ndim(T) == 0:
+            return one(T, A)
+        out = np.empty(np.shape(T), dtype=object)
+        for i in np.ndindex(out.shape):
+            out[i] = one(T[i], A[i])
+        return out

@@ -53,12 +53,17 @@ def count(option: str, value: int, limit: int, minimum: int = 1) -> int:
     return bounded_count(option, value, limit, minimum=minimum)
 
 
-def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
-    """The parameter options: --T/--A (with --l, --g) or --eps/--mu; with ``rig`` also the drive,
-    the damping and the units of a rig (frequency, stroke, a uniform rod)."""
+def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False, units=None, drive=None, damping=None):
+    """The parameter options: --T/--A (with --l, --g) or --eps/--mu, and the units of a rig: --frequency
+    (or --rpm) with --stroke, --amplitude or --A, and --rod instead of --l (``units``, on by default
+    with ``rig``). With ``rig`` also the drive (``drive``) and the damping, --damping C or --zeta
+    (``damping``). Every command that takes one parameter set reads them with :func:`parameters_from`."""
+    units = rig if units is None else units
+    drive = rig if drive is None else drive
+    damping = rig if damping is None else damping
     g = p.add_argument_group(
-        "parameters (give --T and --A, or --eps and --mu" + (", or --frequency with --stroke or --amplitude)" if rig
-                                                              else ")"),
+        "parameters (give --T and --A, or --eps and --mu" + (", or --frequency with --stroke, --amplitude or --A)"
+                                                              if units else ")"),
     )
     g.add_argument("--T", type=finite_float, metavar="SECONDS", help="half-period of the drive (period 2T)")
     g.add_argument("--A", type=finite_float, metavar="M/S^2",
@@ -68,26 +73,40 @@ def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False):
     g.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"gravity (default {G_EARTH})")
     g.add_argument("--eps", type=finite_float, help="Arnold's eps = T sqrt(A/(8 l))")
     g.add_argument("--mu", type=finite_float, help="Arnold's mu = sqrt(g/A); mu >= 1 means A <= g")
-    if rig:
-        r = p.add_argument_group("the rig (drive, damping, measured units)")
-        add_drive(r)
-        add_damping(r)
-        r.add_argument("--frequency", type=finite_float, metavar="HZ", help="drive frequency, instead of --T")
-        r.add_argument("--stroke", type=finite_float, metavar="M",
-                       help="peak-to-peak travel of the pivot, with --frequency, instead of --A")
-        r.add_argument("--amplitude", type=finite_float, metavar="M",
-                       help="displacement amplitude (half the stroke), with --frequency, instead of --A")
-        r.add_argument("--rod", type=finite_float, metavar="M",
-                       help="a uniform rod of this length pivoted at one end (equivalent length 2/3 of it), "
-                            "instead of --l")
+    if units or drive or damping:
+        r = p.add_argument_group("the rig (" + ", ".join(w for w, on in (("drive", drive), ("damping", damping),
+                                                                         ("measured units", units)) if on) + ")")
+        if drive:
+            add_drive(r)
+        if damping:
+            add_damping(r)
+        if units:
+            r.add_argument("--frequency", type=finite_float, metavar="HZ", help="drive frequency, instead of --T")
+            r.add_argument("--rpm", type=finite_float, metavar="REV/MIN",
+                           help="revolutions per minute of a cam or crank (one drive period each), instead of "
+                                "--frequency")
+            r.add_argument("--stroke", type=finite_float, metavar="M",
+                           help="peak-to-peak travel of the pivot in metres (3 mm: 0.003), with --frequency, "
+                                "instead of --A")
+            r.add_argument("--amplitude", type=finite_float, metavar="M",
+                           help="displacement amplitude in metres (half the stroke), with --frequency, instead of --A")
+            r.add_argument("--rod", type=finite_float, metavar="M",
+                           help="a uniform rod of this length pivoted at one end (equivalent length 2/3 of it), "
+                                "instead of --l")
 
 
-def damping_from(args, physical):
-    """``{"damping": c}`` from --damping with physical parameters, ``{"zeta": z}`` (or nothing) from
-    --zeta with Arnold's; the other flag given is refused, naming the right one."""
+def damping_from(args, physical, l=None, g=None):
+    """``{"damping": c}`` with physical parameters (from --damping C, or --zeta as ``c = 2 zeta sqrt(g/l)``),
+    ``{"zeta": z}`` (or nothing) with Arnold's; --damping with --eps/--mu is refused (it needs l and g)."""
+    if args.zeta is not None and args.damping:
+        raise CLIError("give the damping as --damping C (1/s) or as --zeta, not both")
     if physical:
         if args.zeta is not None:
-            raise CLIError("with physical parameters give the damping as --damping C (1/s), not --zeta")
+            if args.zeta < 0:
+                raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
+            from ..drives._api import damping_of
+
+            return {"damping": float(damping_of(args.zeta, l, g))}
         return {"damping": args.damping}
     if args.damping:
         raise CLIError("with --eps/--mu give the damping as --zeta (ratio c / (2 sqrt(g/l))), not --damping")
@@ -185,53 +204,131 @@ def drive_file(path, period=None, kind="linear"):
         raise CLIError(f"--drive-file {path}: {exc}") from None
 
 
-def parameters_from(args) -> dict:
-    """Keyword arguments for :func:`kapitza.analyze` from the parsed options."""
-    rig = hasattr(args, "frequency")
-    freq = rig and (args.frequency is not None or args.stroke is not None or args.amplitude is not None)
+#: Beyond these a value is most likely in the wrong unit (mm given as m): computed, but said so.
+PLAUSIBLE_G = 1000.0     # pivot acceleration in g
+PLAUSIBLE_TRAVEL = 1.0   # stroke or amplitude in m
+
+
+def parameters_from(args, arnold_damping=False) -> dict:
+    """Keyword arguments for :func:`kapitza.analyze` from the parsed options.
+
+    Also sets ``args.given`` (``"amplitude"``, ``"stroke"``, ``"A"`` or None: the quantity the answers
+    come in), ``args.pendulum`` (a rod's description) and ``args.rig_note`` (one line when a value is
+    implausible, also printed to standard error). ``arnold_damping``: --damping C is taken with --eps/--mu
+    too (the motion commands, which turn Arnold's parameters into physical ones with --l and --g)."""
+    units = hasattr(args, "frequency")
+    has_drive = hasattr(args, "drive") and hasattr(args, "duty")
+    has_damping = hasattr(args, "zeta") and hasattr(args, "damping")
+    args.given, args.rig_note = None, None
+    if units and getattr(args, "rpm", None) is not None:
+        if args.frequency is not None:
+            raise CLIError("give --frequency or --rpm, not both")
+        if not args.rpm > 0:
+            raise CLIError(f"--rpm must be > 0; got {args.rpm!r}")
+        args.frequency = args.rpm / 60.0
+    freq = units and (args.frequency is not None or args.stroke is not None or args.amplitude is not None)
     phys = args.T is not None or args.A is not None or freq
     arn = args.eps is not None or args.mu is not None
-    if rig and args.rod is not None and args.l is not None:
+    if units and args.rod is not None and args.l is not None:
         raise CLIError("give --l or --rod, not both")
     l = args.l if args.l is not None else 1.0
-    if rig and args.rod is not None:
+    if units and args.rod is not None:
         from ..system import Pendulum
 
         l = Pendulum.uniform_rod(args.rod).l
         args.pendulum = Pendulum.uniform_rod(args.rod).describe()
     extra = {}
-    if rig:
-        extra["drive"] = _drive_from(args)
-        if not (phys or arn) and hasattr(extra["drive"], "period"):
-            args.T, args.A, phys = extra["drive"].T, extra["drive"].A, True  # a measured drive's own T and A
+    drive = _drive_from(args) if has_drive else None
+    if has_drive:
+        extra["drive"] = drive
+        if not (phys or arn) and hasattr(drive, "period"):
+            args.T, args.A, phys = drive.T, drive.A, True  # a measured drive's own T and A
     if phys and arn:
         raise CLIError("give either physical parameters (--T/--A or --frequency) or --eps and --mu, not both")
     if phys:
         if freq:
             if args.frequency is None:
-                raise CLIError("--stroke and --amplitude go with --frequency")
+                raise CLIError("--stroke and --amplitude go with --frequency (or --rpm)")
             if args.T is not None:
                 raise CLIError("give --T or --frequency, not both")
             given = [k for k in ("stroke", "amplitude", "A") if getattr(args, k) is not None]
             if len(given) != 1:
                 raise CLIError("with --frequency give exactly one of --stroke, --amplitude, --A")
-            T, A = extra["drive"].from_rig(args.frequency, stroke=args.stroke, amplitude=args.amplitude,
-                                           acceleration=args.A)
+            from ..drives import SquareWave
+
+            T, A = (drive or SquareWave()).from_rig(args.frequency, stroke=args.stroke, amplitude=args.amplitude,
+                                                   acceleration=args.A)
             T, A = float(T), float(A)
+            args.given = given[0]
+            args.rig_note = _implausible(args, A)
+            if args.rig_note:
+                print(f"kapitza: note: {args.rig_note}", file=sys.stderr)
         else:
             if args.T is None or args.A is None:
                 raise CLIError("--T and --A must be given together")
             T, A = args.T, args.A
-        if rig:
-            extra.update(damping_from(args, physical=True))
+        if has_damping:
+            if not (l > 0 and args.g > 0):
+                raise CLIError(f"--l and --g must be > 0; got l={l!r}, g={args.g!r}")
+            extra.update(damping_from(args, physical=True, l=l, g=args.g))
         return dict(T=T, A=A, l=l, g=args.g, **extra)
     if arn:
         if args.eps is None or args.mu is None:
             raise CLIError("--eps and --mu must be given together")
-        if rig:
-            extra.update(damping_from(args, physical=False))
+        if has_damping:
+            if arnold_damping and args.damping:
+                if args.zeta is not None:
+                    raise CLIError("give the damping as --damping C (1/s) or as --zeta, not both")
+                extra["damping"] = args.damping
+            else:
+                extra.update(damping_from(args, physical=False))
         return dict(eps=args.eps, mu=args.mu, **extra)
-    raise CLIError("give the parameters: --T and --A (physical) or --eps and --mu (Arnold)")
+    raise CLIError("give the parameters: --T and --A (physical), --frequency with --stroke or --amplitude (a rig), "
+                   "or --eps and --mu (Arnold)")
+
+
+def _implausible(args, A):
+    """One line when the rig's numbers are most likely in the wrong unit, else None."""
+    g = args.g
+    ing = A / g if g > 0 else float("inf")
+    for name in ("stroke", "amplitude"):
+        v = getattr(args, name)
+        if v is not None and (ing > PLAUSIBLE_G or v > PLAUSIBLE_TRAVEL):
+            return (f"--{name} {v:g} is {v:g} m: with {args.frequency:g} Hz the pivot accelerates at {A:.4g} m/s^2 = "
+                    f"{ing:,.0f} g; if you meant {v:g} mm, give --{name} {v / 1000:g}")
+    if ing > PLAUSIBLE_G:
+        return f"A = {A:.4g} m/s^2 is {ing:,.0f} g: beyond any real shaker"
+    return None
+
+
+def add_zeta_from_rig(g):
+    """--damping C [1/s] with the pendulum (--rod or --l, --g), instead of --zeta, for the commands on
+    Arnold's plane (the damping ratio is what that plane sees); read by :func:`zeta_from_rig`."""
+    g.add_argument("--damping", type=finite_float, default=None, metavar="1/S",
+                   help="viscous damping c of a rig, instead of --zeta (with --rod or --l, and --g)")
+    g.add_argument("--rod", type=finite_float, default=None, metavar="M",
+                   help="with --damping: a uniform rod of this length (l = 2/3 of it)")
+    g.add_argument("--l", type=finite_float, default=None, metavar="M", help="with --damping: equivalent length (default 1)")
+    g.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"with --damping: gravity (default {G_EARTH})")
+
+
+def zeta_from_rig(args, zeta):
+    """The damping ratio: ``zeta`` (--zeta), or ``c / (2 sqrt(g/l))`` of --damping with the rod."""
+    if args.damping is None:
+        if args.rod is not None or args.l is not None:
+            raise CLIError("--rod and --l go with --damping (the damping ratio needs the pendulum's length)")
+        return zeta
+    if zeta:
+        raise CLIError("give the damping as --zeta or as --damping C (1/s), not both")
+    if args.rod is not None and args.l is not None:
+        raise CLIError("give --l or --rod, not both")
+    l = 2.0 * args.rod / 3.0 if args.rod is not None else (1.0 if args.l is None else args.l)
+    if not (args.damping >= 0 and l > 0 and args.g > 0):
+        raise CLIError(f"need --damping >= 0 and a length and --g > 0; got damping={args.damping!r}, l={l!r}, "
+                       f"g={args.g!r}")
+    from ..drives._api import zeta_of
+
+    return float(zeta_of(args.damping, l, args.g))
 
 
 def print_json(obj):

@@ -8,7 +8,7 @@ import numpy as np
 from .. import _io
 from ..drives import parse_drive
 from ..limits import threshold_table
-from ._common import CLIError, count, finite_float, format_table, out_stem, print_json
+from ._common import CLIError, add_zeta_from_rig, count, finite_float, format_table, out_stem, print_json, zeta_from_rig
 
 DRIVE_HELP = ("a drive: 'square' (the paper's), 'sine', 'rectangular:DUTY' (e.g. rectangular:0.3), or "
               "'steps:LEVELS:FRACTIONS' (e.g. steps:2,-1,1,-1:0.2,0.3,0.2,0.3: accelerations LEVELS x A for "
@@ -40,6 +40,7 @@ def register(sub):
                    help=DRIVE_HELP + "; repeat for several (default: square, sine, rectangular:0.3)")
     p.add_argument("--zeta", type=finite_float, default=0.0,
                    help="also draw each drive with this damping ratio c / (2 sqrt(g/l)) (default 0: none)")
+    add_zeta_from_rig(p.add_argument_group("the damping of a rig (instead of --zeta)"))
     p.add_argument("--eps-max", type=finite_float, default=4.0, help="right end of the chart (default 4)")
     p.add_argument("--points", type=int, default=400, help="mu samples per edge curve (default 400, at most 20000)")
     p.add_argument("--mu", type=str, default="0.02,0.05,0.1,0.2,0.3",
@@ -58,6 +59,7 @@ def _mu_list(text):
 
 def cmd_compare(args):
     drives = args.drives or [parse_drive("square"), parse_drive("sine"), parse_drive("rectangular:0.3")]
+    args.zeta = zeta_from_rig(args, args.zeta)
     if not (0.0 <= args.zeta < 10.0):
         raise CLIError(f"--zeta must lie in [0, 10); got {args.zeta!r}")
     if not (0.0 < args.eps_max <= 50.0):

@@ -9,8 +9,8 @@ from .. import _io
 from ..analysis import analyze
 from ..periodic import boundary_table
 from .._validate import bounded_work
-from ._common import (CLIError, add_drive, add_parameters, count, drive_from, finite_float, format_table, out_stem,
-                      parameters_from, print_json)
+from ._common import (CLIError, add_drive, add_parameters, add_zeta_from_rig, count, drive_from, finite_float,
+                      format_table, out_stem, parameters_from, print_json, zeta_from_rig)
 
 
 def register(sub):
@@ -18,17 +18,23 @@ def register(sub):
         "stability",
         help="verdict, zone, Floquet multipliers, growth and margins for one parameter set",
         description="Is the upright position stable for these parameters, in which zone, and by what margin?\n\n"
-        "margin: signed relative distance to the nearest zone edge along eps, i.e. the fraction by which\n"
-        "the drive period may change at fixed A (> 0 inside a zone, < 0 outside). With --T/--A the zone is\n"
-        "also given as intervals of T (at this A) and of A (at this T).",
+        "safe tilt: the largest starting tilt from rest the real (nonlinear) pendulum survives above the\n"
+        "horizontal for --safe-periods periods; the small-tilt verdict holds only below it.\n"
+        "to hold it / room: which knob to turn which way and how far to reach the nearest zone (or how far\n"
+        "each may go inside it), in the quantity given (frequency with stroke or amplitude, or T and A).\n"
+        "margin (JSON): signed relative distance to the nearest zone edge along eps at fixed mu.",
         epilog="examples:\n  kapitza stability --T 0.15 --A 100\n  kapitza stability --eps 0.5 --mu 0.3 --json\n"
         "  kapitza stability --drive sine --frequency 40 --amplitude 0.01 --rod 0.3 --damping 0.2\n"
         "  kapitza stability --duty 0.3 --T 0.15 --A 100 --check && echo stable",
     )
     add_parameters(p, rig=True)
     p.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    p.add_argument("--safe-periods", type=int, default=50, metavar="N",
+                   help="periods 2T a start must survive for the safe tilt (default 50)")
+    p.add_argument("--no-safe-tilt", dest="safe_tilt", action="store_false",
+                   help="skip the safe tilt (it follows the real pendulum: up to a second or so)")
     p.add_argument("--check", action="store_true",
-                   help="exit with status 1 when the upright is unstable (0 when stable), for scripts")
+                   help="exit with status 1 when the upright is unstable (0 when stable), for scripts (no safe tilt)")
     p.set_defaults(func=cmd_stability)
 
     p = sub.add_parser(
@@ -64,6 +70,7 @@ def register(sub):
                    help="print JSON to standard output (with --out: only a summary of what was written)")
     add_drive(p.add_argument_group("the pivot's motion"))
     p.add_argument("--zeta", type=finite_float, default=0.0, help="damping ratio c / (2 sqrt(g/l)) (default 0)")
+    add_zeta_from_rig(p.add_argument_group("the damping of a rig (instead of --zeta)"))
     p.set_defaults(func=cmd_zones)
 
     p = sub.add_parser(
@@ -77,11 +84,13 @@ def register(sub):
         epilog="examples:\n  kapitza chart --out chart\n"
         "  kapitza chart --eps-min 1.65 --eps-max 1.8 --mu-min 0 --mu-max 0.35 --out zoom   # zone 1 up close\n"
         "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set\n"
-        "  kapitza chart --plane physical --l 0.5 --mark-T 0.1 --mark-A 150 --out rod",
+        "  kapitza chart --plane physical --l 0.5 --mark-T 0.1 --mark-A 150 --out rod\n"
+        "  kapitza chart --plane rig --drive sine --rod 0.25 --frequency 50 --amplitude 0.003 --out shaker",
     )
     p.add_argument("--out", default="kapitza-chart", metavar="STEM", help="output path without suffix (default kapitza-chart)")
-    p.add_argument("--plane", choices=("arnold", "physical"), default="arnold",
-                   help="arnold: eps-mu plane (default); physical: half-period T vs amplitude A for the rod --l under --g")
+    p.add_argument("--plane", choices=("arnold", "physical", "rig"), default="arnold",
+                   help="arnold: eps-mu plane (default); physical: half-period T vs amplitude A for the rod --l under --g; "
+                        "rig: drive frequency vs stroke (log axes, the window around --frequency/--stroke when given)")
     p.add_argument("--eps-min", type=finite_float, default=0.0, help="arnold plane window (default 0..4)")
     p.add_argument("--eps-max", type=finite_float, default=4.0)
     p.add_argument("--mu-min", type=finite_float, default=0.0,
@@ -108,6 +117,18 @@ def register(sub):
     add_drive(p.add_argument_group("the pivot's motion (arnold plane)"))
     p.add_argument("--zeta", type=finite_float, default=0.0,
                    help="damping ratio c / (2 sqrt(g/l)) (default 0; arnold plane)")
+    r = p.add_argument_group("the rig (a point to mark in measured units; the rig plane's window)")
+    r.add_argument("--frequency", type=finite_float, metavar="HZ", help="mark the rig at this drive frequency ...")
+    r.add_argument("--rpm", type=finite_float, metavar="REV/MIN", help="... or at this many cam revolutions per minute")
+    r.add_argument("--stroke", type=finite_float, metavar="M", help="... with this stroke (peak-to-peak, metres)")
+    r.add_argument("--amplitude", type=finite_float, metavar="M", help="... or this displacement amplitude (metres)")
+    r.add_argument("--rod", type=finite_float, metavar="M", help="a uniform rod of this length (l = 2/3 of it), instead of --l")
+    r.add_argument("--damping", type=finite_float, default=None, metavar="1/S",
+                   help="viscous damping c, instead of --zeta (with the rod's l and g)")
+    r.add_argument("--frequency-min", type=finite_float, metavar="HZ", help="rig plane window (default around the rig)")
+    r.add_argument("--frequency-max", type=finite_float, metavar="HZ")
+    r.add_argument("--stroke-min", type=finite_float, metavar="M", help="rig plane window in metres")
+    r.add_argument("--stroke-max", type=finite_float, metavar="M")
     p.set_defaults(func=cmd_chart)
 
 
@@ -115,11 +136,21 @@ def register(sub):
 def cmd_stability(args):
     from dataclasses import replace
 
-    rep = analyze(**parameters_from(args))
+    rep = analyze(**(kw := parameters_from(args)))
     if getattr(args, "pendulum", None):
         rep = replace(rep, pendulum=args.pendulum)
+    if args.given:
+        rep = replace(rep, given=args.given)
+    if args.safe_tilt and not args.check:  # a script asking --check wants the verdict alone, at once
+        from ..safety import with_safe_tilt
+
+        count("--safe-periods", args.safe_periods, 100_000)
+        rep = with_safe_tilt(rep, kw.get("drive"), args.safe_periods)
     if args.json:
-        print_json(rep.as_dict())
+        d = rep.as_dict()
+        if args.rig_note:
+            d["warning"] = args.rig_note
+        print_json(d)
     else:
         print(rep)
     return 1 if (args.check and not rep.stable) else 0
@@ -172,6 +203,7 @@ def cmd_zones(args):
     if args.out and Path(args.out).suffix.lower() not in (".csv", ".json"):
         raise CLIError(f"--out must end in .csv or .json; got {args.out!r}")
     mu = np.linspace(args.mu_min, args.mu_max, args.points)
+    args.zeta = zeta_from_rig(args, args.zeta)
     if args.zeta < 0:
         raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
     n, lo, hi = _zone_rows(args.zones, mu, drive, args.zeta)
@@ -204,12 +236,44 @@ def cmd_zones(args):
 
 
 # ------------------------------------------------------------------ chart
+def _chart_rig_options(args):
+    """The rig's options of ``chart``: --rod sets --l, --damping sets --zeta, and --frequency (or --rpm)
+    with --stroke or --amplitude sets --mark-T/--mark-A (for the drive)."""
+    if args.rod is not None:
+        if args.l != 1.0:
+            raise CLIError("give --l or --rod, not both")
+        if not args.rod > 0:
+            raise CLIError(f"--rod must be > 0; got {args.rod!r}")
+        args.l = 2.0 * args.rod / 3.0
+    if args.damping is not None:
+        if args.zeta:
+            raise CLIError("give the damping as --damping C (1/s) or as --zeta, not both")
+        if not (args.damping >= 0 and args.l > 0 and args.g > 0):
+            raise CLIError(f"--damping must be >= 0 (with --l, --g > 0); got {args.damping!r}")
+        from ..drives._api import zeta_of
+
+        args.zeta = float(zeta_of(args.damping, args.l, args.g))
+    if args.rpm is not None:
+        if args.frequency is not None:
+            raise CLIError("give --frequency or --rpm, not both")
+        args.frequency = args.rpm / 60.0
+    if args.frequency is None and args.stroke is None and args.amplitude is None:
+        return
+    if args.frequency is None or (args.stroke is None) == (args.amplitude is None):
+        raise CLIError("mark a rig by --frequency (or --rpm) with one of --stroke, --amplitude")
+    if args.mark_T is not None or args.mark_A is not None or args.mark_eps is not None:
+        raise CLIError("give the mark by --frequency with --stroke/--amplitude, or by --mark-T/--mark-A, not both")
+    T, A = drive_from(args).from_rig(args.frequency, stroke=args.stroke, amplitude=args.amplitude)
+    args.mark_T, args.mark_A = float(T), float(A)
+
+
 def cmd_chart(args):
     from ..figures._style import save
     from ..curves import mu_top, mu_top_note
     from ..figures.chart import chart_figure
 
     count("--points", args.points, 200_000, minimum=2)
+    _chart_rig_options(args)
     mark = None
     if args.mark_eps is not None or args.mark_mu is not None:
         if args.mark_eps is None or args.mark_mu is None:
@@ -223,6 +287,10 @@ def cmd_chart(args):
             raise CLIError("--mark-T and --mark-A must be given together")
         rep = analyze(T=args.mark_T, A=args.mark_A, l=args.l, g=args.g)
         mark = (rep, f"T = {args.mark_T:g} s, A = {args.mark_A:g} m/s$^2$")
+        if args.frequency is not None:
+            given = (f"stroke {1e3 * args.stroke:g} mm" if args.stroke is not None else
+                     f"amplitude {1e3 * args.amplitude:g} mm")
+            mark = (rep, f"{args.frequency:g} Hz, {given}")
     drive = drive_from(args)
     if args.zeta < 0:
         raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
@@ -248,7 +316,7 @@ def cmd_chart(args):
                            f"{args.mu_max:g}")
     elif args.l <= 0 or args.g <= 0:
         raise CLIError(f"--l and --g must be > 0; got l={args.l:g}, g={args.g:g}")
-    elif general:  # each edge of another drive is a root solve: bound the largest eps in view, as above
+    elif general and args.plane == "physical":  # each edge of another drive is a root solve: bound the eps in view
         from ..curves import physical_window
         from ..parameters import to_arnold
 
@@ -258,10 +326,19 @@ def cmd_chart(args):
             raise CLIError(f"need T-max sqrt(A-max / (8 l)) <= 50 (the largest eps in view) for another drive or "
                            f"damping; got {eps_max:g}")
     stem = out_stem(args.out)
-    fig, curves, header = chart_figure(
-        args.plane, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), (args.T_min, args.T_max),
-        (args.A_min, args.A_max), l=args.l, g=args.g, drive=drive, zeta=args.zeta, points=args.points, mark=mark,
-        show_G=args.show_G, magnify=args.magnify, title=args.title)
+    if args.plane == "rig":
+        from ..figures.chart import rig_chart_figure
+
+        if mark is not None and mark[0].T is None:
+            raise CLIError("on the rig plane mark the rig by --frequency with --stroke or --amplitude (or --mark-T/--mark-A)")
+        fig, curves, header = rig_chart_figure(
+            (args.frequency_min, args.frequency_max), (args.stroke_min, args.stroke_max), l=args.l, g=args.g,
+            drive=drive, zeta=args.zeta, points=min(args.points, 2000), mark=mark, title=args.title, rod=args.rod)
+    else:
+        fig, curves, header = chart_figure(
+            args.plane, (args.eps_min, args.eps_max), (args.mu_min, args.mu_max), (args.T_min, args.T_max),
+            (args.A_min, args.A_max), l=args.l, g=args.g, drive=drive, zeta=args.zeta, points=args.points, mark=mark,
+            show_G=args.show_G, magnify=args.magnify, title=args.title)
     formats = ("png", "svg", "pdf") if args.pdf else ("png", "svg")
     paths = save(fig, stem, formats)
     import matplotlib.pyplot as plt

@@ -9,8 +9,8 @@ from .. import _io
 from .. import _validate as _v
 from ..analysis import analyze
 from ..motion.pair import parameters_summary
-from ._common import (add_drive, add_parameters, count, drive_from, finite_float, format_table,
-                      out_stem, parameters_from, positive_float, print_json)
+from ._common import (add_parameters, count, finite_float, format_table, out_stem, parameters_from, positive_float,
+                      print_json)
 
 
 def register(sub):
@@ -26,8 +26,7 @@ def register(sub):
         "  kapitza simulate --T 0.3 --A 100 --theta0 0.05 --periods 30 --out fall\n"
         "  kapitza simulate --eps 0.53 --mu 0.31 --theta0 0.2 --damping 0.5 --json",
     )
-    add_parameters(p)
-    _add_drive(p)
+    add_parameters(p, rig=True)
     _add_start(p)
     p.add_argument("--periods", type=finite_float, default=20.0, help="duration in drive periods 2T (default 20)")
     p.add_argument("--points-per-period", type=int, default=200, help="samples per period (default 200)")
@@ -52,8 +51,7 @@ def register(sub):
         "  kapitza animate --T 0.3 --A 100 --theta0 0.1 --out falls.gif      # falls\n"
         "  kapitza animate --T 0.15 --A 100 --theta0 0.1 --out upright.mp4 --fps 30",
     )
-    add_parameters(p)
-    _add_drive(p)
+    add_parameters(p, rig=True)
     _add_start(p)
     p.add_argument("--periods", type=finite_float, default=10.0, help="duration in drive periods 2T (default 10)")
     p.add_argument("--model", choices=["nonlinear", "linear"], default="nonlinear")
@@ -80,8 +78,7 @@ def register(sub):
         "  kapitza basin --T 0.3 --A 100 --out basin-unstable     # unstable: nothing stays\n"
         "  kapitza basin --T 0.15 --A 100 --model nonlinear --resolution 301 --workers 2 --json",
     )
-    add_parameters(p)
-    _add_drive(p)
+    add_parameters(p, rig=True)
     p.add_argument("--tol", type=finite_float, default=0.5, metavar="RAD", help="window half-width (default 0.5 rad)")
     p.add_argument("--periods", type=int, default=50, help="periods 2T to follow (default 50)")
     p.add_argument("--theta-max", type=finite_float, default=None, metavar="RAD", help="grid half-width in theta (default tol)")
@@ -89,9 +86,6 @@ def register(sub):
                    help="grid half-width in theta' (default 2 tol / T)")
     p.add_argument("--resolution", type=int, default=121, help="grid points per axis (default 121)")
     p.add_argument("--model", choices=["nonlinear", "linear", "both"], default="both")
-    p.add_argument("--damping", type=finite_float, default=0.0, metavar="C",
-                   help="linear damping c [1/s] (default 0; c > 0 follows the motion by DOP853, the window checked "
-                        "at sampled instants)")
     p.add_argument("--workers", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--out", default="kapitza-basin", metavar="STEM", help="output stem (default kapitza-basin)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -106,13 +100,8 @@ def _add_start(p):
     g.add_argument("--dtheta0", type=finite_float, default=0.0, metavar="RAD/S", help="angular velocity (default 0)")
 
 
-def _add_drive(p):
-    add_drive(p.add_argument_group("the pivot's motion"))
-
-
 def _add_solver(p):
     g = p.add_argument_group("solver")
-    g.add_argument("--damping", type=finite_float, default=0.0, metavar="C", help="linear damping c [1/s] (default 0)")
     g.add_argument("--method", choices=["exact", "dop853"], default=None,
                    help="exact phase maps (undamped) or DOP853 (default: exact unless damped)")
     g.add_argument("--rtol", type=finite_float, default=1e-10, help="DOP853 relative tolerance (default 1e-10)")
@@ -120,15 +109,40 @@ def _add_solver(p):
 
 
 def _physical_from(args):
-    """``(T, A, l, g)`` from --T/--A or --eps/--mu (with --l, --g), validated."""
-    kw = parameters_from(args)
+    """``(T, A, l, g, report)`` from any parameter set (--T/--A, --frequency with --stroke/--amplitude,
+    or --eps/--mu with --l, --g), validated; sets ``args.drive_obj`` and ``args.damping`` (c in 1/s)."""
+    from dataclasses import replace
+
+    kw = parameters_from(args, arnold_damping=True)
+    args.drive_obj = kw.pop("drive")
     if "eps" in kw:
-        T, A, l, g = (float(v) for v in _v.physical_parameters(None, None, 1.0 if args.l is None else args.l, args.g,
-                                                                 kw["eps"], kw["mu"]))
-        kw = dict(T=T, A=A, l=l, g=g)
-    args.drive_obj = drive_from(args)
-    rep = analyze(**kw, drive=args.drive_obj, damping=getattr(args, "damping", 0.0) or 0.0)
+        l = 1.0 if args.l is None else args.l
+        T, A, l, g = (float(v) for v in _v.physical_parameters(None, None, l, args.g, kw["eps"], kw["mu"]))
+        zeta = kw.get("zeta") or 0.0
+        from ..drives._api import damping_of
+
+        c = float(damping_of(zeta, l, g)) if zeta else kw.get("damping", 0.0)
+        kw = dict(T=T, A=A, l=l, g=g, damping=c)
+    args.damping = kw.get("damping", 0.0) or 0.0
+    rep = analyze(T=kw["T"], A=kw["A"], l=kw["l"], g=kw["g"], drive=args.drive_obj, damping=args.damping)
+    if getattr(args, "pendulum", None) or args.given:
+        rep = replace(rep, pendulum=getattr(args, "pendulum", None) or rep.pendulum, given=args.given)
     return kw["T"], kw["A"], kw["l"], kw["g"], rep
+
+
+def _parameters_line(args, T, A, l, g, rep):
+    """The parameters as given (a rig's frequency and stroke or amplitude) and as the formulas use them."""
+    rig = ""
+    if args.given in ("stroke", "amplitude"):
+        rig = f"{0.5 / T:.6g} Hz, {args.given} {1e3 * getattr(args, args.given):.6g} mm; "
+    return (f"parameters   {rig}T = {T:.6g} s, A = {A:.6g} m/s^2 ({A / g:.4g} g), l = {l:g} m, g = {g:g} m/s^2 "
+            f"(eps = {rep.eps:.6g}, mu = {rep.mu:.6g})")
+
+
+def _noted(summary, args):
+    if args.rig_note:
+        summary["note"] = args.rig_note
+    return summary
 
 
 # ------------------------------------------------------------------ simulate
@@ -143,7 +157,7 @@ def cmd_simulate(args):
                        periods=args.periods, points_per_period=args.points_per_period, c=args.damping,
                        method=args.method, rtol=args.rtol, atol=args.atol, drive=args.drive_obj)
     traj, linear, linear_note = pair.motion, pair.linear, pair.linear_note
-    summary = pair.summary(rep)
+    summary = _noted(pair.summary(rep), args)
     files = []
     if args.out:
         stem = out_stem(args.out)
@@ -168,7 +182,7 @@ def cmd_simulate(args):
     if args.json:
         print_json(summary)
         return 0
-    print(f"parameters   T = {T:.6g} s, A = {A:.6g} m/s^2, l = {l:g} m, g = {g:g} m/s^2 (eps = {rep.eps:.6g}, mu = {rep.mu:.6g})")
+    print(_parameters_line(args, T, A, l, g, rep))
     print(f"drive        {rep.drive}" + (f", damping c = {args.damping:g} 1/s" if args.damping else ""))
     print(f"upright      {rep.verdict}")
     print(f"start        theta0 = {args.theta0:g} rad, dtheta0 = {args.dtheta0:g} rad/s")
@@ -280,7 +294,7 @@ def cmd_basin(args):
     if args.json:
         print_json(summary)
         return 0
-    print(f"parameters   T = {T:.6g} s, A = {A:.6g} m/s^2, l = {l:g} m, g = {g:g} m/s^2 (eps = {rep.eps:.6g}, mu = {rep.mu:.6g})")
+    print(_parameters_line(args, T, A, l, g, rep))
     print(f"upright      {rep.verdict}")
     for b in basins:
         print(f"{b.model:10s}   {100 * b.fraction:.3g}% of the {b.survived.shape[1]} x {b.survived.shape[0]} grid stays "

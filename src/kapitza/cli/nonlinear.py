@@ -20,10 +20,11 @@ def register(sub):
         "curves, twist zeros) as OUT.png, OUT.svg, OUT.csv and OUT.json. --rotation: the measured\n"
         "rotation number of long exact runs against rho_0 + tau r^2 at the point, as OUT-rotation.*.",
         epilog="examples:\n  kapitza nonlinear --eps 0.5 --mu 0.3\n  kapitza nonlinear --T 0.15 --A 100 --json\n"
+        "  kapitza nonlinear --frequency 40 --amplitude 0.05 --rod 0.3\n"
         "  kapitza nonlinear --chart --out nonlinear\n"
         "  kapitza nonlinear --eps 0.5 --mu 0.3 --rotation --out run",
     )
-    add_parameters(p, required=False)
+    add_parameters(p, required=False, units=True)
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--chart", action="store_true", help="draw the nonlinear chart (needs no point)")
     p.add_argument("--zones", type=int, default=3, metavar="N", help="zones 0..N-1 on the chart (default 3, at most 6)")
@@ -50,7 +51,8 @@ def _point(args):
 
 
 def _given(args):
-    return any(getattr(args, k) is not None for k in ("T", "A", "eps", "mu"))
+    return any(getattr(args, k, None) is not None for k in ("T", "A", "eps", "mu", "frequency", "rpm", "stroke",
+                                                             "amplitude"))
 
 
 def cmd_nonlinear(args):

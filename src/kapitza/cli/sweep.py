@@ -43,6 +43,8 @@ def register(sub):
                         ("A", "acceleration amplitude range [m/s^2]")):
         w.add_argument(f"--{name}", nargs=2, type=finite_float, metavar=("LO", "HI"), help=help_)
     w.add_argument("--l", type=finite_float, default=1.0, metavar="M", help="rod length (default 1)")
+    w.add_argument("--rod", type=finite_float, default=None, metavar="M",
+                   help="a uniform rod of this length pivoted at one end (l = 2/3 of it), instead of --l")
     w.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"gravity (default {G_EARTH})")
     w.add_argument("--resolution", nargs="+", type=int, default=[32, 24], metavar="N",
                    help="grid points along x (eps or T) and y (mu or A); one number for both (default 32 24)")
@@ -97,7 +99,11 @@ def _damping_from(args, plane):
     for flag, v in (("--damping", args.damping), ("--zeta", args.zeta)):
         if v is not None and v < 0:
             raise CLIError(f"{flag} must be >= 0; got {v!r}")
-    given = damping_from(args, physical=plane == "physical")
+    if plane == "physical" and args.zeta is not None:
+        from .._validate import positive
+
+        positive("l", args.l), positive("g", args.g)
+    given = damping_from(args, physical=plane == "physical", l=args.l, g=args.g)
     if "zeta" not in given:
         return given.get("damping", 0.0)
     from ..drives._api import damping_of
@@ -132,6 +138,12 @@ def spec_from(args):
     from ..sweeps import SweepSpec
 
     plane, xr, yr = _window(args)
+    if args.rod is not None:
+        if args.l != 1.0:
+            raise CLIError("give --l or --rod, not both")
+        from ..system import Pendulum
+
+        args.l = Pendulum.uniform_rod(args.rod).l
     if len(args.resolution) not in (1, 2):
         raise CLIError(f"--resolution takes one or two numbers; got {len(args.resolution)}")
     res = args.resolution * 2 if len(args.resolution) == 1 else args.resolution

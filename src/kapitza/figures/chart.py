@@ -26,6 +26,8 @@ __all__ = [
     "PhysicalZoneCurves",
     "plot_zones_physical",
     "chart_figure",
+    "plot_zones_rig",
+    "rig_chart_figure",
 ]
 
 
@@ -52,7 +54,7 @@ def _draw_tongues(ax, n, y, x_lo, x_hi, x_range, label_zones=True):
 
 
 def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, points=1200, label_zones=True,
-               legend="outside"):
+               legend="outside", drive=None, zeta=0.0):
     """Draw the exact stability zones in the ``eps``-``mu`` plane.
 
     Parameters
@@ -70,11 +72,18 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
         Write the zone index beside each tongue.
     legend : {"outside", "inside", None}
         Legend just right of the axes, inside them, or none.
+    drive : Drive or str, optional
+        The pivot's motion (``"sine"``, ``"rectangular:0.3"``, a :class:`kapitza.drives.Drive`);
+        the paper's square wave by default.
+    zeta : float, optional
+        Damping ratio ``c / (2 sqrt(g/l))`` (0: undamped). With another drive or damping the edges
+        are root solves (:func:`kapitza.figures.drives.drive_curves`; ``show_G`` does not apply).
 
     Returns
     -------
     Drawn
-        Artists ``"fill"``, ``"edges"`` (lists), ``"G"``; ``.data`` the :class:`ZoneCurves`.
+        Artists ``"fill"``, ``"edges"`` (lists), ``"G"``; ``.data`` the :class:`ZoneCurves` (another
+        drive or damping: the drive's curves).
 
     Notes
     -----
@@ -96,6 +105,23 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
 
     if ax is None:
         _, ax = plt.subplots(layout="constrained")
+    from ..drives import as_drive
+
+    general = as_drive(drive)
+    general = None if general.closed_form(_v.damping_ratio(zeta)) else general
+    if general is not None:
+        from .drives import drive_curves, plot_drive_comparison
+
+        top = mu_top(general)
+        window_range(eps_range, mu_range, top)
+        mu_s = np.linspace(max(mu_range[0], 1e-3), min(mu_range[1], 0.999 * top), min(points, 4000))
+        dc = drive_curves(general, mu_s, eps_range[1], float(zeta))
+        out = plot_drive_comparison([dc], ax, eps_range=eps_range, mu_range=mu_range)
+        ax.set_xlabel(r"$\varepsilon = T\sqrt{A}/\sqrt{8l}$")
+        ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
+        if not legend and out.get("legend") is not None:
+            out["legend"].remove()
+        return out
     curves = zone_curves(eps_range, mu_range, points)
     out = Drawn(ax, _draw_tongues(ax, curves.n, curves.mu, curves.eps_lo, curves.eps_hi, eps_range, label_zones),
                 data=curves)
@@ -343,7 +369,7 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
 
 def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_range=(0.0, None), A_range=(None, None),
                  *, l=1.0, g=9.81, drive=None, zeta=0.0, points=1200, mark=None, show_G=True, magnify=True,
-                 title=None):
+                 title=None, frequency_range=None, stroke_range=None):
     """The whole chart ``kapitza chart`` writes and the explorer exports: zones, edges, caption.
 
     Parameters
@@ -375,13 +401,16 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     """
     from ._style import caption, new_figure
 
+    if plane == "rig":
+        return rig_chart_figure(frequency_range, stroke_range, l=l, g=g, drive=drive, zeta=zeta,
+                                points=min(points, 2000), mark=mark, title=title)
     from ..drives import as_drive
 
     general = as_drive(drive)
     general = None if general.closed_form(_v.damping_ratio(zeta)) else general
     zeta = float(zeta)
     if plane not in ("arnold", "physical"):
-        raise _v.KapitzaValueError(f"plane must be 'arnold' or 'physical'; got {plane!r}")
+        raise _v.KapitzaValueError(f"plane must be 'arnold', 'physical' or 'rig'; got {plane!r}")
     top = mu_top(general)
     if plane == "arnold":
         window_range(eps_range, mu_range, top)
@@ -459,3 +488,106 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
                      r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
                      + extra)
     return fig, curves, header
+
+
+def _real_log_ticks(axis):
+    """Log axis ticks labelled as plain numbers (0.5, 2, 20, 200), not powers of ten."""
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    def label(v, _pos):
+        return f"{v:.6g}" if v > 0 else ""
+
+    axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(label))
+    axis.set_minor_locator(LogLocator(base=10.0, subs=tuple(range(1, 10))))
+    axis.set_minor_formatter(FuncFormatter(lambda v, p: ""))
+
+
+def plot_zones_rig(ax=None, frequency_range=None, stroke_range=None, l=1.0, g=9.81, drive=None, zeta=0.0, points=300,
+                   around=None, label_zones=True, legend="outside"):
+    """Draw the stability zones as a rig is set: drive frequency [Hz] across, stroke [mm] up, both log.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes, optional
+    frequency_range, stroke_range : (float, float), optional
+        Hz and metres (the axis shows millimetres); defaults sized to the rig
+        (:func:`kapitza.rig_plane.rig_window`, around ``around = (frequency, stroke)`` when given).
+    l, g, drive, zeta :
+        Equivalent length [m], gravity, the pivot's motion and the damping ratio.
+    points : int
+        Stroke samples.
+
+    Returns
+    -------
+    Drawn
+        Artists ``"fill"``, ``"edges"``; ``.data`` the :class:`kapitza.rig_plane.RigZoneCurves`.
+    """
+    import matplotlib.pyplot as plt
+
+    from ..rig_plane import rig_zone_curves
+
+    res = rig_zone_curves(frequency_range, stroke_range, l, g, drive, zeta, points, around)
+    if ax is None:
+        _, ax = plt.subplots(layout="constrained")
+    (f0, f1), (s0, s1) = res.frequency_range, res.stroke_range
+    far_lo, far_hi = f0 / 10.0, f1 * 10.0  # an edge beyond the window, drawn outside it
+    lo = np.where(res.f_lo == -np.inf, far_lo, res.f_lo)
+    hi = np.where(res.f_hi == np.inf, far_hi, res.f_hi)
+    out = Drawn(ax, _draw_tongues(ax, res.n, 1e3 * res.stroke, lo, hi, (f0, f1), label_zones=False), data=res)
+    for i, k in enumerate(res.n):
+        if not label_zones:
+            break
+        ok = np.flatnonzero(np.isfinite(lo[i]) & np.isfinite(hi[i]) & (hi[i] > f0) & (lo[i] < f1))
+        if ok.size:
+            j = int(ok[ok.size // 3])
+            x = float(np.sqrt(max(lo[i, j], f0) * min(hi[i, j], f1)))
+            ax.annotate(f"n={k}", (x, 1e3 * res.stroke[j]), fontsize=9, ha="center", va="center", color="0.15",
+                        bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.75))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(f0, f1)
+    ax.set_ylim(1e3 * s0, 1e3 * s1)
+    _real_log_ticks(ax.xaxis)
+    _real_log_ticks(ax.yaxis)
+    ax.set_xlabel("drive frequency [Hz]")
+    ax.set_ylabel("stroke (peak-to-peak travel of the pivot) [mm]")
+    ax.grid(True, which="major", color="0.88", linewidth=0.6)
+    if legend:
+        out["legend"] = place_legend(ax, inside=(legend == "inside"))
+    return out
+
+
+def rig_chart_figure(frequency_range=None, stroke_range=None, *, l=1.0, g=9.81, drive=None, zeta=0.0, points=300,
+                     mark=None, title=None, rod=None):
+    """The frequency-stroke chart of a rig (``kapitza chart --plane rig``): the zones on log axes with
+    real tick labels, the window sized to the rig (around the marked point when there is one).
+
+    ``mark``: ``(StabilityReport, label)`` with physical ``T`` and ``A``: starred, and the window centred
+    on it. Returns ``(Figure, RigZoneCurves, CSV header)``.
+    """
+    from ..drives import as_drive, parse_drive
+    from ._style import caption, new_figure
+
+    d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
+    around = None
+    if mark is not None:
+        rep = mark[0]
+        if rep.T is None:
+            raise _v.KapitzaValueError("on the rig plane mark a point by its frequency and stroke (or T and A)")
+        around = (0.5 / rep.T, float(d.stroke(rep.T, rep.A)))
+    fig = new_figure(8.6, 5.4)
+    ax = fig.add_subplot()
+    res = plot_zones_rig(ax, frequency_range, stroke_range, l, g, d, zeta, points, around, legend=None).data
+    if mark is not None:
+        f, s = around
+        ax.plot([f], [1e3 * s], marker="*", markersize=14, color="gold", markeredgecolor="k", linestyle="none",
+                label=f"{mark[1]}: {mark[0].verdict.split(':')[0].split(' (')[0]}")
+    place_legend(ax)
+    damped = f", damping ratio {float(zeta):g}" if zeta else ""
+    body = f"uniform rod of {rod:g} m (l = {l:.4g} m)" if rod else f"equivalent length l = {l:.4g} m"
+    ax.set_title(title or f"Where the upright stands: {d.describe()}{damped}", fontsize=10)
+    caption(fig, f"Shaded: the upright position is stable ({body}, g = {g:g} m/s$^2$). At a fixed stroke the "
+                 r"zone is a band of frequencies; both axes are logarithmic. Solid: edges with a 2T-periodic motion; "
+                 "dashed: with a 4T-periodic one.")
+    return fig, res, ["n", "stroke", "f_lo", "f_hi"]

@@ -127,6 +127,7 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     ax.axhline(0.0, color="0.8", linewidth=0.6, zorder=0)
     ax.set_xlim(traj.t[0], traj.t[-1])
     ax.set_ylabel("θ  (rad from upright)")
+    ax.set_xlabel("t  (s)")
     ax.grid(True, linewidth=0.3, alpha=0.5)
     return _legend(out, legend)
 
@@ -301,6 +302,7 @@ def time_series_figure(traj, *, linear=None, tol=None, title=None):
     plot_time_series(traj, ax, linear=linear, tol=tol)
     plot_pivot(traj, axp)
     ax.tick_params(labelbottom=False)
+    ax.set_xlabel("")  # the pivot panel below carries the time axis
     ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
     drive = getattr(traj, "drive", None)
     if drive is None:

@@ -132,8 +132,9 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     periods : int, optional
         Number of periods, ``>= 0``.
     every : int, optional
-        Record every ``every``-th period (and the last); by default only the
-        initial and the final states are kept.
+        Record every ``every``-th period (and the last). By default every period, so that
+        :func:`kapitza.figures.plot_strobe` shows the islands and chains a map exists to show;
+        for ensembles too large to hold every period the smallest ``every`` that fits in memory.
     model : {'nonlinear', 'linear'}
     c : float, optional
         Damping [1/s]; ``c > 0`` uses DOP853 (``method='dop853'``).
@@ -198,7 +199,10 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     shape = theta0.shape
     th0 = np.ascontiguousarray(theta0, dtype=float).ravel()
     om0 = np.ascontiguousarray(dtheta0, dtype=float).ravel()
-    n_records = periods // every + 2 if every is not None else 2
+    if every is None:  # every period, or as many as fit in memory
+        cap = max(1, int(MAX_SAMPLES // max(th0.size, 1)) - 2)
+        every = max(1, -(-periods // cap))
+    n_records = periods // every + 2
     _v.bounded_work("recorded periods * members", float(n_records) * th0.size, MAX_SAMPLES,
                     what="states held in memory")
     record = _record_list(periods, every)

@@ -59,9 +59,10 @@ LIMITS = dict(
     zeta=10.0,             # damping ratio (10: far beyond critical damping)
     drive_text=200,        # characters of a drive's text form
     url=4096,              # characters of a request's path and query
+    safe_tilt_integrated_periods=60,  # periods of a safe tilt followed by DOP853 (sine drive or damping)
 )
 
-Plane = Literal["arnold", "physical"]
+Plane = Literal["arnold", "physical", "rig"]
 
 LOOPBACK_NAMES = ("127.0.0.1", "localhost", "::1")
 
@@ -190,7 +191,7 @@ def create_app(hosts=None) -> FastAPI:
         anyio.to_thread.current_default_thread_limiter().total_tokens = max(2, _v.cpus())
         yield
 
-    app = FastAPI(title="kapitza explorer", version=__version__, lifespan=lifespan,
+    app = FastAPI(title="kapitza explorer", version=__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
                   description="Exact stability zones and motions of the inverted pendulum on a vibrating pivot. "
                               "Parameters use the library's names: eps, mu (Arnold), T [s], A [m/s^2], l [m], "
                               "g [m/s^2], drive ('square', 'sine', 'rectangular:DUTY'), zeta (damping ratio).")
@@ -224,6 +225,7 @@ def create_app(hosts=None) -> FastAPI:
         return FileResponse(STATIC / "index.html", media_type="text/html")
 
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
+    _docs_page(app)
 
     # -------------------------------------------------------------- chart
     @app.get("/api/chart", response_class=_JSON, summary="exact edges of every zone in a view")
@@ -234,13 +236,25 @@ def create_app(hosts=None) -> FastAPI:
                     zeta: float = 0.0,
                     samples: int | None = Query(None, description="samples per edge, refinement included (default "
                                                                   "1000, at most 4000; with another drive or damping "
-                                                                  "default 300, at most 400)")):
+                                                                  "default 300, at most 400)"),
+                    f_min: float | None = Query(None, description="rig plane: lowest frequency [Hz]"),
+                    f_max: float | None = None,
+                    stroke_min: float | None = Query(None, description="rig plane: smallest stroke [m]"),
+                    stroke_max: float | None = None):
         """Edges ``lo``, ``hi`` of each zone ``n`` meeting the view, sampled at ``y`` (``mu`` on the
         arnold plane, ``A`` on the physical one); ``x`` is ``eps`` or ``T``. NaN (null) where a zone
         does not exist at a sample; 1e308 for an edge beyond the view. ``lower_edge``/``upper_edge``
         say which periodic motion lives on each edge (2T or 4T). ``mu_max``: at and above it
         (``A <= g / mu_max^2``) the upright always falls; the view may reach up to the larger of it
-        and 1."""
+        and 1. On the ``rig`` plane ``x`` is the drive frequency [Hz] and ``y`` the stroke [m], both for log
+        axes (``f_min`` .. ``stroke_max``); ``stroke_coefficient`` is ``k`` in stroke = k A T^2."""
+        if plane == "rig":
+            key = ("rig", f_min, f_max, stroke_min, stroke_max, l, g, drive, zeta, samples)
+            body = _VIEWS.get(key)
+            if body is None:
+                body = await _worker(request, lambda *a: _rig_chart_json(*a[:-1]), *key[1:])
+                _VIEWS.put(key, body)
+            return Response(body, media_type="application/json")
         key = (plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples)
         body = _VIEWS.get(key)
         if body is None:
@@ -252,21 +266,82 @@ def create_app(hosts=None) -> FastAPI:
     @app.get("/api/point", response_class=_JSON, summary="the stability report at one parameter set")
     async def point(request: Request, eps: float | None = None, mu: float | None = None, T: float | None = None,
                     A: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
-                    zeta: float = 0.0):
+                    zeta: float = 0.0,
+                    frequency: float | None = Query(None, description="drive frequency [Hz], with stroke or amplitude"),
+                    stroke: float | None = Query(None, description="peak-to-peak travel of the pivot [m]"),
+                    amplitude: float | None = Query(None, description="displacement amplitude, half the stroke [m]"),
+                    rod: float | None = Query(None, description="a uniform rod of this length [m] (l = 2/3 of it)"),
+                    damping: float | None = Query(None, description="viscous damping c [1/s], instead of zeta"),
+                    safe_tilt: bool = Query(False, description="also the safe tilt (follows the real pendulum: slower)"),
+                    periods: int = Query(50, description="periods of the safe tilt (at most 200)")):
         """What ``kapitza stability --json`` prints (the same keys and numbers), with ``lines``: the
-        table's rows. Given ``T`` and ``A`` the damping ratio ``zeta`` becomes ``c = 2 zeta sqrt(g/l)``."""
-        return await _worker(request, _point, eps, mu, T, A, l, g, drive, zeta)
+        table's rows and ``directions``: which knob to turn which way. Given ``T`` and ``A`` (or a rig's
+        ``frequency`` with ``stroke`` or ``amplitude``, and ``rod`` for ``l``) the damping ratio ``zeta``
+        becomes ``c = 2 zeta sqrt(g/l)``, or give ``damping`` (c) itself. ``safe_tilt=true`` adds the
+        safe tilt [rad] (``kapitza.safe_tilt``), which is slower than the verdict: the page asks for
+        it in a second request."""
+        return await _worker(request, _point, eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
+                             damping, safe_tilt, periods)
 
-    def _point(eps, mu, T, A, l, g, drive, zeta, check):
-        d = _drive(drive)
-        if T is not None or A is not None:
-            if eps is not None or mu is not None:
-                raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
-            c = _damping(zeta, l, g)
-            rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=c)
-        else:
-            rep = analyze(eps=eps, mu=mu, drive=d, zeta=_zeta(zeta))
+    def _point(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping, safe_tilt, periods, check):
+        rep, d = _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+        if safe_tilt:
+            from ..motion.basins import exact_path
+            from ..safety import with_safe_tilt
+
+            rep = with_safe_tilt(rep, d, _safe_periods(periods, exact_path(d, rep.zeta)))
         return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
+
+    @app.get("/api/verdict", response_class=_JSON, summary="the verdict alone, at once (no margins)")
+    async def verdict(eps: float | None = None, mu: float | None = None, T: float | None = None, A: float | None = None,
+                l: float = 1.0, g: float = G_EARTH, drive: str = "square", zeta: float = 0.0,
+                frequency: float | None = None, stroke: float | None = None, amplitude: float | None = None,
+                rod: float | None = None, damping: float | None = None):
+        """Stable or not and in which zone, from the Floquet multipliers alone (``kapitza.floquet``): the
+        answer the page shows the moment a point is chosen, before the full report (margins and
+        ranges, ``/api/point``) and the safe tilt (``/api/safe_tilt``). ``kind``: ``stable``,
+        ``2T`` (multipliers real and positive), ``4T`` (period doubling) or ``weak`` (the pivot never
+        accelerates down faster than g). A few milliseconds: answered on the event loop itself, never
+        queued behind the slower routes' worker threads."""
+        from ..propagation import floquet
+
+        P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+        f = floquet(P["eps"], P["mu"], drive=None if P["drive"].name == "square" else P["drive"], zeta=P["zeta"])
+        stable = bool(f.stable)
+        if stable:
+            kind, text = "stable", f"stable (zone {int(f.zone)})" + (", motions decay" if P["zeta"] > 0 else "")
+        elif P["mu"] >= P["drive"].mu_max:
+            kind, text = "weak", "always unstable: the pivot never accelerates down faster than g"
+        elif float(f.trace) < 0:
+            kind, text = "4T", "unstable: parametric resonance, 4T-type, period doubling"
+        else:
+            kind, text = "2T", "unstable: it falls (multipliers real, positive)"
+        return _JSON(dict(eps=P["eps"], mu=P["mu"], T=P["T"], A=P["A"], zeta=P["zeta"], stable=stable,
+                          zone=int(f.zone) if stable else -1, kind=kind, verdict=text, growth=float(f.growth),
+                          trace=float(f.trace), given=P["given"]))
+
+    @app.get("/api/safe_tilt", response_class=_JSON, summary="the largest starting tilt the real pendulum survives")
+    def safe_tilt_route(eps: float | None = None, mu: float | None = None, T: float | None = None,
+                        A: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
+                        zeta: float = 0.0, frequency: float | None = None, stroke: float | None = None,
+                        amplitude: float | None = None, rod: float | None = None, damping: float | None = None,
+                        periods: int = 50):
+        """``safe_tilt`` [rad]: the largest starting tilt from rest whose motion stays above the horizontal
+        for ``periods`` periods 2T (``kapitza.safe_tilt``; 0 where the upright is not stable), with the
+        verdict it goes with and ``text``, the report's sentence."""
+        from ..analysis import _safe_text
+        from ..safety import safe_tilt
+        from ..zones import is_stable
+
+        from ..motion.basins import exact_path
+
+        P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+        n = _safe_periods(periods, exact_path(P["drive"], P["zeta"]))
+        d = None if P["drive"].name == "square" else P["drive"]
+        stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
+        theta = float(safe_tilt(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"], periods=n)) if stable else 0.0
+        return _JSON(dict(safe_tilt=theta, periods=n, stable=stable, eps=P["eps"], mu=P["mu"],
+                          text=_safe_text(theta, n, stable)))
 
     # -------------------------------------------------------------- motion
     @app.get("/api/motion", response_class=_JSON, summary="linear and nonlinear motion, sampled for animation")
@@ -287,20 +362,30 @@ def create_app(hosts=None) -> FastAPI:
                            T_min: float = 0.0, T_max: float | None = None, A_min: float | None = None,
                            A_max: float | None = None, l: float = 1.0, g: float = G_EARTH, drive: str = "square",
                            zeta: float = 0.0, samples: int | None = None, T: float | None = None,
-                           A: float | None = None):
+                           A: float | None = None,
+                           f_min: float | None = None, f_max: float | None = None, stroke_min: float | None = None,
+                           stroke_max: float | None = None):
         """The figure of ``kapitza chart`` for this view (PNG or SVG) or the curves drawn (CSV),
         with the point ``(T, A)`` marked when given."""
         return await _worker(request, _export_chart, fmt, plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max,
-                             A_min, A_max, l, g, drive, zeta, samples, T, A)
+                             A_min, A_max, l, g, drive, zeta, samples, T, A, f_min, f_max, stroke_min, stroke_max)
 
     def _export_chart(fmt, plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta,
-                      samples, T, A, check):
+                      samples, T, A, f_min, f_max, stroke_min, stroke_max, check):
         from ..figures._style import figure_bytes
         from ..figures.chart import chart_figure
 
-        d, zeta, general, samples, (T_min, T_max), (A_min, A_max), l, g = _view(
-            plane, eps_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples)
-        if general is None:  # the figure's refinement takes up to 4 x samples: at most LIMITS["samples"]
+        if plane == "rig":  # the rig plane's own bounds (its figure draws at most 600 samples per edge)
+            d, zeta = _drive(drive), _zeta(zeta)
+            samples = 300 if samples is None else samples
+            _bounded("samples", samples, LIMITS["samples"], 2)
+            general = d
+        else:
+            d, zeta, general, samples, (T_min, T_max), (A_min, A_max), l, g = _view(
+                plane, eps_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples)
+        if plane == "rig":
+            pass
+        elif general is None:  # the figure's refinement takes up to 4 x samples: at most LIMITS["samples"]
             _bounded("samples", samples, LIMITS["export_samples"], 2)
         else:
             # the figure computes its curves in one call: first make sure they fit the CPU budget
@@ -314,8 +399,9 @@ def create_app(hosts=None) -> FastAPI:
             import matplotlib.pyplot as plt
 
             fig, curves, header = chart_figure(plane, (eps_min, eps_max), (mu_min, mu_max), (T_min, T_max),
-                                               (A_min, A_max), l=l, g=g, drive=d, zeta=zeta, points=samples,
-                                               mark=mark)
+                                               (A_min, A_max), l=l, g=g, drive=d, zeta=zeta,
+                                               points=min(samples, 600) if plane == "rig" else samples, mark=mark,
+                                               frequency_range=(f_min, f_max), stroke_range=(stroke_min, stroke_max))
             try:
                 if fmt == "csv":
                     body = _io.csv_text(header, curves.rows(), comments=["exact zone edges drawn in kapitza-chart.png"])
@@ -513,9 +599,161 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
     zones = [dict(n=int(n), lower_edge=edge_kinds(n)[0], upper_edge=edge_kinds(n)[1], lo=_beyond(lo[i]),
                   hi=_beyond(hi[i]))
              for i, n in enumerate(c.n)]
+    from ..rig_plane import stroke_coefficient
+
     return _json_bytes(dict(plane=plane, x="eps" if plane == "arnold" else "T", y="mu" if plane == "arnold" else "A",
                             view=view, l=l, g=g, drive=d.describe(), mu_max=d.mu_max, zeta=zeta, samples=int(np.size(y)), y_values=y,
-                            zones=zones))
+                            zones=zones, stroke_coefficient=stroke_coefficient(d)))
+
+
+def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping):
+    """The stability report of a point given as (eps, mu), (T, A) or a rig (frequency with stroke or
+    amplitude), with ``rod`` for ``l`` and ``damping`` (c) for ``zeta``; and its drive."""
+    from dataclasses import replace
+
+    d = _drive(drive)
+    pendulum = None
+    if rod is not None:
+        from ..system import Pendulum
+
+        p = Pendulum.uniform_rod(rod, g=_v.one("g", _v.positive("g", g)))
+        l, pendulum = p.l, p.describe()
+    given = None
+    if frequency is not None or stroke is not None or amplitude is not None:
+        if T is not None or eps is not None or mu is not None:
+            raise _v.KapitzaValueError("give a rig's frequency with stroke or amplitude (or A), without T, eps or mu")
+        if frequency is None:
+            raise _v.KapitzaValueError("stroke and amplitude go with frequency")
+        T, A = (float(v) for v in d.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
+        given = "stroke" if stroke is not None else "amplitude" if amplitude is not None else "A"
+    if damping is not None and zeta:
+        raise _v.KapitzaValueError("give the damping as zeta or as damping (c), not both")
+    if T is not None or A is not None:
+        if eps is not None or mu is not None:
+            raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
+        c = _damping(zeta, l, g) if damping is None else _v.one("damping", _v.nonnegative("damping", damping))
+        if damping is not None:  # the explorer's bound on the damping ratio
+            from ..drives._api import zeta_of
+
+            _zeta(float(zeta_of(c, _v.one("l", _v.positive("l", l)), _v.one("g", _v.positive("g", g)))))
+        rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=c)
+    else:
+        if damping is not None:
+            raise _v.KapitzaValueError("with eps and mu give the damping as zeta, not damping")
+        rep = analyze(eps=eps, mu=mu, drive=d, zeta=_zeta(zeta))
+    if given or pendulum:
+        rep = replace(rep, given=given, pendulum=pendulum or rep.pendulum)
+    return rep, d
+
+
+def _safe_periods(periods, exact):
+    """The periods of a safe tilt, bounded (far fewer where DOP853 follows the motion)."""
+    if exact:
+        return int(_bounded("periods", periods, LIMITS["periods"], 1))
+    hi = LIMITS["safe_tilt_integrated_periods"]
+    if not 1 <= periods <= hi:
+        raise _v.KapitzaValueError(f"periods must satisfy 1 <= periods <= {hi} in the explorer for the sine drive or "
+                                   f"damping (followed by DOP853); got {periods!r}")
+    return int(periods)
+
+
+def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping):
+    """A point as ``eps, mu, zeta`` (and ``T, A`` when physical) with its drive, validated as ``_report``."""
+    from ..drives._api import zeta_of
+
+    d = _drive(drive)
+    if rod is not None:
+        from ..system import Pendulum
+
+        l = Pendulum.uniform_rod(rod).l
+    given = None
+    if frequency is not None or stroke is not None or amplitude is not None:
+        if T is not None or eps is not None or mu is not None:
+            raise _v.KapitzaValueError("give a rig's frequency with stroke or amplitude (or A), without T, eps or mu")
+        if frequency is None:
+            raise _v.KapitzaValueError("stroke and amplitude go with frequency")
+        T, A = (float(v) for v in d.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
+        given = "stroke" if stroke is not None else "amplitude" if amplitude is not None else "A"
+    if damping is not None and zeta:
+        raise _v.KapitzaValueError("give the damping as zeta or as damping (c), not both")
+    if T is not None or A is not None:
+        if eps is not None or mu is not None:
+            raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
+        T = _v.one("T", _v.positive("T", T))
+        A = _v.one("A", _v.positive("A", A))
+        l = _v.one("l", _v.positive("l", l))
+        g = _v.one("g", _v.positive("g", g))
+        from ..parameters import to_arnold
+
+        eps, mu = (float(v) for v in to_arnold(T, A, l, g))
+        z = _zeta(float(zeta_of(_v.one("damping", _v.nonnegative("damping", damping)), l, g))) if damping is not None \
+            else _zeta(zeta)
+    else:
+        if damping is not None:
+            raise _v.KapitzaValueError("with eps and mu give the damping as zeta, not damping")
+        eps = _v.one("eps", _v.positive("eps", eps))
+        mu = _v.one("mu", _v.positive("mu", mu))
+        z = _zeta(zeta)
+    return dict(eps=eps, mu=mu, T=T, A=A, zeta=z, drive=d, given=given)
+
+
+def _docs_page(app):
+    """``/docs``: Swagger UI from files served here (those of the ``fastapi-offline`` package, a Swagger
+    UI that reads OpenAPI 3.1), so the API page works without a network; without the package a plain
+    list of the routes from the schema."""
+    from fastapi.responses import HTMLResponse
+
+    try:
+        import fastapi_offline
+
+        assets = Path(fastapi_offline.__file__).with_name("static")
+        if not (assets / "swagger-ui-bundle.js").is_file():  # pragma: no cover
+            assets = None
+    except ImportError:  # pragma: no cover - the web extra installs it
+        assets = None
+    if assets is not None:
+        app.mount("/docs-assets", StaticFiles(directory=assets), name="docs-assets")
+
+    @app.get("/docs", include_in_schema=False)
+    def docs():
+        if assets is not None:
+            from fastapi.openapi.docs import get_swagger_ui_html
+
+            return get_swagger_ui_html(openapi_url="/openapi.json", title="kapitza explorer: API",
+                                       swagger_js_url="/docs-assets/swagger-ui-bundle.js",
+                                       swagger_css_url="/docs-assets/swagger-ui.css",
+                                       swagger_favicon_url="/docs-assets/favicon.png",
+                                       swagger_ui_parameters={"validatorUrl": None})
+        import html
+
+        rows = "".join(f"<li><code>GET {html.escape(path)}</code>: {html.escape(ops.get('get', {}).get('summary', ''))}</li>"
+                       for path, ops in app.openapi()["paths"].items())
+        return HTMLResponse(f"<!doctype html><title>kapitza explorer: API</title><h1>kapitza explorer: API</h1>"
+                            f"<p>The schema: <a href='/openapi.json'>/openapi.json</a></p><ul>{rows}</ul>")
+
+
+@functools.lru_cache(maxsize=64)
+def _rig_chart_json(f_min, f_max, stroke_min, stroke_max, l, g, drive, zeta, samples):
+    """The JSON of ``/api/chart?plane=rig``: zone ``n`` is ``lo < frequency < hi`` at each stroke ``y``."""
+    from ..curves import edge_kinds
+    from ..rig_plane import rig_zone_curves, stroke_coefficient
+
+    if samples is not None:
+        _bounded("samples", samples, LIMITS["samples"], 2)
+    d = _drive(drive)
+    zeta = _zeta(zeta)
+    general = None if d.closed_form(zeta) else d
+    samples = (1000 if general is None else 300) if samples is None else samples
+    c = rig_zone_curves((f_min, f_max), (stroke_min, stroke_max), l, g, d, zeta,
+                        points=min(samples, 400 if general is None else 160))
+    zones = [dict(n=int(n), lower_edge=edge_kinds(n)[0], upper_edge=edge_kinds(n)[1], lo=_beyond(c.f_lo[i]),
+                  hi=_beyond(c.f_hi[i])) for i, n in enumerate(c.n)]
+    (f0, f1), (s0, s1) = c.frequency_range, c.stroke_range
+    return _json_bytes(dict(plane="rig", x="frequency", y="stroke", view=dict(f_min=f0, f_max=f1, stroke_min=s0,
+                                                                              stroke_max=s1),
+                            l=c.l, g=c.g, drive=d.describe(), mu_max=d.mu_max, zeta=zeta,
+                            stroke_coefficient=stroke_coefficient(d), samples=int(c.stroke.size),
+                            y_values=c.stroke, zones=zones))
 
 
 def _openapi(app):

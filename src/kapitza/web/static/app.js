@@ -17,14 +17,32 @@ const muMax = (drive) => {
   return d > 0 && d < 1 ? Math.sqrt(d / (1 - d)) : 1; // a duty out of range: the server says so
 };
 const muTop = (drive) => Math.max(1, muMax(drive));
-const DEFAULT_VIEWS = (l, g, top = 1) => ({
+// The rig plane (drive frequency across, stroke up, both logarithmic): around the chosen point a
+// factor 4 in frequency and 40 in stroke, else from the pendulum's own frequency (kapitza.rig_plane.rig_window).
+const rigView = (l, g, P) => {
+  if (P) { const f = 1 / (2 * P.T), s = strokeCoef() * P.A * P.T * P.T; return { x0: f / 4, x1: 4 * f, y0: s / 40, y1: 40 * s }; }
+  const fn = Math.sqrt(g / l) / (2 * Math.PI);
+  return { x0: 2 * fn, x1: 200 * fn, y0: l / 1000, y1: l };
+};
+const DEFAULT_VIEWS = (l, g, top = 1, P = null) => ({
   arnold: { x0: 0, x1: 4, y0: 0, y1: top },
   physical: { x0: 0, x1: 2.5 * Math.sqrt(l / g), y0: g / (top * top), y1: 50 * g },
+  rig: rigView(l, g, P),
 });
+// A demo point for the first view: zone 0, where the pendulum stands from the default start tilt.
+const DEMO = { T: 0.15, A: 100 };
 const S = {
   plane: "arnold", l: 1, g: 9.81, drive: "square", duty: 0.3, zeta: 0, overlay: "",
   point: null, theta0: 0.1, speed: 0.25, views: DEFAULT_VIEWS(1, 9.81),
+  rig: false, rod: 1.5, rodKind: "rod", given: "amplitude", dampUnit: "zeta", k: null,
 };
+// stroke = k A T^2 (peak-to-peak travel of the pivot): 1/4 for the square wave, 2/pi^2 for the sine,
+// the server's value (from the last chart) for another drive.
+function strokeCoef() {
+  if (S.drive === "square") return 0.25;
+  if (S.drive === "sine") return 2 / (Math.PI * Math.PI);
+  return S.k || 0.25;
+}
 // The same conversions as kapitza.to_arnold / kapitza.to_physical (docs/theory.md section 2).
 const toArnold = (T, A, l, g) => ({ eps: T * Math.sqrt(A / (8 * l)), mu: Math.sqrt(g / A) });
 const toPhysical = (eps, mu, l, g) => { const A = g / (mu * mu); return { T: eps * Math.sqrt(8 * l / A), A }; };
@@ -37,13 +55,15 @@ function qs(obj) {
   return p.toString();
 }
 const short = (v) => (Math.abs(v) >= 1000 || (Math.abs(v) < 0.01 && v !== 0) ? v.toExponential(0) : String(Number(v.toPrecision(2))));
-const fmt = (v, d = 6) => (v === null || v === undefined || !isFinite(v) ? "–" : Number(v).toPrecision(d).replace(/\.?0+(e|$)/, "$1"));
+const fmt = (v, d = 6) => (v === null || v === undefined || !isFinite(v) ? "–"
+  : Number(v).toPrecision(d).replace(/(\.\d*?)0+(e|$)/, "$1$2").replace(/\.(e|$)/, "$1"));
 
 // ------------------------------------------------------------------ URL (shareable state)
 function saveURL() {
   const v = view();
   const o = { plane: S.plane, x0: v.x0, x1: v.x1, y0: v.y0, y1: v.y1, l: S.l, g: S.g, drive: S.drive, zeta: S.zeta,
     overlay: S.overlay, theta0: S.theta0, speed: S.speed };
+  if (S.rig) { o.rig = 1; o.rod = S.rod; o.rod_kind = S.rodKind; o.given = S.given; o.damp_unit = S.dampUnit; }
   if (S.drive === "rectangular") o.duty = S.duty;
   if (S.point) { o.T = S.point.T; o.A = S.point.A; }
   history.replaceState(null, "", "?" + qs(o));
@@ -53,7 +73,12 @@ function loadURL() {
   const num = (k) => (p.has(k) && isFinite(parseFloat(p.get(k))) ? parseFloat(p.get(k)) : null);
   if (num("l") > 0) S.l = num("l");
   if (num("g") > 0) S.g = num("g");
-  if (["arnold", "physical"].includes(p.get("plane"))) S.plane = p.get("plane");
+  if (["arnold", "physical", "rig"].includes(p.get("plane"))) S.plane = p.get("plane");
+  if (p.get("rig") === "1") S.rig = true;
+  if (num("rod") > 0) S.rod = num("rod");
+  if (["rod", "point"].includes(p.get("rod_kind"))) S.rodKind = p.get("rod_kind");
+  if (["amplitude", "stroke"].includes(p.get("given"))) S.given = p.get("given");
+  if (["zeta", "c"].includes(p.get("damp_unit"))) S.dampUnit = p.get("damp_unit");
   if (["square", "sine", "rectangular"].includes(p.get("drive"))) S.drive = p.get("drive");
   if (num("duty") !== null) S.duty = num("duty");
   S.views = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
@@ -64,6 +89,7 @@ function loadURL() {
   const v = ["x0", "x1", "y0", "y1"].map(num);
   if (v.every((x) => x !== null) && v[0] < v[1] && v[2] < v[3]) S.views[S.plane] = { x0: v[0], x1: v[1], y0: v[2], y1: v[3] };
   if (num("T") > 0 && num("A") > 0) S.point = { T: num("T"), A: num("A") };
+  if (!v.every((x) => x !== null) && S.plane === "rig") S.views.rig = rigView(S.l, S.g, S.point);
 }
 
 // ------------------------------------------------------------------ canvas helpers
@@ -96,22 +122,41 @@ function tickLabel(v, step) {
 // ------------------------------------------------------------------ the chart
 const chart = { canvas: $("chart"), data: null, overlay: null, pad: { l: 78, r: 18, t: 14, b: 50 }, error: null };
 function axes(w, h) {
-  const v = view(), P = chart.pad, logY = S.plane === "physical";
-  const fy = logY ? Math.log : (x) => x;
+  const v = view(), P = chart.pad, logY = S.plane !== "arnold", logX = S.plane === "rig";
+  const fy = logY ? Math.log : (x) => x, fx = logX ? Math.log : (x) => x;
   const y0 = fy(v.y0 > 0 || !logY ? v.y0 : 1e-9), y1 = fy(v.y1);
+  const x0 = fx(v.x0 > 0 || !logX ? v.x0 : 1e-9), x1 = fx(v.x1);
   return {
-    left: P.l, right: w - P.r, top: P.t, bottom: h - P.b, logY,
-    X: (x) => P.l + ((x - v.x0) / (v.x1 - v.x0)) * (w - P.l - P.r),
+    left: P.l, right: w - P.r, top: P.t, bottom: h - P.b, logY, logX,
+    X: (x) => P.l + ((fx(x) - x0) / (x1 - x0)) * (w - P.l - P.r),
     Y: (y) => h - P.b - ((fy(y) - y0) / (y1 - y0)) * (h - P.t - P.b),
-    invX: (px) => v.x0 + ((px - P.l) / (w - P.l - P.r)) * (v.x1 - v.x0),
+    invX: (px) => { const f = x0 + ((px - P.l) / (w - P.l - P.r)) * (x1 - x0); return logX ? Math.exp(f) : f; },
     invY: (py) => { const f = y0 + ((h - P.b - py) / (h - P.t - P.b)) * (y1 - y0); return logY ? Math.exp(f) : f; },
   };
 }
+// Where a parameter set (T, A) lies on the current plane, and back.
+function toPlane(P) {
+  if (S.plane === "arnold") { const { eps, mu } = toArnold(P.T, P.A, S.l, S.g); return { x: eps, y: mu }; }
+  if (S.plane === "physical") return { x: P.T, y: P.A };
+  return { x: 1 / (2 * P.T), y: strokeCoef() * P.A * P.T * P.T };
+}
+function fromPlane(x, y) {
+  if (S.plane === "arnold") return toPhysical(x, y, S.l, S.g);
+  if (S.plane === "physical") return { T: x, A: y };
+  const T = 1 / (2 * x); return { T, A: y / (strokeCoef() * T * T) };
+}
+function logTicks(a, b) {
+  const out = [], lo = Math.floor(Math.log10(a)), hi = Math.ceil(Math.log10(b));
+  const mult = hi - lo > 3 ? [1] : hi - lo > 1 ? [1, 2, 5] : [1, 1.5, 2, 3, 4, 5, 6, 7, 8, 9];
+  for (let e = lo; e <= hi; e++) for (const m of mult) { const t = m * Math.pow(10, e); if (t >= a && t <= b) out.push(t); }
+  return out.length >= 2 ? { ticks: out, step: 1, log: true } : linTicks(a, b, 6);
+}
+const logLabel = (v) => String(Number(v.toPrecision(3)));
 const clampPx = (p) => Math.max(-4000, Math.min(8000, p));
 
 function drawZones(ctx, ax, d, style) {
-  const ys = d.y_values, v = view(), far = v.x1 + 10 * (v.x1 - v.x0);
-  const val = (x) => (x === null ? null : x > far ? far : x);
+  const ys = d.y_values, v = view(), far = ax.logX ? v.x1 * 10 : v.x1 + 10 * (v.x1 - v.x0);
+  const val = (x) => (x === null ? null : x > far ? far : ax.logX && x <= v.x0 / 10 ? v.x0 / 10 : x);
   for (const z of d.zones) {
     const runs = []; let cur = [];
     for (let j = 0; j < ys.length; j++) {
@@ -132,7 +177,7 @@ function drawZones(ctx, ax, d, style) {
         let on = false;
         for (const j of run) {
           const x = z[key][j];
-          if (x > far) { on = false; continue; }
+          if (x > far || (ax.logX && x <= v.x0 / 10)) { on = false; continue; }
           const X = clampPx(ax.X(x)), Y = clampPx(ax.Y(ys[j]));
           on ? ctx.lineTo(X, Y) : ctx.moveTo(X, Y); on = true;
         }
@@ -196,16 +241,15 @@ function drawChart() {
   ctx.fillStyle = COLORS.forbidden;
   if (S.plane === "arnold" && edge > ax.top) ctx.fillRect(ax.left, ax.top, ax.right - ax.left, edge - ax.top);
   if (S.plane === "physical" && edge < ax.bottom) ctx.fillRect(ax.left, edge, ax.right - ax.left, ax.bottom - edge);
+  if (S.plane === "rig") {  // A <= g / mu_max^2: stroke <= g k / (4 f^2 mu_max^2), always falls
+    ctx.beginPath();
+    for (let i = 0; i <= 60; i++) { const f = v.x0 * Math.pow(v.x1 / v.x0, i / 60), sc = S.g * strokeCoef() / (4 * f * f * mMax * mMax);
+      const X = ax.X(f), Y = clampPx(ax.Y(Math.max(sc, 1e-300))); i ? ctx.lineTo(X, Y) : ctx.moveTo(X, Y); }
+    ctx.lineTo(ax.right, ax.bottom + 10); ctx.lineTo(ax.left, ax.bottom + 10); ctx.closePath(); ctx.fill();
+  }
   // grid
-  const xt = linTicks(v.x0, v.x1, 8);
-  let yt;
-  if (ax.logY) {
-    yt = { ticks: [], step: 1 };
-    const a = Math.floor(Math.log10(v.y0)), b = Math.ceil(Math.log10(v.y1));
-    const mult = b - a > 3 ? [1] : b - a > 1 ? [1, 2, 5] : [1, 1.5, 2, 3, 4, 5, 6, 7, 8, 9];
-    for (let e = a; e <= b; e++) for (const m of mult) { const t = m * Math.pow(10, e); if (t >= v.y0 && t <= v.y1) yt.ticks.push(t); }
-    if (yt.ticks.length < 3) yt = linTicks(v.y0, v.y1, 6);
-  } else yt = linTicks(v.y0, v.y1, 6);
+  const xt = ax.logX ? logTicks(v.x0, v.x1) : linTicks(v.x0, v.x1, 8);
+  const yt = ax.logY ? logTicks(v.y0, v.y1) : linTicks(v.y0, v.y1, 6);
   ctx.strokeStyle = COLORS.grid; ctx.lineWidth = 1;
   for (const t of xt.ticks) { ctx.beginPath(); ctx.moveTo(ax.X(t), ax.top); ctx.lineTo(ax.X(t), ax.bottom); ctx.stroke(); }
   for (const t of yt.ticks) { ctx.beginPath(); ctx.moveTo(ax.left, ax.Y(t)); ctx.lineTo(ax.right, ax.Y(t)); ctx.stroke(); }
@@ -215,31 +259,32 @@ function drawChart() {
   if (chart.data) zoneLabels(ctx, ax, chart.data);
   if (S.plane === "arnold" && edge > ax.top + 14) label(ctx, `μ ≥ ${fmt(mMax, 4)} (${weak}): always unstable`, ax.left + 8, Math.max(ax.top + 12, edge - 12));
   if (S.plane === "physical" && edge < ax.bottom - 14) label(ctx, `${weak}: always unstable`, ax.left + 8, Math.min(ax.bottom - 12, edge + 14));
+  if (S.plane === "rig") label(ctx, `grey: ${weak}, always falls`, ax.left + 8, ax.bottom - 12);
   // the chosen point
-  if (S.point) {
-    const { eps, mu } = toArnold(S.point.T, S.point.A, S.l, S.g);
-    const px = S.plane === "arnold" ? ax.X(eps) : ax.X(S.point.T), py = S.plane === "arnold" ? ax.Y(mu) : ax.Y(S.point.A);
-    star(ctx, px, py, 11);
-  }
+  if (S.point) { const q = toPlane(S.point); star(ctx, ax.X(q.x), ax.Y(q.y), 11); }
   ctx.restore();
   // frame, ticks, labels
   ctx.strokeStyle = COLORS.axis; ctx.lineWidth = 1.2; ctx.strokeRect(ax.left, ax.top, ax.right - ax.left, ax.bottom - ax.top);
   ctx.fillStyle = COLORS.axis; ctx.font = "12.5px DejaVu Sans, sans-serif";
   ctx.textAlign = "center"; ctx.textBaseline = "top";
-  for (const t of xt.ticks) ctx.fillText(tickLabel(t, xt.step), ax.X(t), ax.bottom + 5);
+  const yScale = S.plane === "rig" ? 1e3 : 1;  // the stroke in mm
+  for (const t of xt.ticks) ctx.fillText(xt.log ? logLabel(t) : tickLabel(t, xt.step), ax.X(t), ax.bottom + 5);
   ctx.textAlign = "right"; ctx.textBaseline = "middle";
-  for (const t of yt.ticks) ctx.fillText(tickLabel(t, yt.step || t / 10), ax.left - 6, ax.Y(t));
+  for (const t of yt.ticks) ctx.fillText(yt.log ? logLabel(t * yScale) : tickLabel(t, yt.step || t / 10), ax.left - 6, ax.Y(t));
   ctx.font = "14px DejaVu Sans, sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "bottom";
-  ctx.fillText(S.plane === "arnold" ? "ε = T √(A / 8l)" : "half-period of the drive T [s]", (ax.left + ax.right) / 2, h - 4);
+  ctx.fillText({ arnold: "ε = T √(A / 8l)", physical: "half-period of the drive T [s]", rig: "drive frequency [Hz] (log scale)" }[S.plane],
+    (ax.left + ax.right) / 2, h - 4);
   ctx.save(); ctx.translate(16, (ax.top + ax.bottom) / 2); ctx.rotate(-Math.PI / 2); ctx.textBaseline = "middle";
-  ctx.fillText(S.plane === "arnold" ? "μ = √(g / A)" : "pivot acceleration amplitude A [m/s²] (log scale)", 0, 0);
+  ctx.fillText({ arnold: "μ = √(g / A)", physical: "pivot acceleration amplitude A [m/s²] (log scale)",
+    rig: "stroke, peak to peak [mm] (log scale)" }[S.plane], 0, 0);
   ctx.restore();
   legend(ctx, ax);
   if (chart.error) { ctx.fillStyle = "rgba(180,35,24,0.92)"; ctx.font = "600 14px DejaVu Sans, sans-serif"; ctx.textAlign = "left";
     ctx.textBaseline = "top"; wrapText(ctx, chart.error, ax.left + 12, ax.top + 12, ax.right - ax.left - 24); }
   $("view-info").textContent = S.plane === "arnold"
     ? `ε ${tickLabel(v.x0, (v.x1 - v.x0) / 100)} … ${tickLabel(v.x1, (v.x1 - v.x0) / 100)} · μ ${tickLabel(v.y0, (v.y1 - v.y0) / 100)} … ${tickLabel(v.y1, (v.y1 - v.y0) / 100)}`
-    : `T ${fmt(v.x0, 4)} … ${fmt(v.x1, 4)} s · A ${fmt(v.y0, 4)} … ${fmt(v.y1, 4)} m/s²`;
+    : S.plane === "physical" ? `T ${fmt(v.x0, 4)} … ${fmt(v.x1, 4)} s · A ${fmt(v.y0, 4)} … ${fmt(v.y1, 4)} m/s²`
+    : `f ${fmt(v.x0, 4)} … ${fmt(v.x1, 4)} Hz · stroke ${fmt(1e3 * v.y0, 4)} … ${fmt(1e3 * v.y1, 4)} mm`;
 }
 function label(ctx, text, x, y) {
   ctx.font = "italic 12.5px DejaVu Sans, sans-serif"; ctx.fillStyle = "#6b7685"; ctx.textAlign = "left"; ctx.textBaseline = "middle";
@@ -262,8 +307,9 @@ function star(ctx, x, y, r) {
   ctx.closePath(); ctx.fillStyle = COLORS.point; ctx.fill(); ctx.strokeStyle = "#000"; ctx.lineWidth = 1.3; ctx.stroke();
 }
 function legendRows() {
-  const rows = [["fill", COLORS.fill, chart.data ? `stable zone n (${shortDrive(chart.data.drive)}${S.zeta > 0 ? `, ζ = ${S.zeta}` : ""})` : "stable zone n"],
-    ["line", COLORS.edge2, "2T-periodic edge (Tₙ)"], ["dash", COLORS.edge4, "4T-periodic edge (T̃ₙ)"]];
+  const rows = [["fill", COLORS.fill, `shaded: stays up (stable zone n${chart.data ? `, ${shortDrive(chart.data.drive)}${S.zeta > 0 ? `, ζ = ${S.zeta}` : ""}` : ""})`],
+    ["blank", "#fff", "white: falls"],
+    ["line", COLORS.edge2, "edge: 2T-periodic motion (Tₙ)"], ["dash", COLORS.edge4, "edge: period doubling, 4T (T̃ₙ)"]];
   if (chart.overlay) rows.push(["line", COLORS.overlay, `overlay: ${shortDrive(chart.overlay.drive)}`]);
   if (S.point) rows.push(["star", COLORS.point, "chosen point"]);
   return rows;
@@ -281,6 +327,7 @@ function legend(ctx, ax) {
   rows.forEach(([kind, col, text], i) => {
     const yy = y + 14 + i * 19;
     if (kind === "fill") { ctx.fillStyle = col; ctx.fillRect(x + 8, yy - 6, 26, 12); }
+    else if (kind === "blank") { ctx.fillStyle = col; ctx.fillRect(x + 8, yy - 6, 26, 12); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1; ctx.strokeRect(x + 8, yy - 6, 26, 12); }
     else if (kind === "star") star(ctx, x + 21, yy, 7);
     else { ctx.beginPath(); ctx.moveTo(x + 8, yy); ctx.lineTo(x + 34, yy); ctx.strokeStyle = col; ctx.lineWidth = 2; ctx.setLineDash(kind === "dash" ? [7, 4] : []); ctx.stroke(); ctx.setLineDash([]); }
     ctx.fillStyle = COLORS.axis; ctx.textAlign = "left"; ctx.textBaseline = "middle"; ctx.fillText(text, x + 40, yy);
@@ -296,6 +343,7 @@ function chartParams(drive) {
   const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples }, top = muTop(drive);
   if (v.x1 <= 0) return null;
   if (S.plane === "arnold") return v.y0 >= top ? null : { ...base, eps_min: Math.max(0, v.x0), eps_max: v.x1, mu_min: Math.max(0, v.y0), mu_max: Math.min(top, v.y1) };
+  if (S.plane === "rig") return { ...base, samples: 300, f_min: v.x0, f_max: v.x1, stroke_min: v.y0, stroke_max: v.y1 };
   const A_min = Math.max(S.g / (top * top), v.y0);
   return v.y1 <= A_min ? null : { ...base, T_min: Math.max(0, v.x0), T_max: v.x1, A_min, A_max: v.y1 };
 }
@@ -316,6 +364,7 @@ async function fetchChart() {
     const [a, b] = await Promise.all([main, over]);
     if (seq !== chartSeq) return;
     chart.data = a; chart.overlay = b; chart.error = null;
+    if (a && a.stroke_coefficient) { const k = S.k; S.k = a.stroke_coefficient; if (k !== S.k) setPointInputs(); }
   } catch (e) {
     if (e.name === "AbortError") return;
     chart.error = String(e.message || e);
@@ -336,20 +385,24 @@ function updateCaption() {
   const d = chart.data;
   if (!d) { $("caption").textContent = ""; return; }
   const zones = d.zones.map((z) => z.n);
-  $("caption").textContent = `Shaded: the upright position is stable (${d.drive}${S.zeta > 0 ? `, damping ratio ζ = ${S.zeta}` : ""}). ` +
-    `Zones in view: ${zones.length ? zones.join(", ") : "none"}; each edge exact at ${d.samples} samples of ${d.y}. ` +
-    (S.plane === "physical" ? `Rod l = ${S.l} m, g = ${S.g} m/s². ` : "") +
-    "Solid blue: 2T-periodic edges; dashed red: 4T-periodic edges.";
+  $("caption").textContent = `Shaded: the pendulum stays up (the upright is stable; ${d.drive}${S.zeta > 0 ? `, damping ratio ζ = ${S.zeta}` : ""}). ` +
+    `White: it falls. Zones in view: ${zones.length ? zones.join(", ") : "none"}; each edge exact at ${d.samples} samples of ${d.y}. ` +
+    (S.plane !== "arnold" ? `Equivalent length l = ${fmt(S.l, 4)} m, g = ${S.g} m/s². ` : "") +
+    (S.plane === "rig" ? "At a fixed stroke the zone is a band of frequencies. " : "") +
+    "Solid blue edges: a 2T-periodic motion; dashed red: a period-doubling (4T-periodic) one.";
 }
 
 // ------------------------------------------------------------------ chart interaction
-let drag = null, hoverSeq = 0, hoverBusy = false, hoverNext = null;
+let drag = null, hoverSeq = 0, hoverBusy = false, hoverNext = null, hoverAt = null;
 chart.canvas.addEventListener("wheel", (ev) => {
   ev.preventDefault();
   const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height), v = view();
   const f = Math.exp(Math.max(-0.5, Math.min(0.5, ev.deltaY * 0.0015)));
   const mx = ax.invX(ev.clientX - r.left), my = ax.invY(ev.clientY - r.top);
-  if (!ev.altKey) { v.x0 = mx + (v.x0 - mx) * f; v.x1 = mx + (v.x1 - mx) * f; }
+  if (!ev.altKey) {
+    if (ax.logX) { const L = Math.log(mx); v.x0 = Math.exp(L + (Math.log(v.x0) - L) * f); v.x1 = Math.exp(L + (Math.log(v.x1) - L) * f); }
+    else { v.x0 = mx + (v.x0 - mx) * f; v.x1 = mx + (v.x1 - mx) * f; }
+  }
   if (!ev.shiftKey) {
     if (ax.logY) { const L = Math.log(my); v.y0 = Math.exp(L + (Math.log(v.y0) - L) * f); v.y1 = Math.exp(L + (Math.log(v.y1) - L) * f); }
     else { v.y0 = my + (v.y0 - my) * f; v.y1 = my + (v.y1 - my) * f; }
@@ -368,7 +421,8 @@ chart.canvas.addEventListener("pointermove", (ev) => {
     if (drag.moved) {
       chart.canvas.classList.add("dragging");
       const v = view(), o = drag.v, sx = (o.x1 - o.x0) / (ax.right - ax.left);
-      v.x0 = o.x0 - dx * sx; v.x1 = o.x1 - dx * sx;
+      if (ax.logX) { const k = Math.log(o.x1 / o.x0) / (ax.right - ax.left); v.x0 = o.x0 * Math.exp(-dx * k); v.x1 = o.x1 * Math.exp(-dx * k); }
+      else { v.x0 = o.x0 - dx * sx; v.x1 = o.x1 - dx * sx; }
       if (ax.logY) { const k = Math.log(o.y1 / o.y0) / (ax.bottom - ax.top); v.y0 = o.y0 * Math.exp(dy * k); v.y1 = o.y1 * Math.exp(dy * k); }
       else { const sy = (o.y1 - o.y0) / (ax.bottom - ax.top); v.y0 = o.y0 + dy * sy; v.y1 = o.y1 + dy * sy; }
       clampView(); drawChart(); requestChart(120);
@@ -384,7 +438,7 @@ chart.canvas.addEventListener("pointerup", (ev) => {
     const round = (v, px) => { const d = Math.max(0, Math.ceil(-Math.log10(Math.abs(px) || 1e-300))); return d > 20 ? v : Number(v.toFixed(d)); };
     const x = round(ax.invX(ev.clientX - r.left), ax.invX(1) - ax.invX(0));
     const y = round(ax.invY(ev.clientY - r.top), ax.invY(ev.clientY - r.top - 1) - ax.invY(ev.clientY - r.top));
-    if (x > 0 && y > 0) choosePoint(S.plane === "arnold" ? toPhysical(x, y, S.l, S.g) : { T: x, A: y });
+    if (x > 0 && y > 0) choosePoint(fromPlane(x, y));
   }
   drag = null; saveURL();
 });
@@ -392,7 +446,15 @@ chart.canvas.addEventListener("pointerleave", () => { $("hover").hidden = true; 
 
 function clampView() {
   const top = muTop(driveText());
-  const v = view(), B = S.plane === "arnold" ? { x0: 0, x1: 12, y0: 0, y1: 1.2 * top } : { x0: 0, x1: 4 * Math.sqrt(S.l / S.g), y0: 0.3 * S.g / (top * top), y1: 300 * S.g };
+  const v = view();
+  if (S.plane === "rig") {  // log-log: bound each range (1e-3 .. 1e6 Hz, 1 um .. 100 m) and keep it ordered
+    if (!(v.x0 > 0 && v.x1 > v.x0 && v.y0 > 0 && v.y1 > v.y0 && isFinite(v.x1) && isFinite(v.y1))) Object.assign(v, rigView(S.l, S.g, S.point));
+    const fit1 = (a, b, lo, hi) => { const r = Math.min(b / a, hi / lo); if (a < lo) { a = lo; b = lo * r; } if (b > hi) { b = hi; a = hi / r; }
+      if (b / a < 1 + 1e-9) { const c = Math.sqrt(a * b); a = c / (1 + 5e-10); b = c * (1 + 5e-10); } return [a, b]; };
+    [v.x0, v.x1] = fit1(v.x0, v.x1, 1e-3, 1e6); [v.y0, v.y1] = fit1(v.y0, v.y1, 1e-6, 100);
+    return;
+  }
+  const B = S.plane === "arnold" ? { x0: 0, x1: 12, y0: 0, y1: 1.2 * top } : { x0: 0, x1: 4 * Math.sqrt(S.l / S.g), y0: 0.3 * S.g / (top * top), y1: 300 * S.g };
   const span = Math.min(v.x1 - v.x0, B.x1 - B.x0), ok = (a) => isFinite(a);
   if (!ok(v.x0) || !ok(v.x1) || !(v.x1 > v.x0)) Object.assign(v, DEFAULT_VIEWS(S.l, S.g, top)[S.plane]);
   if (v.x1 - v.x0 > B.x1 - B.x0) { v.x0 = B.x0; v.x1 = B.x1; }
@@ -417,52 +479,123 @@ function hover(px, py, ax) {
   const box = $("hover");
   if (px < ax.left || px > ax.right || py < ax.top || py > ax.bottom) { box.hidden = true; return; }
   const x = ax.invX(px), y = ax.invY(py);
-  let eps, mu, T, A;
-  if (S.plane === "arnold") { eps = x; mu = y; ({ T, A } = toPhysical(eps, mu, S.l, S.g)); }
-  else { T = x; A = y; ({ eps, mu } = toArnold(T, A, S.l, S.g)); }
-  const v = view(), dx = (v.x1 - v.x0) / 2000;
+  const { T, A } = fromPlane(x, y), { eps, mu } = toArnold(T, A, S.l, S.g);
+  const v = view(), dx = ax.logX ? x * 1e-3 : (v.x1 - v.x0) / 2000;
   const digits = Math.min(16, Math.max(6, Math.ceil(Math.log10(Math.max(Math.abs(x), 1e-300) / dx)) + 1));
   box.hidden = false;
-  box.innerHTML = `(ε, μ) = (${fmt(eps, digits)}, ${fmt(mu, 6)})<br>(T, A) = (${fmt(T, digits)} s, ${fmt(A, 6)} m/s²)<br>` +
+  const rig = S.plane === "rig" || S.rig ? `${fmt(1 / (2 * T), 5)} Hz, stroke ${fmt(1e3 * strokeCoef() * A * T * T, 4)} mm (${fmt(A / S.g, 4)} g)<br>` : "";
+  box.innerHTML = rig + `(ε, μ) = (${fmt(eps, digits)}, ${fmt(mu, 6)})<br>(T, A) = (${fmt(T, digits)} s, ${fmt(A, 6)} m/s²)<br>` +
     `<span id="hover-verdict">${box.dataset.verdict || "…"}</span>`;
-  const r = chart.canvas.getBoundingClientRect();
-  box.style.left = Math.min(px + 16, r.width - 330) + "px"; box.style.top = Math.max(py - 70, 4) + "px";
+  placeHover(px, py);
   if (!(eps > 0 && mu > 0)) return;
+  hoverAt = [px, py];
   hoverNext = S.plane === "arnold" ? { eps, mu, zeta: S.zeta } : { T, A, l: S.l, g: S.g, zeta: S.zeta };
   if (!hoverBusy) hoverVerdict();
+}
+// The readout beside the pointer, flipped to its left (or above) where it would leave the chart.
+function placeHover(px, py) {
+  const box = $("hover"), W = chart.canvas.clientWidth, H = chart.canvas.clientHeight, bw = box.offsetWidth, bh = box.offsetHeight;
+  let left = px + 16, top = py - bh - 10;
+  if (left + bw > W - 2) left = px - 16 - bw;
+  if (top < 2) top = py + 18;
+  box.style.left = Math.max(2, Math.min(left, W - bw - 2)) + "px";
+  box.style.top = Math.max(2, Math.min(top, H - bh - 2)) + "px";
 }
 async function hoverVerdict() {
   if (!hoverNext) return;
   const q = hoverNext; hoverNext = null; hoverBusy = true;
   try {
-    const rep = await getJSON("/api/point?" + qs({ ...q, drive: driveText() }));
-    const text = rep.stable ? `<b style="color:#1a7f37">${rep.verdict}</b>` : `<b style="color:#b42318">${rep.verdict.split(" (")[0]}</b>` +
-      (rep.nearest_zone >= 0 ? ` · nearest zone ${rep.nearest_zone}` : "");
+    const rep = await getJSON("/api/verdict?" + qs({ ...q, drive: driveText() }));
+    const text = `<b style="color:${rep.stable ? "#1a7f37" : "#b42318"}">${plain(rep).head}</b> · ${esc(plain(rep).tech)}`;
     $("hover").dataset.verdict = text;
-    const hv = $("hover-verdict"); if (hv) hv.innerHTML = text;
+    const hv = $("hover-verdict"); if (hv) { hv.innerHTML = text; const b = $("hover"); if (!b.hidden && hoverAt) placeHover(hoverAt[0], hoverAt[1]); }
   } catch (e) { $("hover").dataset.verdict = ""; }
   hoverBusy = false;
   if (hoverNext) setTimeout(hoverVerdict, 30);
 }
 
-$("reset-view").onclick = () => { S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()))[S.plane]; drawChart(); requestChart(0); saveURL(); };
+$("reset-view").onclick = () => { S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()), S.point)[S.plane]; drawChart(); requestChart(0); saveURL(); };
 $("zoom-point").onclick = () => {
   if (!S.point) return;
-  const v = view(), { eps, mu } = toArnold(S.point.T, S.point.A, S.l, S.g);
-  const cx = S.plane === "arnold" ? eps : S.point.T, cy = S.plane === "arnold" ? mu : S.point.A;
+  const v = view(), q = toPlane(S.point), cx = q.x, cy = q.y;
   const hx = (v.x1 - v.x0) / 20;
+  if (S.plane === "rig") {
+    const rx = Math.pow(v.x1 / v.x0, 0.05), ry = Math.pow(v.y1 / v.y0, 0.05);
+    v.x0 = cx / rx; v.x1 = cx * rx; v.y0 = cy / ry; v.y1 = cy * ry;
+    clampView(); drawChart(); requestChart(0); saveURL(); return;
+  }
   v.x0 = cx - hx; v.x1 = cx + hx;
   if (S.plane === "arnold") { const hy = (v.y1 - v.y0) / 20; v.y0 = cy - hy; v.y1 = cy + hy; }
   else { const r = Math.pow(v.y1 / v.y0, 0.05); v.y0 = cy / r; v.y1 = cy * r; }
   clampView(); drawChart(); requestChart(0); saveURL();
 };
-for (const b of document.querySelectorAll(".planes button")) {
-  b.onclick = () => {
-    S.plane = b.dataset.plane;
-    document.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x === b));
-    chart.data = null; chart.overlay = null; drawChart(); requestChart(0); saveURL();
-  };
+function setPlane(plane) {
+  S.plane = plane;
+  document.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x.dataset.plane === plane));
+  if (plane === "rig" && S.point) {  // keep the rig's point in view
+    const q = toPlane(S.point), v = view();
+    if (!(q.x > v.x0 && q.x < v.x1 && q.y > v.y0 && q.y < v.y1)) S.views.rig = rigView(S.l, S.g, S.point);
+  }
+  chart.data = null; chart.overlay = null; drawChart(); requestChart(0); saveURL();
 }
+for (const b of document.querySelectorAll(".planes button")) b.onclick = () => setPlane(b.dataset.plane);
+
+// "show zone n": a view of Arnold's plane framing tongue n with both edges visible. The edges are
+// asked of the server in a thin band of mu about the chosen point's mu (or 0.3); the window's width
+// is a few tongue widths, its height what keeps both slanting edges inside it.
+async function showZone(n) {
+  if (S.plane !== "arnold") setPlane("arnold");
+  const top = muTop(driveText());
+  let mu0 = S.point ? toArnold(S.point.T, S.point.A, S.l, S.g).mu : 0.3;
+  if (!(mu0 > 0.02 && mu0 < 0.95 * top)) mu0 = 0.3;
+  const d = Math.min(0.01, mu0 / 4), general = S.drive !== "square" || S.zeta > 0;
+  const q = { plane: "arnold", eps_min: 0, eps_max: general ? 12 : 60, mu_min: mu0 - d, mu_max: mu0 + d, drive: driveText(),
+    zeta: S.zeta, samples: 3, l: S.l, g: S.g };
+  try {
+    const c = await getJSON("/api/chart?" + qs(q)), z = c.zones.find((zz) => zz.n === n);
+    if (!z || z.lo[1] === null || z.hi[1] === null) { chart.error = `zone ${n} is not in reach at μ = ${fmt(mu0, 3)}`; drawChart(); return; }
+    const lo = z.lo[1], hi = z.hi[1], w = hi - lo, ys = c.y_values;
+    const slope = Math.max(Math.abs(z.lo[2] - z.lo[0]), Math.abs(z.hi[2] - z.hi[0])) / (ys[2] - ys[0]);
+    const hy = Math.min(mu0, top - mu0, 0.35, slope > 0 ? (0.9 * w) / slope : 0.35);
+    const v = S.views.arnold;
+    v.x0 = Math.max(0, lo - 1.2 * w); v.x1 = hi + 1.2 * w; v.y0 = mu0 - hy; v.y1 = mu0 + hy;
+    chart.error = null; clampView(); drawChart(); requestChart(0); saveURL();
+  } catch (e) { chart.error = String(e.message || e); drawChart(); }
+}
+$("show-zone").onclick = () => showZone(parseInt($("zone-n").value, 10) || 0);
+
+// The projector: the real pendulum alone, large; the verdict above it.
+$("projector").onclick = () => {
+  const on = document.body.classList.toggle("projector");
+  $("projector").textContent = on ? "back to the explorer" : "projector view";
+  anim.prepare();
+};
+document.addEventListener("keydown", (ev) => { if (ev.key === "Escape" && document.body.classList.contains("projector")) $("projector").click(); });
+
+// Two fingers on the chart: pinch to zoom about their middle (the page itself does not zoom there).
+const touches = new Map();
+let pinch = null;
+chart.canvas.addEventListener("pointerdown", (ev) => {
+  if (ev.pointerType !== "touch") return;
+  touches.set(ev.pointerId, { x: ev.clientX, y: ev.clientY });
+  if (touches.size === 2) { const [a, b] = [...touches.values()]; pinch = { d: Math.hypot(a.x - b.x, a.y - b.y), v: { ...view() } }; drag = null; }
+});
+chart.canvas.addEventListener("pointermove", (ev) => {
+  if (!touches.has(ev.pointerId)) return;
+  touches.set(ev.pointerId, { x: ev.clientX, y: ev.clientY });
+  if (!pinch || touches.size !== 2) return;
+  const [a, b] = [...touches.values()], d = Math.hypot(a.x - b.x, a.y - b.y);
+  if (!(d > 0)) return;
+  const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height), f = pinch.d / d;
+  const mx = ax.invX((a.x + b.x) / 2 - r.left), my = ax.invY((a.y + b.y) / 2 - r.top), v = view(), o = pinch.v;
+  const zoom = (c, lo, hi, log) => log ? [Math.exp(Math.log(c) + (Math.log(lo) - Math.log(c)) * f), Math.exp(Math.log(c) + (Math.log(hi) - Math.log(c)) * f)]
+    : [c + (lo - c) * f, c + (hi - c) * f];
+  [v.x0, v.x1] = zoom(mx, o.x0, o.x1, ax.logX); [v.y0, v.y1] = zoom(my, o.y0, o.y1, ax.logY);
+  clampView(); drawChart(); requestChart(120);
+});
+const endTouch = (ev) => { touches.delete(ev.pointerId); if (touches.size < 2 && pinch) { pinch = null; saveURL(); } };
+chart.canvas.addEventListener("pointerup", endTouch);
+chart.canvas.addEventListener("pointercancel", endTouch);
 $("share").onclick = async () => {
   saveURL();
   try { await navigator.clipboard.writeText(location.href); $("share").textContent = "link copied"; }
@@ -478,14 +611,26 @@ function setInputs() {
   $("speed").value = String(S.speed);
   $("mu-s").max = String(0.999 * muTop(driveText()));
   document.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x.dataset.plane === S.plane));
+  $("rig-mode").checked = S.rig; document.body.classList.toggle("rig-on", S.rig);
+  $("rig-rod").value = S.rod; $("rig-kind").value = S.rodKind; $("rig-given").value = S.given; $("damp-unit").value = S.dampUnit;
+  setDampInput();
   setPointInputs();
+}
+function setDampInput() {
+  const c = 2 * S.zeta * Math.sqrt(S.g / S.l);
+  $("damp").value = S.dampUnit === "zeta" ? S.zeta : Number(c.toPrecision(6));
 }
 function setPointInputs(except) {
   const P = S.point;
   const put = (id, v, d = 10) => { if (id !== except) $(id).value = P ? Number(v.toPrecision(d)) : ""; };
-  if (!P) { ["T", "freq", "A", "eps", "mu"].forEach((id) => ($(id).value = "")); return; }
+  if (!P) { ["T", "freq", "A", "eps", "mu", "rig-f", "rig-x"].forEach((id) => ($(id).value = "")); return; }
   const { eps, mu } = toArnold(P.T, P.A, S.l, S.g);
   put("T", P.T); put("freq", 1 / (2 * P.T)); put("A", P.A); put("eps", eps); put("mu", mu);
+  const f = 1 / (2 * P.T), x = 1e3 * strokeCoef() * P.A * P.T * P.T * (S.given === "stroke" ? 1 : 0.5);
+  put("rig-f", f, 6); put("rig-x", x, 6);
+  if (except !== "rig-f-s") $("rig-f-s").value = Math.log10(f);
+  if (except !== "rig-x-s") $("rig-x-s").value = Math.log10(x);
+  $("rig-g").textContent = `A = ${fmt(P.A, 4)} m/s² = ${fmt(P.A / S.g, 4)} g`;
   if (except !== "T-s") $("T-s").value = Math.log10(P.T);
   if (except !== "A-s") $("A-s").value = Math.log10(P.A);
   if (except !== "eps-s") $("eps-s").value = eps;
@@ -501,19 +646,39 @@ function pointFrom(id, value) {
     case "A": case "A-s": return { T: P.T, A: value };
     case "eps": case "eps-s": return toPhysical(value, mu, S.l, S.g);
     case "mu": case "mu-s": return toPhysical(eps, value, S.l, S.g);
+    case "rig-f": case "rig-f-s": {  // the frequency at this stroke
+      const st = strokeCoef() * P.A * P.T * P.T, T = 1 / (2 * value);
+      return { T, A: st / (strokeCoef() * T * T) };
+    }
+    case "rig-x": case "rig-x-s": {  // the amplitude or stroke [mm] at this frequency
+      const st = (S.given === "stroke" ? 1 : 2) * value / 1e3;
+      return { T: P.T, A: st / (strokeCoef() * P.T * P.T) };
+    }
   }
   return null;
 }
 let pointTimer = null;
-for (const id of ["T", "freq", "A", "eps", "mu", "T-s", "A-s", "eps-s", "mu-s"]) {
+for (const id of ["T", "freq", "A", "eps", "mu", "T-s", "A-s", "eps-s", "mu-s", "rig-f", "rig-f-s", "rig-x", "rig-x-s"]) {
   $(id).addEventListener("input", () => {
     let v = parseFloat($(id).value);
-    if (id === "T-s" || id === "A-s") v = Math.pow(10, v);
+    if (["T-s", "A-s", "rig-f-s", "rig-x-s"].includes(id)) v = Math.pow(10, v);
     const P = pointFrom(id, v);
     if (!P) return;
-    S.point = P; setPointInputs(id); drawChart(); saveURL();
+    S.point = P; setPointInputs(id);
+    if (S.plane === "rig") {  // keep the rig in view: a point leaving it re-centres the window on it
+      const q = toPlane(P), v = view();
+      if (!(q.x > v.x0 && q.x < v.x1 && q.y > v.y0 && q.y < v.y1)) { S.views.rig = rigView(S.l, S.g, P); requestChart(150); }
+    }
+    drawChart(); saveURL();
+    invalidatePoint();
     clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point, id), 180);
   });
+}
+// The current answers no longer belong to the choice: drop them and say so at once.
+function invalidatePoint() {
+  if (pointAbort) pointAbort.abort();
+  pointSeq++;
+  if (S.point) markBusy();
 }
 function onRig() {
   // A view left as the default follows the drive's default (mu up to its mu_max where above 1).
@@ -528,14 +693,46 @@ function onRig() {
   S.zeta = Math.max(0, parseFloat($("zeta").value) || 0); S.overlay = $("overlay").value;
   $("duty-l").style.display = S.drive === "rectangular" ? "" : "none";
   $("l-s").value = Math.log10(S.l);
+  setDampInput();
   saveURL(); requestChart(100);
-  if (S.point) { setPointInputs(); clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point), 200); }
+  if (S.point) { setPointInputs(); invalidatePoint(); clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point), 200); }
 }
 for (const id of ["l", "g", "drive", "duty", "zeta", "overlay"]) $(id).addEventListener("change", onRig);
+$("drive").addEventListener("input", onRig);
+// The rig in measured units: rod length and kind set l; the damping as zeta or c [1/s].
+function onRod() {
+  const L = parseFloat($("rig-rod").value);
+  if (!(L > 0)) return;
+  S.rod = L; S.rodKind = $("rig-kind").value;
+  $("l").value = Number((S.rodKind === "rod" ? (2 * L) / 3 : L).toPrecision(12));
+  onRig();
+}
+$("rig-rod").addEventListener("change", onRod);
+$("rig-kind").addEventListener("change", onRod);
+$("rig-given").addEventListener("change", () => {
+  S.given = $("rig-given").value; setPointInputs(); saveURL();
+  if (S.point) { invalidatePoint(); clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point), 200); }
+});
+$("damp-unit").addEventListener("change", () => { S.dampUnit = $("damp-unit").value; setDampInput(); saveURL(); });
+$("damp").addEventListener("change", () => {
+  const v = Math.max(0, parseFloat($("damp").value) || 0);
+  $("zeta").value = Number((S.dampUnit === "zeta" ? v : v / (2 * Math.sqrt(S.g / S.l))).toPrecision(8));
+  onRig();
+});
+$("rig-mode").addEventListener("change", () => {
+  S.rig = $("rig-mode").checked; document.body.classList.toggle("rig-on", S.rig);
+  if (S.rig) {
+    if (Math.abs(S.l - (S.rodKind === "rod" ? (2 * S.rod) / 3 : S.rod)) > 1e-12 * S.l) { S.rodKind = "point"; S.rod = S.l; }
+    $("rig-rod").value = S.rod; $("rig-kind").value = S.rodKind;
+    setPlane("rig");
+  }
+  setPointInputs(); saveURL();
+  if (S.point) { invalidatePoint(); clearTimeout(pointTimer); pointTimer = setTimeout(() => choosePoint(S.point), 200); }
+});
 $("l-s").addEventListener("input", () => { $("l").value = Number(Math.pow(10, parseFloat($("l-s").value)).toPrecision(4)); onRig(); });
-$("theta0").addEventListener("change", () => { S.theta0 = parseFloat($("theta0").value) || 0; $("theta0-s").value = S.theta0; saveURL(); fetchMotion(); });
+$("theta0").addEventListener("change", () => { S.theta0 = parseFloat($("theta0").value) || 0; $("theta0-s").value = S.theta0; saveURL(); renderVerdict(); fetchMotion(); });
 $("theta0-s").addEventListener("input", () => {
-  S.theta0 = parseFloat($("theta0-s").value); $("theta0").value = S.theta0; saveURL();
+  S.theta0 = parseFloat($("theta0-s").value); $("theta0").value = S.theta0; saveURL(); renderVerdict();
   clearTimeout(pointTimer); pointTimer = setTimeout(fetchMotion, 150);
 });
 $("speed").addEventListener("change", () => { const t = anim.simTime(); S.speed = parseFloat($("speed").value); anim.seek(t); saveURL(); });
@@ -543,26 +740,122 @@ $("play").onclick = () => anim.toggle();
 $("restart").onclick = () => anim.seek(0);
 
 // ------------------------------------------------------------------ the point: report and motion
-async function choosePoint(P, from) {
-  S.point = { T: P.T, A: P.A };
-  setPointInputs(from); drawChart(); saveURL(); updateExports();
+// A point's answers come in three requests, quickest first: the verdict (/api/verdict, the
+// multipliers alone), the report with margins and directions (/api/point), and the safe tilt
+// (/api/safe_tilt, which follows the real pendulum). The panel greys and says "computing" the moment
+// the point, the drive or the damping changes; a newer choice aborts the older requests, and an
+// answer for anything but the current choice is dropped (pointSeq).
+let pointSeq = 0, pointAbort = null;
+const PANEL = { verdict: null, report: null, safe: null };
+function pointQuery() {
   const q = { T: S.point.T, A: S.point.A, l: S.l, g: S.g, drive: driveText(), zeta: S.zeta };
-  try {
-    const rep = await getJSON("/api/point?" + qs(q));
-    if (S.point.T !== q.T || S.point.A !== q.A) return;
-    showReport(rep);
-  } catch (e) { showError(e); }
+  if (S.rig) {  // the answers in the quantity the rig is set by (amplitude or stroke, frequency)
+    const st = strokeCoef() * S.point.A * S.point.T * S.point.T;
+    delete q.T; delete q.A;
+    q.frequency = 1 / (2 * S.point.T);
+    q[S.given] = S.given === "stroke" ? st : st / 2;
+  }
+  return q;
+}
+function markBusy(what = "computing …") {
+  PANEL.verdict = null; PANEL.report = null; PANEL.safe = null;
+  const el = $("verdict"); el.className = "verdict busy"; el.dataset.state = "busy"; el.dataset.verdict = ""; PANEL.query = null;
+  el.innerHTML = `<span class="head">${what}</span><small>${esc(describeChoice())}</small>`;
+  $("report").innerHTML = ""; $("report-box").classList.add("stale");
+  anim.clear("computing …");
+}
+function describeChoice() {
+  if (!S.point) return "";
+  const f = 1 / (2 * S.point.T), st = strokeCoef() * S.point.A * S.point.T * S.point.T;
+  const d = shortDrive(({ square: "square wave", sine: "sine", rectangular: `rectangular, duty ${S.duty}` })[S.drive] || S.drive);
+  return `${d} · ${fmt(f, 4)} Hz, ${S.given === "stroke" ? "stroke " + fmt(1e3 * st, 4) : "amplitude " + fmt(500 * st, 4)} mm` +
+    ` (A = ${fmt(S.point.A / S.g, 3)} g)${S.zeta > 0 ? ` · damping ζ = ${fmt(S.zeta, 3)}` : ""}`;
+}
+async function choosePoint(Pt, from) {
+  S.point = { T: Pt.T, A: Pt.A };
+  setPointInputs(from); drawChart(); saveURL(); updateExports();
+  if (pointAbort) pointAbort.abort();
+  pointAbort = new AbortController();
+  const seq = ++pointSeq, signal = pointAbort.signal, q = pointQuery();
+  markBusy();
   fetchMotion();
+  const current = () => seq === pointSeq;
+  try {
+    const v = await getJSON("/api/verdict?" + qs(q), signal);
+    if (!current()) return;
+    PANEL.verdict = v; PANEL.query = q; renderVerdict();
+    const periods = safePeriods();
+    const [rep, safe] = await Promise.all([
+      getJSON("/api/point?" + qs(q), signal).then((r) => { if (current()) { PANEL.report = r; renderVerdict(); showReport(r); } return r; }),
+      v.stable ? getJSON("/api/safe_tilt?" + qs({ ...q, periods }), signal)
+        .then((r) => { if (current()) { PANEL.safe = r; renderVerdict(); } return r; }) : null,
+    ]);
+  } catch (e) { if (e.name !== "AbortError" && current()) showError(e); }
+}
+// The safe tilt over the periods the motion is shown for (at most 40 where DOP853 follows it).
+function safePeriods() {
+  const n = motionParams().periods, integrated = S.drive === "sine" || S.zeta > 0;
+  return integrated ? Math.min(n, 40) : n;
+}
+// A verdict in plain words first, the technical term after.
+function plain(v) {
+  const t = v.verdict || "";
+  if (v.stable) return { head: "stays up", tech: t.replace(/^stable \(zone (\d+)\)/, "stable, zone $1") };
+  if (/always unstable/.test(t)) return { head: "falls", tech: "the pivot never accelerates down faster than g" };
+  if (/too weak/.test(t)) return { head: "falls", tech: "the drive is too weak to hold it up (below zone 0)" };
+  if (/4T|period doubling/.test(t) || v.kind === "4T") return { head: "falls", tech: "period-doubling resonance (4T-periodic, multipliers negative)" };
+  if (/2T-type/.test(t)) return { head: "falls", tech: "resonance (2T-periodic, multipliers positive)" };
+  return { head: "falls", tech: "unstable (multipliers real)" };
+}
+function renderVerdict() {
+  const el = $("verdict"), v = PANEL.report || PANEL.verdict;
+  if (!v) return;
+  el.className = "verdict " + (v.stable ? "stable" : "unstable");
+  el.dataset.state = PANEL.report ? "report" : "verdict";
+  el.dataset.verdict = v.verdict; el.dataset.drive = PANEL.query ? PANEL.query.drive : "";
+  const w = plain(v), parts = [];
+  parts.push(`<span class="head">The pendulum ${w.head}</span> <span class="tech">(${esc(w.tech)})</span>`);
+  const info = [];
+  if (v.stable) {
+    if (PANEL.safe && PANEL.safe.safe_tilt > 0) {
+      const th = PANEL.safe.safe_tilt, deg = (th * 180) / Math.PI;
+      info.push(`<span id="safe-tilt" data-safe="${th}">stands for starting tilts below <b>${angle(th)} rad</b> (${angle(deg)}°)` +
+        ` over ${PANEL.safe.periods} periods</span>`);
+      if (Math.abs(S.theta0) > th) {
+        info.push(`<span class="warn" id="will-fall">This start (θ₀ = ${fmt(S.theta0, 3)} rad) will fall, although the small-tilt verdict is stable: ` +
+          `the real pendulum stands only for tilts below ${angle(th)} rad. <button id="set-safe">set θ₀ = ${angle(safeStart(th))} rad</button></span>`);
+      }
+    } else if (PANEL.safe) info.push(`<span id="safe-tilt" data-safe="0">no starting tilt above ${"1e-9"} rad stays up over ${PANEL.safe.periods} periods</span>`);
+    else info.push(`<span class="pending">safe starting tilt: computing …</span>`);
+  }
+  if (PANEL.report && PANEL.report.directions && PANEL.report.directions.length) {
+    const dirs = PANEL.report.directions.map((d) => `<li>${esc(d.text)}</li>`).join("");
+    info.push(`<span class="dirs-title">${v.stable ? "room before it falls:" : "to make it stand:"}</span><ul class="dirs">${dirs}</ul>`);
+  } else if (!PANEL.report) info.push(`<span class="pending">margins and ranges: computing …</span>`);
+  info.push(`<span class="nums">ε = ${fmt(v.eps, 8)}, μ = ${fmt(v.mu, 8)} · growth ${fmt(v.growth, 4)} per period 2T</span>`);
+  el.innerHTML = parts.join("") + `<small>${info.join("<br>")}</small>`;
+  const b = $("set-safe");
+  if (b) b.onclick = () => { setTheta0(safeStart(PANEL.safe.safe_tilt)); };
+}
+// A small angle as a teacher reads it: 0.23, 0.0042, 3.5 × 10⁻⁶.
+function angle(th) {
+  if (th >= 1e-3) return fmt(th, 2);
+  const e = Math.floor(Math.log10(th)), m = th / Math.pow(10, e);
+  const sup = String(e).replace(/-/g, "⁻").replace(/\d/g, (c) => "⁰¹²³⁴⁵⁶⁷⁸⁹"[+c]);
+  return `${fmt(m, 2)} × 10${sup}`;
+}
+// A start comfortably inside the safe tilt: half of it, rounded down to two digits.
+function safeStart(th) { const x = 0.5 * th, p = Math.pow(10, Math.floor(Math.log10(x)) - 1); return Math.floor(x / p) * p; }
+function setTheta0(v) {
+  S.theta0 = Number(v.toPrecision(3)); $("theta0").value = S.theta0; $("theta0-s").value = S.theta0;
+  saveURL(); renderVerdict(); fetchMotion();
 }
 function showReport(rep) {
-  const el = $("verdict");
-  el.className = "verdict " + (rep.stable ? "stable" : "unstable");
-  const m = rep.margin !== null && rep.nearest_zone >= 0 ? `margin ${(100 * rep.margin).toPrecision(3)} % of T to the nearest edge of zone ${rep.nearest_zone}` : "";
-  el.innerHTML = `${rep.verdict}<small>ε = ${fmt(rep.eps, 8)}, μ = ${fmt(rep.mu, 8)} · growth ${fmt(rep.growth, 4)} per period 2T${m ? " · " + m : ""}</small>`;
+  $("report-box").classList.remove("stale");
   $("report").innerHTML = rep.lines.map(([k, v]) => `<tr><th>${esc(k)}</th><td>${esc(v)}</td></tr>`).join("");
 }
 function showError(e) {
-  const el = $("verdict"); el.className = "verdict none"; el.textContent = String(e.message || e);
+  const el = $("verdict"); el.className = "verdict none"; el.dataset.state = "error"; el.textContent = String(e.message || e);
 }
 const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]);
 
@@ -570,15 +863,18 @@ function motionParams() {
   const P = S.point, periods = Math.max(20, Math.min(200, Math.round(8 / (2 * P.T))));
   return { T: P.T, A: P.A, l: S.l, g: S.g, drive: driveText(), zeta: S.zeta, theta0: S.theta0, periods, points_per_period: 60 };
 }
-let motionSeq = 0;
+let motionSeq = 0, motionAbort = null;
 async function fetchMotion() {
   if (!S.point) return;
+  if (motionAbort) motionAbort.abort();
+  motionAbort = new AbortController();
   const seq = ++motionSeq;
+  anim.clear("computing the motion …");
   try {
-    const m = await getJSON("/api/motion?" + qs(motionParams()));
+    const m = await getJSON("/api/motion?" + qs(motionParams()), motionAbort.signal);
     if (seq !== motionSeq) return;
     anim.load(m);
-  } catch (e) { if (seq === motionSeq) { anim.clear(String(e.message || e)); } }
+  } catch (e) { if (e.name !== "AbortError" && seq === motionSeq) { anim.clear(String(e.message || e)); } }
   updateExports();
 }
 
@@ -597,7 +893,10 @@ const anim = {
     m.omMax = Math.max(lim(m.dtheta), 0.05) * 1.1;
     m.n = n; this.prepare(); this.seek(0);
   },
-  clear(note) { this.m = null; this.note = note; this.prepare(); },
+  clear(note) {
+    this.m = null; this.note = note; this.prepare();
+    for (const p of plots) { const { ctx, w, h } = fit(p.canvas); ctx.clearRect(0, 0, w, h); }  // no old motion beside a new choice
+  },
   simTime() { return this.playing ? ((performance.now() - this.t0) / 1000) * S.speed + this.offset : this.offset; },
   seek(t) { this.offset = t; this.t0 = performance.now(); this.last = -1; for (const p of plots) p.reset(); },
   toggle() {
@@ -618,14 +917,18 @@ function drawStage(t) {
   ctx.clearRect(0, 0, w, h);
   if (!m) { ctx.fillStyle = "#6b7685"; ctx.font = "15px DejaVu Sans, sans-serif"; ctx.textAlign = "center";
     ctx.fillText(anim.note || "choose a point on the chart", w / 2, h / 2); return; }
-  const k = index(m, t), piv = lerp(m.pivot, k);
+  // A pivot travelling far more than the rod is long is drawn shortened (said under the picture),
+  // so the rod stays large enough to see.
+  const kp = Math.min(1, (0.6 * m.l) / m.pmax), pmax = m.pmax * kp;
+  const k = index(m, t), piv = lerp(m.pivot, k) * kp;
   const th = lerp(m.theta, k), thl = m.theta_linear ? lerp(m.theta_linear, k) : null;
-  const L = m.l, s = Math.min((w / 2) * 0.4 / L, (h - 40) / (2.15 * L + 2 * m.pmax));
-  const baseY = 28 + (L + m.pmax) * s;
+  const solo = document.body.classList.contains("projector");
+  const L = m.l, s = Math.min((solo ? w : w / 2) * 0.4 / L, (h - 60) / (2.15 * L + 2 * pmax));
+  const baseY = 28 + (L + pmax) * s;
   const scene = (cx, theta, title, color, note, linear) => {
     // rail of the shaker and the pivot's travel
     ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 6; ctx.lineCap = "round";
-    ctx.beginPath(); ctx.moveTo(cx, baseY - m.pmax * s - 14); ctx.lineTo(cx, baseY + m.pmax * s + 14); ctx.stroke();
+    ctx.beginPath(); ctx.moveTo(cx, baseY - pmax * s - 14); ctx.lineTo(cx, baseY + pmax * s + 14); ctx.stroke();
     const py = baseY - piv * s;
     ctx.setLineDash([4, 4]); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1;
     ctx.beginPath(); ctx.moveTo(cx, py); ctx.lineTo(cx, py - L * s * 1.08); ctx.stroke(); ctx.setLineDash([]);
@@ -638,16 +941,39 @@ function drawStage(t) {
     ctx.fillStyle = color; ctx.beginPath(); ctx.arc(bx, by, Math.max(7, 0.07 * L * s), 0, 2 * Math.PI); ctx.fill();
     ctx.fillStyle = "#16263d"; ctx.fillRect(cx - 16, py - 6, 32, 12);
     ctx.fillStyle = "#fff"; ctx.beginPath(); ctx.arc(cx, py, 3, 0, 2 * Math.PI); ctx.fill();
-    ctx.fillStyle = "#16263d"; ctx.font = "600 14px DejaVu Sans, sans-serif"; ctx.textAlign = "center"; ctx.textBaseline = "top";
-    ctx.fillText(title, cx, 6);
-    ctx.font = "12.5px DejaVu Sans, sans-serif"; ctx.textBaseline = "bottom";
+    const fs = solo ? 22 : w < 520 ? 12 : 14;
+    ctx.fillStyle = "#16263d"; ctx.font = `600 ${fs}px DejaVu Sans, sans-serif`; ctx.textAlign = "center"; ctx.textBaseline = "top";
+    fitText(ctx, title, cx, 6, solo ? w - 20 : w / 2 - 12);
+    ctx.font = `${solo ? 18 : 12.5}px DejaVu Sans, sans-serif`; ctx.textBaseline = "bottom";
     const big = Math.abs(theta) > (linear ? Math.PI / 2 : Math.PI);
-    ctx.fillText(`θ = ${fmt(theta, 4)} rad${big && !linear ? " (turned over)" : ""}`, cx, h - 6);
-    if (big && linear) { ctx.fillStyle = "#b42318"; ctx.fillText("beyond small angles: the linear model runs away", cx, h - 24); }
+    const fallen = !linear && Math.abs(wrap(theta)) > Math.PI / 2;
+    ctx.fillText(`θ = ${fmt(theta, 4)} rad${big && !linear ? " (turned over)" : fallen ? " (fallen)" : ""}`, cx, h - 6);
+    if (big && linear) {
+      // Linearly stable motion is bounded, but e^(w_h T) can make it enormous within each period;
+      // unstable motion grows without bound. Say which.
+      const st = PANEL.verdict && PANEL.verdict.stable;
+      ctx.fillStyle = st ? "#6b4e00" : "#b42318"; ctx.font = `${w < 520 ? 11 : 12.5}px DejaVu Sans, sans-serif`;
+      fitText(ctx, st ? "bounded, but far beyond small angles within each period" : "grows without bound (unstable)", cx, h - 24, w / 2 - 12);
+    }
   };
-  scene(w * 0.27, thl, "linear model (2.3)", COLORS.linear, m.summary && typeof m.summary.linear === "string" ? m.summary.linear : "", true);
-  scene(w * 0.73, th, "nonlinear (the real pendulum)", COLORS.nonlinear, "", false);
+  if (kp < 1) {
+    ctx.fillStyle = "#6b7685"; ctx.font = `${solo ? 15 : 11}px DejaVu Sans, sans-serif`; ctx.textAlign = "right"; ctx.textBaseline = "bottom";
+    ctx.fillText(`pivot travel drawn ${fmt(kp, 2)}× to scale`, w - 6, solo ? h - 30 : h - 40);
+  }
+  if (solo) {
+    scene(w * 0.5, th, "the real pendulum", COLORS.nonlinear, "", false);
+    return;
+  }
+  scene(w * 0.27, thl, "small-angle (linear) model", COLORS.linear, m.summary && typeof m.summary.linear === "string" ? m.summary.linear : "", true);
+  scene(w * 0.73, th, "the real pendulum", COLORS.nonlinear, "", false);
   ctx.strokeStyle = "#e4e8ee"; ctx.lineWidth = 1; ctx.beginPath(); ctx.moveTo(w / 2, 30); ctx.lineTo(w / 2, h - 26); ctx.stroke();
+}
+
+// Text shrunk to fit a width (titles of narrow panels).
+function fitText(ctx, text, x, y, width) {
+  const w = ctx.measureText(text).width;
+  if (w <= width) { ctx.fillText(text, x, y); return; }
+  ctx.save(); ctx.translate(x, y); ctx.scale(width / w, width / w); ctx.fillText(text, 0, 0); ctx.restore();
 }
 
 // Plots drawn incrementally: a base (axes and the faint whole run) and the run so far on top.
@@ -794,6 +1120,8 @@ function updateExports() {
 
 // ------------------------------------------------------------------ start
 loadURL();
+if (!S.point) S.point = { ...DEMO };  // a first view that shows something: the pendulum standing (zone 0)
+if (S.plane === "rig" && !new URLSearchParams(location.search).has("x0")) S.views.rig = rigView(S.l, S.g, S.point);
 clampView();
 setInputs();
 updateExports();
@@ -803,5 +1131,5 @@ if (S.point) choosePoint(S.point);
 window.addEventListener("resize", () => { drawChart(); anim.prepare(); });
 requestAnimationFrame(frame);
 // For tests and the console: where a point of the chart is on screen.
-window.kapitza = { S, anim, chart, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+window.kapitza = { S, anim, chart, panel: PANEL, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
   return { x: r.left + ax.X(x), y: r.top + ax.Y(y) }; } };
