@@ -316,7 +316,7 @@ def test_cli_sweep_writes_store_figures_and_netcdf(tmp_path, capsys):
     ([], "give the window"),
     (["--T", "0.1", "0.2", "--A", "50", "100", "--damping", "-1"], "--damping must be >= 0"),
     (["--T", "0.1", "0.2", "--A", "50", "100", "--damping", "nan"], "--damping"),
-    (["--T", "0.1", "0.2", "--A", "50", "100", "--zeta", "0.1"], "--damping"),
+    (["--T", "0.1", "0.2", "--A", "50", "100", "--zeta", "0.1", "--damping", "0.2"], "not both"),
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--damping", "0.5"], "--zeta"),
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "-0.1"], "--zeta must be >= 0"),
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "inf"], "--zeta"),
