@@ -178,13 +178,15 @@ def cmd_tower(args):
         curves = [tower_curves(c, drive=drive, g=args.g, frequency_range=fr, stroke_range=sr, points=args.points,
                                grid=args.grid) for c in chains]
         mark = None if report is None else (report.frequency, report.stroke)
+        import matplotlib.pyplot as plt
+
         fig, _ = tower_chart_figure(chains, drive=drive, g=args.g, frequency_range=fr, stroke_range=sr,
                                     amplitude=args.amplitude_axis, mark=mark, curves=curves)
         stem = out_stem(args.out)
-        written += _style.save(fig, stem)
-        import matplotlib.pyplot as plt
-
-        plt.close(fig)
+        try:
+            written += _style.save(fig, stem)
+        finally:  # an unwritable path must not leave the figure open
+            plt.close(fig)
         rows = ([c.n_links, *r] for c in curves for r in c.rows())
         written.append(_io.write_csv(stem.with_suffix(".csv"), ["links", "mode", "l", "edge", "mu", "frequency", "stroke"],
                                      rows, comments=[f"zone-0 edges of each mode on the rig plane (kapitza tower): "

@@ -253,7 +253,9 @@ def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80,
 
     anim = FuncAnimation(fig, frame, frames=n_frames, blit=False)
     path = Path(path)
-    with atomic_path(path, suffix=".gif") as tmp:
-        anim.save(tmp, writer=PillowWriter(fps=fps), dpi=dpi)
-    plt.close(fig)
+    try:
+        with atomic_path(path, suffix=".gif") as tmp:
+            anim.save(tmp, writer=PillowWriter(fps=fps), dpi=dpi)
+    finally:  # an unwritable path must not leave the figure open
+        plt.close(fig)
     return path
