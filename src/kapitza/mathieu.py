@@ -371,13 +371,15 @@ def sine_zone_edges(mu, n):
 
 
 # ---------------------------------------------------------------- Floquet data
-def _sine_floquet0(eps, mu):
+def _sine_floquet0(eps, mu, certify=True):
     """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T.
 
     The verdict and the zone come from the Sturm counts (:func:`_sine_zone_of`); the trace from
     :func:`_sine_traces`. Where an edge lies within the rounding band of the point, or where the
     trace is accurate enough to say ``|tau| < 1`` or ``> 1`` and says otherwise than the count,
     the exact trace decides (:func:`_certify`): no verdict contradicts the monodromy.
+    ``certify=False`` (the steps of a search, whose final bracket is certified) keeps the count
+    of one side of the band instead.
     """
     from ._exact import acosh_from_log
 
@@ -390,7 +392,7 @@ def _sine_floquet0(eps, mu):
     with np.errstate(invalid="ignore"):
         says = np.abs(np.abs(tau) - 1.0) > err  # the double trace decides |tau| vs 1 by itself
     unsure |= says & ((np.abs(tau) < 1.0) != (count % 2 == 1))
-    idx = np.flatnonzero(unsure)
+    idx = np.flatnonzero(unsure) if certify else np.zeros(0, np.int64)
     if idx.size:
         tau[idx], log_tau[idx], count[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx])
     stable = count % 2 == 1
@@ -619,7 +621,7 @@ def _exact_tau(eps, mu):
         wI, dwI, wII, dwII = _exact_half_period(eps, mu, P)
         num = 2 * wI * dwII - (1 << 2 * P)  # tau * 2^(2P)
         gap = abs(abs(num) - (1 << 2 * P))  # | |tau| - 1 | * 2^(2P)
-        if gap > (1 << (2 * P - 48)) or P > 20000:
+        if gap > (1 << (2 * P - 48)) or P > 1500:  # beyond 2^-3000 the count decides
             break
         P *= 2
     with mpmath.workprec(64):

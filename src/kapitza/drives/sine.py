@@ -35,7 +35,7 @@ class SineWave(Drive):
     def _floquet0(self, eps, mu, certify=True):
         from ..mathieu import _sine_floquet0
 
-        tau, log_tau, growth, theta, zone = _sine_floquet0(eps, mu)
+        tau, log_tau, growth, theta, zone = _sine_floquet0(eps, mu, certify)
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
 
     def _log_tau0(self, eps, mu):
