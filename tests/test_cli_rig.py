@@ -39,7 +39,7 @@ def test_drive_damping_and_check_exit_status(capsys):
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["--T", "0.1", "--A", "100", "--drive", "triangle"], "drive"),
+    (["--T", "0.1", "--A", "100", "--drive", "sawtooth"], "drive"),
     (["--T", "0.1", "--A", "100", "--duty", "1.5"], "duty"),
     (["--T", "0.1", "--A", "100", "--drive", "sine", "--duty", "0.3"], "--duty"),
     (["--T", "0.1", "--A", "100", "--damping", "-1"], "damping"),

@@ -71,7 +71,7 @@ def test_parse_drive(text, expected):
 
 
 @pytest.mark.parametrize("text, match", [
-    ("", "drive"), ("triangle", "drive must be one of"), ("square:3", "no parameters"),
+    ("", "drive"), ("sawtooth", "drive must be one of"), ("square:3", "no parameters"),
     ("rectangular", "duty"), ("rectangular:x", "duty must be a number"), ("rectangular:1.5", "duty"),
     ("steps:1,-1", "levels and fractions"), ("steps:1,1:0.5,0.5", "zero mean"),
 ])

@@ -197,7 +197,7 @@ def test_exports_are_the_files_the_cli_writes(server, tmp_path):
     ("/api/chart", dict(eps_min=3, eps_max=2), ["eps", "(3, 2)"]),
     ("/api/chart", dict(mu_max=2), ["mu", "2"]),
     ("/api/chart", dict(plane="polar"), ["plane", "polar"]),
-    ("/api/chart", dict(drive="triangle"), ["drive", "triangle"]),
+    ("/api/chart", dict(drive="sawtooth"), ["drive", "sawtooth"]),
     ("/api/chart", dict(drive="rectangular:1.5"), ["duty", "1.5"]),
     ("/api/chart", dict(zeta=-1), ["zeta", "-1"]),
     ("/api/chart", dict(zeta=1e308), ["zeta", "10", "1e+308"]),
