@@ -28,8 +28,7 @@ from .square import SquareWave
 from .steps import StepDrive
 from .triangle import TriangleWave
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "SampledDrive",
-           "from_samples", "DRIVES", "register", "as_drive", "parse_drive", "text_forms"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples", "DRIVES", "register", "as_drive", "parse_drive", "text_forms"]
 
 #: Drive classes by the name the command line, the web API and the reports use (:func:`register` adds one).
 DRIVES: dict[str, type[Drive]] = {}
