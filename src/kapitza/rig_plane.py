@@ -122,14 +122,15 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
     m_lo = max(float(K_all.min() / f1), 1e-9)
     m_hi = min(float(K_all.max() / f0), 0.999999 * top)
     n_max = min(MAX_ZONES, int(np.ceil(float(eps_all.max()) * np.sqrt(8.0) / np.pi)) + 2)
-    general = None if d.name == "square" and zeta == 0 else d
     if mu_samples is None:
-        mu_samples = 2000 if general is None else 160
+        mu_samples = 2000 if d.closed_form(zeta) else 160
     edges = None
     if m_lo < m_hi:
         mu = np.geomspace(m_lo, m_hi, _v.bounded_count("mu_samples", mu_samples, 100_000, minimum=2))
-        lo_e, hi_e = (np.asarray(a, float) for a in zone_edges(mu[None, :], np.arange(n_max)[:, None],
-                                                                drive=general, zeta=zeta))
+        lo_e = np.full((n_max, mu.size), np.inf)
+        hi_e = np.full((n_max, mu.size), np.inf)
+        for i in range(n_max):
+            lo_e[i], hi_e[i] = _row_edges(zone_edges, mu, i, d, zeta, float(eps_all.max()))
         edges = (mu, lo_e, hi_e)
 
     def frequencies(st):
@@ -169,6 +170,34 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
             and np.any((f_hi[i] > f0) & ~np.isnan(f_hi[i]))]
     return RigZoneCurves(n=np.array(keep, dtype=int), stroke=stroke, f_lo=f_lo[keep], f_hi=f_hi[keep], l=l, g=g,
                          frequency_range=(f0, f1), stroke_range=(s0, s1))
+
+
+def _row_edges(zone_edges, mu, n, drive, zeta, eps_top):
+    """Zone ``n``'s edges at the increasing ``mu`` samples, ``inf`` at the samples a drive's edge
+    solver refuses as too far out (the sine drive's edges beyond ``q = 1e8`` as ``mu -> 1``): those
+    lie beyond the window as long as the last edge it gives is already above ``eps_top``."""
+    try:
+        lo, hi = zone_edges(mu, n, drive=drive, zeta=zeta)
+        return np.asarray(lo, float), np.asarray(hi, float)
+    except _v.KapitzaValueError:
+        if mu.size < 2:
+            raise
+    # the refusal grows with mu: the longest prefix the solver takes, by bisection
+    good, bad = 0, mu.size
+    while bad - good > 1:
+        mid = (good + bad) // 2
+        try:
+            zone_edges(mu[mid], n, drive=drive, zeta=zeta)
+            good = mid
+        except _v.KapitzaValueError:
+            bad = mid
+    lo = np.full(mu.size, np.inf)
+    hi = np.full(mu.size, np.inf)
+    lo[:bad], hi[:bad] = (np.asarray(a, float) for a in zone_edges(mu[:bad], n, drive=drive, zeta=zeta))
+    if not lo[bad - 1] > eps_top:
+        raise _v.KapitzaValueError(f"the drive's zone {n} edges stop at mu = {mu[bad - 1]:.6g} inside the window "
+                                   f"(eps = {lo[bad - 1]:.4g} <= {eps_top:.4g}): narrow the frequency range")
+    return lo, hi
 
 
 def _inverse(edge, mu, eps):
