@@ -6,7 +6,7 @@ import pytest
 import kapitza.drives as kd
 from kapitza._validate import KapitzaValueError
 from kapitza.limits import averaging_threshold, threshold_table
-from kapitza.system import Pendulum, Rig
+from kapitza import Pendulum, Rig
 
 
 def test_square_wave_error_is_four_sevenths_mu_to_the_fourth():

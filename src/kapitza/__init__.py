@@ -24,7 +24,8 @@ from .parameters import G_EARTH, frequencies, phase_angles, to_arnold, to_physic
 # ---- drives and the rig
 from .drives import (Drive, RectangularWave, SineWave, SquareWave, StepDrive, TriangleWave, from_samples, parse_drive,
                      register)
-from .system import Pendulum, Rig
+from .system import Pendulum
+from .rig import Rig
 
 # ---- the safe starting tilt of the real pendulum beside every verdict
 from .safety import safe_tilt

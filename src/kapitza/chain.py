@@ -38,6 +38,7 @@ import numpy as np
 from . import _validate as _v
 from ._display import Summary, multipliers as _fmt_multipliers, num
 from .parameters import G_EARTH
+from .system import Pendulum
 
 __all__ = ["Chain", "ChainReport", "ModeReport", "ChainFloquet", "analyze_chain", "chain_floquet", "TowerCurves",
            "tower_curves", "default_window", "LINKS"]
@@ -183,8 +184,6 @@ class Chain:
 
     def pendulum(self, g=G_EARTH):
         """The single :class:`kapitza.Pendulum` of a one-link chain (its damping ``c / I`` [1/s])."""
-        from .system import Pendulum
-
         if self.n != 1:
             raise _v.KapitzaValueError(f"only a one-link chain is a single pendulum; this one has {self.n} links")
         c = self.joint_damping / self.pivot_inertia
@@ -780,8 +779,8 @@ def chain_floquet(chain, *, T, A, g=G_EARTH, drive=None, rtol=1e-12, _certify=Tr
     T = _v.one("T", _v.positive("T", T))
     A = _v.one("A", _v.positive("A", A))
     g = _v.one("g", _v.positive("g", g))
-    rtol = _tolerance("rtol", rtol)
-    _scale_check(chain, T, A, g, d)
+    rtol = _v.one("rtol", _v.in_range("rtol", rtol, 1e-14, 1e-3, lo_open=False, hi_open=False))
+    scale_check(chain, T, A, g, d)
     Minv_K, Minv_C = chain._modes[2]
     segs = _segments(d, T, A, g)
     if segs is not None:
@@ -1090,19 +1089,15 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
                        n_links=chain.n)
 
 
-def _tolerance(name, value, lo=1e-14, hi=1e-3):
-    """A single integration tolerance in ``[lo, hi]``."""
-    return _v.one(name, _v.in_range(name, value, lo, hi, lo_open=False, hi_open=False))
-
-
 #: the most e-folds ``sqrt((g + A max s) / l_N) 2T`` of the fastest mode over one period that the
 #: double-precision products and integrations are asked to resolve
 MAX_EFOLDS = 1e4
 
 
-def _scale_check(chain, T, A, g, drive):
-    """Refuse a period over which the shortest mode could grow by more than ``e^MAX_EFOLDS``."""
-    peak = max(abs(float(x)) for x in getattr(drive, "levels", (1.0, -1.0)))
+def scale_check(chain, T, A, g, drive):
+    """Refuse (:class:`kapitza.KapitzaValueError`) a period ``2T`` over which the chain's shortest
+    mode could grow by more than ``e^MAX_EFOLDS`` under ``drive`` (checked input)."""
+    peak = drive.peak
     with np.errstate(over="ignore"):
         x = math.sqrt((g + A * peak) / chain.modal_lengths[-1]) * 2.0 * T
     if not x <= MAX_EFOLDS:

@@ -1,4 +1,4 @@
-"""The rig as objects: what swings (:class:`Pendulum`) and how its pivot is driven (a drive).
+"""What swings: a pendulum (:class:`Pendulum`); the rig that drives it is :class:`kapitza.rig.Rig`.
 
 A rigid body swinging about a pivot obeys the same equation as a point mass on a massless
 rod of the *equivalent length* ``l = I / (m d)`` (``I`` its moment of inertia about the
@@ -14,10 +14,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _validate as _v
-from .drives import Drive, as_drive
 from .parameters import G_EARTH
 
-__all__ = ["Pendulum", "Rig"]
+__all__ = ["Pendulum"]
 
 
 def _scalar(name, value, *, positive=True):
@@ -106,77 +105,3 @@ class Pendulum:
     def as_dict(self) -> dict:
         return {"l": self.l, "g": self.g, "damping": self.damping, "model": self.model, "size": self.size,
                 "zeta": self.zeta}
-
-
-@dataclass(frozen=True)
-class Rig:
-    """A pendulum and the drive of its pivot: the object the questions of a real rig are asked of.
-
-    Parameters
-    ----------
-    pendulum : Pendulum or Chain
-        What swings: one pendulum, or a tower of linked ones (:class:`kapitza.Chain`; its
-        ``analyze`` also takes ``g``).
-    drive : Drive or str, optional
-        The paper's square wave by default.
-
-    Examples
-    --------
-    >>> rig = Rig(Pendulum.uniform_rod(0.3, damping=0.2), SineWave())      # doctest: +SKIP
-    >>> T, A = rig.drive.from_rig(40.0, amplitude=0.01)                      # doctest: +SKIP
-    >>> rig.analyze(T=T, A=A).stable                                         # doctest: +SKIP
-    """
-
-    pendulum: Pendulum = field(default_factory=Pendulum)
-    drive: Drive | str | None = None
-
-    def __post_init__(self):
-        from .chain import Chain
-
-        if not isinstance(self.pendulum, (Pendulum, Chain)):
-            raise _v.KapitzaValueError(f"pendulum must be a kapitza.Pendulum or kapitza.Chain; got {self.pendulum!r}")
-        object.__setattr__(self, "drive", as_drive(self.drive))
-
-    def arnold(self, T, A):
-        """Arnold's ``(eps, mu)`` of the half-period ``T`` [s] and acceleration scale ``A`` [m/s^2]."""
-        from .parameters import to_arnold
-
-        return to_arnold(T, A, self.pendulum.l, self.pendulum.g)
-
-    def physical(self, *, T=None, A=None, frequency=None, stroke=None, amplitude=None):
-        """``(T, A)`` from either ``(T, A)`` or the frequency [Hz] with the stroke or the
-        displacement amplitude [m] (or ``A``)."""
-        if frequency is None:
-            if T is None or A is None:
-                raise _v.KapitzaValueError("give T and A, or the frequency with the stroke, amplitude or A")
-            if stroke is not None or amplitude is not None:
-                raise _v.KapitzaValueError("stroke and amplitude go with frequency, not with T and A")
-            T_, A_ = np.broadcast_arrays(_v.positive("T", T), _v.positive("A", A))
-            return T_[()], A_[()]
-        if T is not None:
-            raise _v.KapitzaValueError("give T or frequency, not both")
-        T_, A_ = np.broadcast_arrays(*self.drive.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
-        return T_[()], A_[()]
-
-    def analyze(self, **kwargs):
-        """The stability report of this rig at ``T, A`` or ``frequency`` with ``stroke``/``amplitude``/``A``;
-        arrays (broadcast together) give an object array of reports of their shape."""
-        from .analysis import analyze
-
-        from dataclasses import replace
-
-        if not isinstance(self.pendulum, Pendulum):  # a Chain: the tower's report (docs/tower.md)
-            return self.pendulum.analyze(drive=self.drive, **kwargs)
-        T, A = self.physical(**kwargs)
-        p = self.pendulum
-
-        def one(t, a):
-            return replace(analyze(T=float(t), A=float(a), l=p.l, g=p.g, drive=self.drive, damping=p.damping),
-                           pendulum=p.describe())
-
-        if np.ndim(T) == 0:
-            return one(T, A)
-        out = np.empty(np.shape(T), dtype=object)
-        for i in np.ndindex(out.shape):
-            out[i] = one(T[i], A[i])
-        return out
