@@ -249,19 +249,8 @@ def edges(mu, n, drive, zeta):
     return drive._edges(mu, n, zeta)
 
 
-def _windowed(drive):
-    """Whether ``drive`` finds the zones of a window all at once (:func:`_window0`)."""
-    return drive._windowed or drive.name == "sine"
-
-
 def _window0(drive, mu, e0, e1):
     """``(rows, zone, lo, hi)`` of the undamped zones meeting ``[e0, e1]``, from the drive's window."""
-    if drive.name == "sine":
-        from ..mathieu import _sine_window
-
-        ok = np.flatnonzero(mu < 1.0)
-        rows, zone, lo, hi = _sine_window(mu[ok], e1)
-        return ok[rows], zone, lo, hi
     return drive._window0(mu, np.full(mu.size, e0), np.full(mu.size, e1))
 
 
@@ -271,7 +260,7 @@ def window_edges(drive, mu, e0, e1, zeta):
     # a drive that finds every zone of a window at once (piecewise-constant: the rotation angle
     # sampled along eps; the sine: Mathieu's characteristic values) gives its own window;
     # damped, its zones follow from the undamped ones (_damped_window); others go zone by zone
-    if _windowed(drive):
+    if drive._windowed:
         if not np.any(zeta > 0):
             return _window0(drive, mu, e0, e1)
         return _damped_window(drive, mu, zeta, e0, e1)
@@ -291,10 +280,8 @@ def _damped_window(drive, mu, zeta, e0, e1):
     gap that reaches out of that window) is reported as ``inf``: the chart paints to its end.
     """
     mu_c = mu * np.sqrt(1.0 + zeta * zeta)
-    live = np.flatnonzero(mu_c < 1.0) if drive.name == "sine" else np.arange(mu.size)
     cap = 2.0 * e1
-    r0, z0, lo0, hi0 = window_edges(drive, mu_c[live], 0.0, cap, np.zeros(live.size))
-    r0 = live[r0]
+    r0, z0, lo0, hi0 = window_edges(drive, mu_c, 0.0, cap, np.zeros(mu.size))
     keep = np.isfinite(lo0) & (lo0 <= cap)
     r0, z0, lo0, hi0 = r0[keep], z0[keep], lo0[keep], hi0[keep]
     # phi-edges by (row, zone)
@@ -325,10 +312,6 @@ def grid(eps, mu, drive, zeta, out):
 
     ``eps`` sorted ascending, ``out`` zeroed, shape ``(len(mu), len(eps))``.
     """
-    if drive.name == "sine" and not np.any(zeta > 0):
-        from ..mathieu import _sine_grid  # crossings bisected only until no pixel is left inside
-
-        return _sine_grid(eps, mu, out)
     rows, _, lo, hi = window_edges(drive, mu, float(eps[0]), float(eps[-1]), zeta)
     i0 = np.searchsorted(eps, lo, side="right")
     i1 = np.searchsorted(eps, hi, side="left")

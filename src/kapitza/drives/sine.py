@@ -22,6 +22,8 @@ class SineWave(Drive):
     name = "sine"
     _stroke_coefficient = 2.0 / PI**2
     _mean_square_velocity = 1.0 / (2.0 * PI**2)
+    _trough = 1.0
+    peak = 1.0
 
     def _shape(self, tau):
         return np.sin(PI * tau)
@@ -33,28 +35,45 @@ class SineWave(Drive):
         return -np.sin(PI * tau) / PI**2
 
     def _floquet0(self, eps, mu, certify=True):
-        from ..mathieu import _sine_floquet0
+        from ._mathieu import sine_floquet0
 
-        tau, log_tau, growth, theta, zone = _sine_floquet0(eps, mu, certify)
+        tau, log_tau, growth, theta, zone = sine_floquet0(eps, mu, certify)
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
 
     def _log_tau0(self, eps, mu):
-        from ..mathieu import _sine_log_tau
+        from ._mathieu import sine_log_tau
 
-        return _sine_log_tau(eps, mu)
+        return sine_log_tau(eps, mu)
 
     def _tau_minus_one0(self, eps, mu):
-        from ..mathieu import _sine_tau_minus_one
+        from ._mathieu import sine_tau_minus_one
 
-        return _sine_tau_minus_one(eps, mu)
+        return sine_tau_minus_one(eps, mu)
 
     def _edges0(self, mu, n):
-        from ..mathieu import _sine_edges
+        from ._mathieu import sine_edges
 
         mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
         ok = mu < 1.0  # no attracting part of the period when A <= g (mu >= 1)
-        lo, hi = _sine_edges(np.where(ok, mu, 0.5), n)
+        lo, hi = sine_edges(np.where(ok, mu, 0.5), n)
         return np.where(ok, lo, np.nan), np.where(ok, hi, np.nan)
+
+    #: every zone of a window at once, from the Sturm counts at its right end
+    _windowed = True
+
+    def _window0(self, mu, e_a, e_b):
+        from ._mathieu import sine_window
+
+        ok = np.flatnonzero(mu < 1.0)  # no zone when A <= g (mu >= 1)
+        rows, zone, lo, hi = sine_window(mu[ok], e_b[ok])
+        return ok[rows], zone, lo, hi
+
+    def paint(self, eps, mu, zeta, out):
+        if zeta > 0:
+            return super().paint(eps, mu, zeta, out)
+        from ._mathieu import sine_grid  # crossings bisected only until no pixel is left inside
+
+        return sine_grid(eps, mu, out)
 
     @property
     def label(self) -> str:

@@ -1,0 +1,733 @@
+"""The sine drive's engine: Mathieu's characteristic values by Sturm counts, its Floquet data and zones.
+
+The public face is :mod:`kapitza.mathieu` (characteristic values, the sine's zone edges) and
+:class:`kapitza.SineWave`, whose methods call these (validated input only).
+
+``y'' + (a - 2 q cos 2z) y = 0`` (DLMF 28.2.1). Its periodic solutions exist on the
+characteristic curves ``a = a_n(q)`` (even in ``z``) and ``a = b_n(q)`` (odd); with Fourier
+series they are the eigenvalues of four symmetric tridiagonal matrices (DLMF 28.4), here
+with ``d_r`` on the diagonal and ``q`` beside it:
+
+    a_{2k}:    d = (0, 4, 16, 36, ...),   the first off-diagonal q sqrt(2)   (cos 2rz)
+    a_{2k+1}:  d = (1 + q, 9, 25, ...)                                      (cos (2r+1)z)
+    b_{2k+1}:  d = (1 - q, 9, 25, ...)                                      (sin (2r+1)z)
+    b_{2k+2}:  d = (4, 16, 36, ...)                                         (sin (2r+2)z)
+
+The ``k``-th eigenvalue (ascending) of each is the characteristic value of that order (the
+curves of one family do not cross). Each is found by bisection with the Sturm count of the
+*infinite* matrix (:func:`_count`: the LDL^T pivots stop where they provably stay positive), so
+no truncation is chosen and no eigensolver (nor BLAS) runs. ``scipy.special.mathieu_a/b`` are not
+used: they are known to return wrong values and to jump branches (scipy issues 4479, 14526).
+
+**The sine drive.** With ``z = pi t/(2T) - pi/4`` the upright's linearisation under the
+acceleration ``A sin(pi t/T)`` is Mathieu's equation with ``q = 16 eps^2/pi^2`` and
+``a = -2 mu^2 q`` (``docs/mathieu.md``). Zone ``n`` is ``a_n(q) < a < b_{n+1}(q)`` on that ray,
+and along it ``a_0 < b_1 < a_1 < b_2 < ...``: the number of characteristic values below the ray
+point is odd (``2n + 1``) on zone ``n`` and even (``2k``) in the gap where the rotation angle is
+locked at ``k pi``. Verdicts are that count (four Sturm sequences at the point); edges are the
+doubles where it changes, bisected with the same count. Where an edge lies within the rounding
+band of the point (:func:`_band`), the exact trace decides (:func:`_exact_tau`).
+
+**Floquet data.** ``tr M / 2 = w_I(pi) = 2 w_I(pi/2) w_II'(pi/2) - 1 = 1 + 2 w_I'(pi/2) w_II(pi/2)``
+(DLMF 28.2.(iv); ``w_I``, ``w_II`` the even and odd solutions), by Taylor series over half a
+period: in double precision for the reported trace (:func:`_sine_traces`), in fixed-point
+integers with as many bits as the growth needs where a verdict must be certified.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _validate as _v
+
+
+PI = np.pi
+
+
+# ---------------------------------------------------------------- the four matrices
+def _family(kind, parity):
+    """``(diag(r), first_scale, first_shift)`` of a family; ``first_shift`` multiplies q on d_0."""
+    if kind == "a" and parity == 0:
+        return (lambda r: (2.0 * r) ** 2), np.sqrt(2.0), 0.0
+    if kind == "a":
+        return (lambda r: (2.0 * r + 1.0) ** 2), 1.0, 1.0
+    if parity == 1:
+        return (lambda r: (2.0 * r + 1.0) ** 2), 1.0, -1.0
+    return (lambda r: (2.0 * r + 2.0) ** 2), 1.0, 0.0
+
+
+def _decay_rows(q):
+    """Rows beyond which the Fourier coefficients of Mathieu functions at ``q`` fall below 1e-18:
+    the smallest ``r`` with ``(|q|/4)^r / (r!)^2 < 1e-18`` (their decay, DLMF 28.4(iii))."""
+    from scipy.special import gammaln
+
+    # (beyond 1e300 the count exceeds the table anyway, and q rounded up would overflow)
+    q = np.clip(np.abs(np.asarray(q, float)), 1e-3, 1e300)
+    # the count grows with q: evaluate it on q rounded up to powers of 1.05 (a few distinct values)
+    step = np.log(1.05)
+    key = np.ceil(np.log(q) / step)
+    keys, inv = np.unique(key.ravel(), return_inverse=True)
+    qk = np.exp(keys * step)
+    r = np.arange(1, 4097, dtype=float)
+    logs = r[None, :] * np.log(qk[:, None] / 4.0) - 2.0 * gammaln(r + 1.0)[None, :]
+    # the first r past the peak of the terms where they are below 1e-18
+    past = (logs < -41.5) & (r[None, :] > 2.0 * np.sqrt(qk)[:, None] + 8.0)
+    first = np.where(past.any(axis=1), np.argmax(past, axis=1) + 1, 4096)
+    return first[inv].reshape(q.shape)
+
+
+#: Rows of the largest dense matrix solved for a characteristic value (about a second each;
+#: ``KAPITZA_ALLOW_LARGE=1`` lifts it).
+MAX_ROWS = 4200
+
+
+def _size(k, q):
+    """Rows that carry the k-th characteristic value at q to double precision (then checked)."""
+    rows = int(np.max(_decay_rows(q), initial=1))
+    if rows >= 4096:  # beyond the table of _decay_rows: the truncation is not known
+        raise _v.KapitzaValueError(f"q must satisfy |q| <= 4e6 for the characteristic values; got {float(q)!r}")
+    N = int(k + 8 + rows)
+    _v.bounded_work("the rows of the truncated matrix", N, MAX_ROWS,
+                    what=f"dense eigenproblems, order n and |q| set the rows; here n ~ {2 * int(k)}, q = {float(q):.4g}")
+    return N
+
+
+def characteristic(kind, n, q):
+    n, q = np.broadcast_arrays(np.asarray(n, np.int64), np.asarray(q, float))
+    shape = n.shape
+    n, q = n.ravel(), q.ravel()
+    out = np.empty(n.size)
+    # q -> -q: a_{2k}, b_{2k+2} are even in q; a_{2k+1}(-q) = b_{2k+1}(q) (DLMF 28.2.26)
+    neg = q < 0
+    qa = np.abs(q)
+    kinds = np.where(neg & (n % 2 == 1), "b" if kind == "a" else "a", kind)
+    for kd in ("a", "b"):
+        for parity in (0, 1):
+            sel = np.flatnonzero((kinds == kd) & (n % 2 == parity))
+            if sel.size == 0:
+                continue
+            # a_{2k}, a_{2k+1}: k = (n - parity) / 2;  b_{2k+1}: k = (n - 1) / 2;  b_{2k+2}: k = (n - 2) / 2
+            k = (n[sel] - parity) // 2 if kd == "a" else (n[sel] - (1 if parity else 2)) // 2
+            out[sel] = _converged(kd, parity, k, qa[sel])
+    return out.reshape(shape)
+
+
+def _converged(kind, parity, k, q):
+    """The k-th characteristic value of a family at each ``q >= 0``: bisection on ``x`` with the
+    Sturm count of the infinite matrix (:func:`_count`), no eigensolver and no truncation to
+    choose; the rows it takes are bounded as those of a truncated matrix would be (:func:`_size`).
+
+    The bracket is Weyl's: the k-th eigenvalue of ``D + q O`` lies within ``||q O|| <= 3 q`` of
+    ``D_k``. Bisected to a relative width of 2 ulp (1e-17 absolute near 0)."""
+    code = _CODE[(kind, parity)]
+    kmax, qmax = int(np.max(k, initial=0)), float(np.max(q, initial=0.0))
+    _size(kmax, qmax)  # the same bounds on the work as before: order and |q|
+    Dk = (2.0 * k + _OFF[code]) ** 2
+    lo = Dk - 3.0 * q - 1.0 - np.abs(_SHIFT[code]) * q
+    hi = Dk + 3.0 * q + 1.0 + np.abs(_SHIFT[code]) * q
+    live = np.flatnonzero(q > 0)
+    while live.size:
+        l, h = lo[live], hi[live]
+        mid = l + 0.5 * (h - l)
+        go = (mid > l) & (mid < h) & (h - l > np.maximum(2.0 * 2.0**-52 * np.maximum(np.abs(l), np.abs(h)), 1e-17))
+        live, mid = live[go], mid[go]
+        if not live.size:
+            break
+        up = _count(code, q[live], mid) >= k[live] + 1
+        hi[live[up]] = mid[up]
+        lo[live[~up]] = mid[~up]
+    # q = 0: the diagonal itself (n^2, exactly)
+    return np.where(q > 0, 0.5 * (lo + hi), Dk)
+
+
+
+
+
+
+# ---------------------------------------------------------------- Sturm counts
+#: a pivot of exactly zero in a Sturm sequence is replaced by minus this (LAPACK's pivmin)
+_PIVMIN = 1e-290
+
+
+#: the four families as codes: (kind, parity) -> code; per code the diagonal ``(2r + off)^2``, the
+#: multiple of ``q`` added to the first diagonal entry and the square of the first off-diagonal / q
+_CODE = {("a", 0): 0, ("a", 1): 1, ("b", 0): 2, ("b", 1): 3}
+_OFF = np.array([0.0, 1.0, 2.0, 1.0])
+_SHIFT = np.array([0.0, 1.0, 0.0, -1.0])
+_FIRST = np.array([2.0, 1.0, 1.0, 1.0])
+
+
+def _count(fam, q, x):
+    """How many characteristic values of family ``fam`` (a code of :data:`_CODE`) lie below ``x`` at
+    ``q`` (flat arrays that broadcast, ``q >= 0``).
+
+    The count of negative pivots of ``T(q) - x I = L D L^T`` (Sylvester's law of inertia) with the
+    pivots ``d_r = (D_r - x) - e_{r-1}^2 / d_{r-1}``, ``D_r`` the diagonal of the family matrix
+    (module notes). No truncation is chosen beforehand: the sequence stops at the row ``r`` where
+    ``d_r >= (D_r - x)/2 > 0`` and ``(D_{r+1} - x)(D_r - x) >= 4 q^2``, beyond which every pivot of
+    the infinite matrix stays above half its diagonal (by induction: ``d_{r+1} >= D_{r+1} - 2 q^2/D_r
+    >= D_{r+1}/2``), so the count is that of the infinite matrix -- about ``sqrt(q/2)`` rows where a
+    fixed truncation needs ``2 sqrt(q)``. In floating point the count is exact for a matrix whose
+    entries differ from ``T(q)`` by a few ulp (Kahan's backward analysis of the Sturm sequence): a
+    characteristic value compares with ``x`` correctly unless they agree to a few ulp of ``|x| + q``.
+    All four families go through one loop (one numpy call per row for every point at once).
+    """
+    fam, q, x = np.asarray(fam), np.asarray(q, float), np.asarray(x, float)
+    if not (fam.shape == q.shape == x.shape and q.ndim == 1):
+        fam, q, x = np.broadcast_arrays(fam, q, x)
+        fam, q, x = fam.reshape(-1), q.reshape(-1), x.reshape(-1)
+    off = _OFF[fam]
+    out = np.zeros(q.size, np.int64)
+    if not q.size:
+        return out
+    q2 = q * q
+    d = off * off + _SHIFT[fam] * q - x
+    d[d == 0.0] = -_PIVMIN
+    cnt = (d < 0.0).astype(np.int64)
+    idx = None  # all points live
+    e2 = _FIRST[fam] * q2
+    r = 1
+    # a pivot that comes out exactly zero makes the next one -inf (counted) and the one after
+    # positive: the count of a pivot -pivmin, as in LAPACK's dstebz
+    with np.errstate(divide="ignore", over="ignore"):
+        while True:
+            t = off + 2.0 * r
+            Dr = t * t - x
+            d = Dr - e2 / d
+            cnt += d < 0.0
+            e2 = q2
+            if r % 4 == 0 or r == 2:  # half the points are done after two rows, nearly all after four
+                t = t + 2.0
+                done = (Dr > 0.0) & (d >= 0.5 * Dr) & ((t * t - x) * Dr >= 4.0 * q2)
+                if done.any():
+                    where = np.flatnonzero(done) if idx is None else idx[done]
+                    out[where] = cnt[done]
+                    keep = ~done
+                    if not keep.any():
+                        break
+                    idx = np.flatnonzero(keep) if idx is None else idx[keep]
+                    x, d, q2, cnt, off = x[keep], d[keep], q2[keep], cnt[keep], off[keep]
+                    e2 = q2
+            r += 1
+    return out
+
+
+def _count_below(kind, parity, q, x):
+    """:func:`_count` of the family ``(kind, parity)``."""
+    return _count(_CODE[(kind, parity)], q, x)
+
+
+def _qa(eps, mu):
+    """Mathieu's ``(q, a)`` of the sine drive at ``(eps, mu)``: one rounding, shared by every path."""
+    q = 16.0 * eps * eps / PI**2
+    return q, -2.0 * mu * mu * q
+
+
+#: the lower edge of zone n lies on a_n, the upper on b_{n+1}: the family code of each by n % 2
+_LOWER = {0: 0, 1: 1}
+_UPPER = {0: 3, 1: 2}
+
+
+def _above(fam, k, eps, mu):
+    """Whether the ray point ``(q, a)`` at ``eps`` lies above the k-th characteristic value of ``fam``."""
+    q, a = _qa(eps, mu)
+    return _count(fam, q, a) >= k + 1
+
+
+def _crossing(fam, k, mu, lo, hi):
+    """The crossing of the ray with the k-th characteristic value of family ``fam``, bisected on
+    doubles (flat arrays; every family and zone at once).
+
+    ``lo`` below the crossing, ``hi`` above it; returns the adjacent doubles ``(below, above)``
+    between which the count of the family changes.
+    """
+    fam = np.broadcast_to(np.asarray(fam, np.int64), lo.shape)
+    lo, hi = lo.copy(), hi.copy()
+    live = np.arange(lo.size)
+    while live.size:
+        l, h = lo[live], hi[live]
+        mid = l + 0.5 * (h - l)
+        go = (mid > l) & (mid < h)
+        live, mid = live[go], mid[go]
+        if not live.size:
+            break
+        up = _above(fam[live], k[live], mid, mu[live])
+        hi[live[up]] = mid[up]
+        lo[live[~up]] = mid[~up]
+    return lo, hi
+
+
+def _upper_bound(fam, k, mu):
+    """An ``eps`` above the k-th crossing of family ``fam``: ``sqrt(q) (1 - mu^2) ~ 2n + 1``
+    (``a_n ~ -2q + 2(2n+1) sqrt q``, DLMF 28.8.1) with room, doubled until the count confirms it."""
+    n = 2 * k + np.array([0, 1, 2, 1])[fam]
+    e = 0.25 * PI * (2.0 * (2.0 * n + 3.0) / (1.0 - mu * mu) + 2.0)
+    for _ in range(60):
+        bad = ~_above(fam, k, e, mu)
+        if not bad.any():
+            break
+        e = np.where(bad, 2.0 * e, e)
+    return e
+
+
+def sine_edges(mu, n):
+    """``(eps_lo, eps_hi)`` of the sine drive's zone n (trusted ``0 < mu < 1``).
+
+    Each edge is where the ray ``a = -2 mu^2 q`` crosses its characteristic value (``a_n`` below,
+    ``b_{n+1}`` above), bisected on doubles with the Sturm count: the reported double is the
+    last one on the unstable side (``eps_lo`` below the crossing, ``eps_hi`` above it), so zone
+    ``n`` is ``eps_lo < eps < eps_hi``. Where the zone is thinner than the spacing of doubles the
+    two crossings may round to the same pair or swap; then ``eps_lo == eps_hi`` (no double inside).
+    """
+    mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
+    shape = mu.shape
+    mu, n = mu.ravel(), n.ravel()
+    # the crossing lies near sqrt(q) (1 - mu^2) = 2n + 1; the Sturm counts there take sqrt(q/2) rows
+    q_est = ((2.0 * n + 1.0) / np.maximum(1.0 - mu * mu, 1e-300)) ** 2 + 4.0 * n * n
+    if np.any(q_est > 1e8):
+        bad = int(np.argmax(q_est > 1e8))
+        raise _v.KapitzaValueError(
+            f"mu and n put the sine drive's zone edge beyond q = 1e8 (mu too close to 1 or the zone n too high); "
+            f"got mu={float(mu[bad])!r} with n={int(n[bad])}")
+    k = np.concatenate([n // 2, n // 2])
+    fam = np.concatenate([np.where(n % 2 == 0, _LOWER[0], _LOWER[1]), np.where(n % 2 == 0, _UPPER[0], _UPPER[1])])
+    m = np.concatenate([mu, mu])
+    below, above = _crossing(fam, k, m, np.zeros(m.size), _upper_bound(fam, k, m))
+    lo = below[:mu.size]
+    hi = np.maximum(above[mu.size:], lo)
+    return lo.reshape(shape), hi.reshape(shape)
+
+
+
+
+# ---------------------------------------------------------------- Floquet data
+def sine_floquet0(eps, mu, certify=True):
+    """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T.
+
+    The verdict and the zone come from the Sturm counts (:func:`_sine_zone_of`); the trace from
+    :func:`_sine_traces`. Where an edge lies within the rounding band of the point, or where the
+    trace is accurate enough to say ``|tau| < 1`` or ``> 1`` and says otherwise than the count,
+    the exact trace decides (:func:`_certify`): no verdict contradicts the monodromy.
+    ``certify=False`` (the steps of a search, whose final bracket is certified) keeps the count
+    of one side of the band instead.
+    """
+    from .._exact import acosh_from_log
+
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    shape = eps.shape
+    e, m = eps.ravel(), mu.ravel()
+    tau, log_tau, _, err = _sine_traces(e, m)
+    c_lo, c_hi, unsure = _sine_zone_of(e, m)
+    count = c_lo.copy()
+    with np.errstate(invalid="ignore"):
+        says = np.abs(np.abs(tau) - 1.0) > err  # the double trace decides |tau| vs 1 by itself
+    unsure |= says & ((np.abs(tau) < 1.0) != (count % 2 == 1))
+    idx = np.flatnonzero(unsure) if certify else np.zeros(0, np.int64)
+    if idx.size:
+        tau[idx], log_tau[idx], count[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx])
+    stable = count % 2 == 1
+    zone = np.where(stable, (count - 1) // 2, -1)
+    growth = np.where(stable, 0.0, acosh_from_log(log_tau, tau))
+    acos_t = np.arccos(np.clip(tau, -1.0, 1.0))
+    z = np.maximum(zone, 0)
+    theta = np.where(stable, np.where(z % 2 == 0, z * PI + acos_t, z * PI + PI - acos_t), (count // 2) * PI)
+    return (tau.reshape(shape), log_tau.reshape(shape), growth.reshape(shape), theta.reshape(shape),
+            zone.reshape(shape))
+
+
+def sine_log_tau(eps, mu):
+    """``log|tr M / 2|`` of the undamped sine drive over 2T."""
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    return _sine_traces(eps.ravel(), mu.ravel())[1].reshape(eps.shape)
+
+
+def sine_tau_minus_one(eps, mu):
+    """``tr M / 2 - 1`` of the undamped sine drive over 2T, free of the cancellation of the 1
+    (non-finite where it overflows), for the short phases where the damping layer asks for it
+    (``tr M / 2`` near 1): Hill's determinant, ``2 Delta(0) sinh^2(pi sqrt(-a)/2)``, keeps its
+    relative accuracy there, where the half-period integration's ``w_I'(pi/2)`` is a sum of terms
+    of size ``q`` cancelling to ``pi mu^2 q``."""
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    e, m = eps.ravel(), mu.ravel()
+    q = 16.0 * e * e / PI**2
+    out = np.empty(e.size)
+    for i in range(0, e.size, 2048):
+        out[i:i + 2048] = _hill_half_trace(-2.0 * m[i:i + 2048] ** 2 * q[i:i + 2048], q[i:i + 2048], minus_one=True)
+    return out.reshape(eps.shape)
+
+
+def _hill_half_trace(a, q, minus_one=False):
+    """``(tau, log|tau|)`` of Mathieu's monodromy over z in [0, pi] for ``a < 0`` (Hill);
+    with ``minus_one``, ``tau - 1 = 2 Delta(0) sinh^2(pi sqrt(-a) / 2)`` itself (no 1 added and
+    taken away: accurate where ``tau`` is near 1).
+
+    ``Delta(0)`` is the continuant of ``xi_r = q/(4 r^2 - a)``, ``r`` in Z, computed by the
+    three-term recurrence over ``|r| <= R`` (``R = 200 + 4 sqrt q``) and the far tails as
+    ``log p_r = -xi_r xi_{r-1} - xi_r xi_{r-1}^2 xi_{r-2} - (xi_r xi_{r-1})^2 / 2 + O(xi^6)`` summed to
+    ``|r| = 2 R`` and integrated beyond: a plain truncation would leave a relative error
+    ``q^2 / (24 R^3)``.
+    """
+    a = np.asarray(a, float)
+    q = np.asarray(q, float)
+    R = int(200 + np.ceil(4.0 * np.sqrt(np.max(np.abs(q), initial=0.0))))
+    r = np.arange(-R, R + 1, dtype=float)
+    xi = q[..., None] / (4.0 * r * r - a[..., None])
+    D_prev = np.ones(a.shape)
+    D = np.ones(a.shape)
+    logs = np.zeros(a.shape)
+    for i in range(1, 2 * R + 1):
+        D, D_prev = D - xi[..., i] * xi[..., i - 1] * D_prev, D
+        m = np.maximum(np.abs(D), np.abs(D_prev))
+        big = m > 1e100
+        if np.any(big):
+            s = np.where(big, m, 1.0)
+            D, D_prev = D / s, D_prev / s
+            logs = logs + np.log(s)
+    # both tails (r > R and r < -R are the same by symmetry)
+    R1 = 2 * R
+    rt = np.arange(R + 1, R1 + 1, dtype=float)
+    x0 = q[..., None] / (4.0 * rt * rt - a[..., None])
+    x1 = q[..., None] / (4.0 * (rt - 1.0) ** 2 - a[..., None])
+    x2 = q[..., None] / (4.0 * (rt - 2.0) ** 2 - a[..., None])
+    tail = -np.sum(x0 * x1 + x0 * x1 * x1 * x2 + 0.5 * (x0 * x1) ** 2, axis=-1)
+    # beyond R1 the terms are q^2 / (16 r^2 (r - 1)^2) to 1e-15: their sum is the integral from
+    # X = R1 + 1/2 (midpoint rule, error ~ q^2 / (19 R1^6)), which has the closed form
+    # 1/(X - 1) + 1/X - 2 log(X / (X - 1))
+    X = R1 + 0.5
+    tail = tail - q * q / 16.0 * (1.0 / (X - 1.0) + 1.0 / X + 2.0 * np.log1p(-1.0 / X))
+    logs = logs + 2.0 * tail
+    x = 0.5 * PI * np.sqrt(-a)
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        delta0 = D * np.exp(np.minimum(logs, 700.0))
+        sh2 = np.sinh(x) ** 2
+        if minus_one:
+            return 2.0 * delta0 * sh2
+        tau = 1.0 + 2.0 * delta0 * sh2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_big = np.log(2.0 * np.abs(D)) + logs + 2.0 * x - 2.0 * np.log(2.0) + 2.0 * np.log1p(-np.exp(-2.0 * x))
+        log_tau = np.where(np.isfinite(tau) & (np.abs(tau) < 1e300), np.log(np.abs(tau)), log_big)
+        tau = np.where(np.isfinite(tau), tau, np.sign(D) * np.inf)
+    return tau, log_tau
+
+
+
+
+def sine_window(mu, e1):
+    """``(rows, zone, eps_lo, eps_hi)``: every zone of the sine drive whose lower edge lies at
+    ``eps <= e1``, per ``mu`` (flat; ``e1`` broadcasts with it); an upper edge beyond ``e1`` is
+    reported as ``inf`` (what lies in the window is all a chart needs).
+
+    The Sturm count at ``e1`` says how many crossings of each family lie below it; each is
+    bisected on doubles as in :func:`sine_edges`, all of a chart's rows at once.
+    """
+    mu = np.asarray(mu, float).reshape(-1)
+    e1 = np.broadcast_to(np.asarray(e1, float), mu.shape).reshape(-1)
+    q1, a1 = _qa(e1, mu)
+    # crossings of each family below e1, then all of them bisected together
+    K = _count(np.arange(4)[:, None], q1[None, :], a1[None, :]).reshape(4, mu.size)
+    Kf = K.reshape(-1)
+    r = np.repeat(np.tile(np.arange(mu.size), 4), Kf)
+    fam = np.repeat(np.repeat(np.arange(4), mu.size), Kf)
+    k = np.arange(r.size) - np.repeat(np.cumsum(Kf) - Kf, Kf)
+    below, above = _crossing(fam, k, mu[r], np.zeros(r.size), e1[r])
+    first = np.cumsum(Kf) - Kf  # where the crossings of (family, row) start
+    rows, zone, lo, hi = [], [], [], []
+    for par in (0, 1):
+        sel = fam == _LOWER[par]
+        rl, kl = r[sel], k[sel]
+        fu = _UPPER[par]
+        has = kl < K[fu, rl]
+        up = np.full(rl.size, np.inf)
+        up[has] = above[first[fu * mu.size + rl[has]] + kl[has]]
+        rows.append(rl)
+        zone.append(2 * kl + par)
+        lo.append(below[sel])
+        hi.append(np.maximum(up, below[sel]))
+    return np.concatenate(rows), np.concatenate(zone), np.concatenate(lo), np.concatenate(hi)
+
+
+def _band(mu):
+    """Relative half-width around an edge inside which a Sturm count may be decided by rounding:
+    the crossing moves by about ``2u / (1 - mu^2)`` relative for an error of ``u (|a| + q)`` in a
+    characteristic value (``d(a_n + 2 mu^2 q)/dq -> -2 (1 - mu^2)`` at large ``q``); eight times that."""
+    u = 2.0**-53
+    with np.errstate(divide="ignore"):
+        return 64.0 * u + 16.0 * u / np.maximum(1.0 - mu * mu, 1e-300) * (mu < 1.0)
+
+
+def _total_count(eps, mu):
+    """Characteristic values of all four families below the ray point at ``eps`` (flat arrays)."""
+    q, a = _qa(eps, mu)
+    return _count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0)
+
+
+def _sine_zone_of(eps, mu):
+    """``(count, unsure)`` per point (flat arrays): ``count`` characteristic values lie below the ray
+    point -- ``a_0 < b_1 < a_1 < b_2 < ...`` along it, so an odd count ``2n + 1`` is zone ``n``
+    (``a_n < a < b_{n+1}``) and an even count ``2k`` the gap where the rotation angle is locked at
+    ``k pi`` -- taken at ``eps (1 -+ delta)`` (:func:`_band`); ``unsure`` where the two differ, i.e.
+    an edge within ``delta`` of ``eps``, where rounding may decide and the verdict is certified."""
+    d = _band(mu)
+    c_lo = _total_count(eps * (1.0 - d), mu)
+    c_hi = _total_count(eps * (1.0 + d), mu)
+    return c_lo, c_hi, c_lo != c_hi
+
+
+# ---------------------------------------------------------------- certified trace (exact arithmetic)
+def _fixed(x, P):
+    """``x`` (an mpf or a double) times ``2^P``, rounded to an integer."""
+    import mpmath
+
+    with mpmath.workprec(P + 24):
+        return int(mpmath.nint(mpmath.mpf(x) * mpmath.mpf(2) ** P))
+
+
+def _exact_half_period(eps, mu, P):
+    """``(w_I, w_I', w_II, w_II')`` at ``z = pi/2`` as integers over ``2^P`` for the exact doubles
+    ``eps, mu``: Mathieu's ``y'' = 2q (mu^2 + cos 2z) y`` with ``q = 16 eps^2/pi^2`` from ``y(0) = 1,
+    y'(0) = 0`` (even, ``w_I``) and ``y(0) = 0, y'(0) = 1`` (odd, ``w_II``), by Taylor series in
+    fixed-point integer arithmetic (each step ``h`` with ``h sqrt(max c) <= 1``; terms to ``2^-P``)."""
+    import math
+
+    import mpmath
+
+    one = 1 << P
+    with mpmath.workprec(P + 40):
+        e, m = mpmath.mpf(float(eps)), mpmath.mpf(float(mu))
+        q = 16 * e * e / mpmath.pi**2
+        L = math.sqrt(2.0 * float(q) * (1.0 + float(mu) ** 2)) + 2.0
+        steps = max(1, math.ceil(0.5 * math.pi * L))
+        h = mpmath.pi / 2 / steps
+        twoq, c0 = _fixed(2 * q, P), _fixed(2 * q * m * m, P)
+        hh, hf = _fixed(h * h, P), _fixed(h, P)
+        trig = [(_fixed(mpmath.cos(2 * j * h), P), _fixed(mpmath.sin(2 * j * h), P)) for j in range(steps)]
+        # 2q (2h)^j / j!: the scaled Taylor coefficients of 2q cos(2 z0 + 2 s) without the trig factor
+        scale, t, j = [], mpmath.mpf(1), 0
+        while True:
+            scale.append(twoq * _fixed(t, P) >> P)
+            j += 1
+            t = t * 2 * h / j
+            if j > 4 and t * 2 * q < mpmath.mpf(2) ** (-P - 8):
+                break
+    K = len(scale)
+    cols = [[one, 0], [0, one]]
+    for cj, sj in trig:
+        # c(z0 + s) = 2q mu^2 + 2q cos(2 z0 + 2 s): derivatives of cos cycle through -sin, -cos, sin, cos
+        C = [c0 + (scale[0] * cj >> P)]
+        for k in range(1, K):
+            r = k % 4
+            C.append((scale[k] * (sj if r % 2 else cj) >> P) * (1 if r in (0, 3) else -1))
+        for col in cols:
+            Y = [col[0], col[1] * hf >> P]  # Y_k = y^(k)(z0) h^k / k!
+            k = 0
+            while True:
+                acc = 0
+                for i in range(min(k, K - 1) + 1):
+                    acc += C[i] * Y[k - i]
+                Y.append(((acc >> P) * hh >> P) // ((k + 1) * (k + 2)))
+                k += 1
+                if k > 8 and abs(Y[-1]) < 16 and abs(Y[-2]) < 16 and abs(Y[-3]) < 16:
+                    break
+            col[0] = sum(Y)
+            col[1] = (sum(i * Yi for i, Yi in enumerate(Y)) << P) // hf
+    return cols[0][0], cols[0][1], cols[1][0], cols[1][1]
+
+
+def _exact_tau(eps, mu):
+    """``(tau, log|tau|, stable)`` of the sine drive at the exact doubles ``eps, mu`` (scalars).
+
+    ``tau = tr M / 2 = w_I(pi) = 2 w_I(pi/2) w_II'(pi/2) - 1`` (DLMF 28.2.(iv): the equation is even
+    in ``z``) from :func:`_exact_half_period`, with ``P`` bits beyond the growth ``exp(2 G)``
+    of the products (``G = (pi/2) sqrt(2q (1 + mu^2))`` bounds the growth over the half period),
+    doubled until ``|tau| - 1`` is resolved."""
+    import math
+
+    import mpmath
+
+    q = 16.0 * float(eps) ** 2 / math.pi**2
+    G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2))
+    P = 96 + int(2.0 * G / math.log(2.0))
+    for _ in range(8):
+        wI, dwI, wII, dwII = _exact_half_period(eps, mu, P)
+        num = 2 * wI * dwII - (1 << 2 * P)  # tau * 2^(2P)
+        gap = abs(abs(num) - (1 << 2 * P))  # | |tau| - 1 | * 2^(2P)
+        if gap > (1 << (2 * P - 48)) or P > 1500:  # beyond 2^-3000 the count decides
+            break
+        P *= 2
+    with mpmath.workprec(64):
+        tau = mpmath.mpf(num) / mpmath.mpf(2) ** (2 * P)
+        log_tau = float(mpmath.log(abs(tau))) if num else -math.inf
+    return float(tau), log_tau, abs(num) < (1 << 2 * P)
+
+
+def _certify(eps, mu, c_lo, c_hi):
+    """``(tau, log|tau|, count)`` at points where rounding may decide (flat arrays): the exact trace
+    decides; the count is the one in ``[c_lo, c_hi]`` it allows -- odd if ``|tau| < 1``, else even
+    with the sign of ``tau`` that of the locked angle ``(count/2) pi``."""
+    tau = np.empty(eps.size)
+    log_tau = np.empty(eps.size)
+    count = np.empty(eps.size, np.int64)
+    for i in range(eps.size):
+        t, lt, stable = _exact_tau(eps[i], mu[i])
+        tau[i], log_tau[i] = t, lt
+        lo, hi = int(min(c_lo[i], c_hi[i])), int(max(c_lo[i], c_hi[i]))
+        if stable:
+            cands = [c for c in range(lo - 1, hi + 2) if c % 2 == 1 and c >= 1]
+        else:
+            cands = [c for c in range(lo - 2, hi + 3) if c % 2 == 0 and c >= 0 and (-1) ** (c // 2) == np.sign(t)]
+        # the candidate nearest the counts either side (several only if edges crowd within the band)
+        count[i] = min(cands, key=lambda c: (max(lo - c, c - hi, 0), abs(2 * c - lo - hi)))
+    return tau, log_tau, count
+
+
+# ---------------------------------------------------------------- the trace in double precision
+_TERMS = 22  # Taylor terms per step: h sqrt(max c) <= 1 and 2h <= 1 leave 1/22! ~ 1e-21
+
+
+def _half_period(eps, mu):
+    """``(w_I, w_I', w_II, w_II', s, s_max)`` at ``z = pi/2`` (see :func:`_exact_half_period`) in
+    double precision for flat arrays, the four values times ``exp(s)``; ``exp(s_max)`` is the
+    largest norm the fundamental matrix reached on the way.
+
+    Taylor series of ``_TERMS`` terms over steps with ``h sqrt(2q (1 + mu^2)) <= 1``; the state is
+    rescaled after every step (``s`` keeps the scale), so it never overflows. Each step is an
+    accurate map of the true step (the series is truncated far below rounding), so the result
+    carries the rounding of the coefficients only: ``w_I w_II'`` is accurate to a few ulp times the
+    number of steps, relative to the size of the products (no cancellation of a Hill determinant).
+    Where the solutions grow and then fall back (deep in the thin zones of large ``q``) the rounding
+    of the largest state, ``u exp(2 s_max)`` relative, bounds what is left.
+    """
+    eps = np.asarray(eps, float).reshape(-1)
+    mu = np.asarray(mu, float).reshape(-1)
+    q, _ = _qa(eps, mu)
+    L = np.sqrt(2.0 * q * (1.0 + mu * mu)) + 2.0
+    # steps rounded up to powers of two (multiples of 64 beyond): a few batches, each with the
+    # step of its largest q
+    steps = np.maximum(np.ceil(0.5 * PI * L), 8.0)
+    steps = np.where(steps <= 64.0, 2.0 ** np.ceil(np.log2(steps)), 64.0 * np.ceil(steps / 64.0)).astype(np.int64)
+    out = np.empty((6, eps.size))
+    fact = np.cumprod(np.concatenate([[1.0], np.arange(1.0, _TERMS + 2)]))
+    sign = np.array([1.0, -1.0, -1.0, 1.0])  # d^k/ds^k cos(x + s): cos, -sin, -cos, sin
+    for m in np.unique(steps):
+        sel = np.flatnonzero(steps == m)
+        qq, mm = q[sel], mu[sel]
+        h = 0.5 * PI / m
+        b = sel.size
+        y = np.zeros((b, 2))
+        dy = np.zeros((b, 2))
+        y[:, 0] = 1.0
+        dy[:, 1] = 1.0
+        s = np.zeros(b)
+        s_max = np.zeros(b)
+        kk = np.arange(_TERMS)
+        # 2q (2h)^k / k! (the scaled coefficients without their trig factor)
+        scale = 2.0 * qq[None, :] * ((2.0 * h) ** kk / fact[:_TERMS])[:, None]
+        for j in range(m):
+            cj, sj = np.cos(2.0 * j * h), np.sin(2.0 * j * h)
+            trig = np.where(kk % 2 == 0, cj, sj) * sign[kk % 4]
+            C = scale * trig[:, None]
+            C[0] += 2.0 * qq * mm * mm
+            Y = np.empty((_TERMS + 2, b, 2))
+            Y[0] = y
+            Y[1] = dy * h
+            for k in range(_TERMS):
+                Y[k + 2] = np.einsum("ib,ibc->bc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
+            y = Y.sum(axis=0)
+            dy = np.einsum("k,kbc->bc", np.arange(_TERMS + 2.0), Y) / h
+            big = np.maximum(np.abs(y).max(axis=1), np.abs(dy).max(axis=1))
+            y /= big[:, None]
+            dy /= big[:, None]
+            s += np.log(big)
+            s_max = np.maximum(s_max, s)
+        out[:, sel] = y[:, 0], dy[:, 0], y[:, 1], dy[:, 1], s, s_max
+    return out
+
+
+#: the largest eps whose sine-drive trace is integrated (q = 16 eps^2/pi^2 = 1e6)
+_EPS_TRACE = 0.25 * PI * 1000.0
+
+
+def _sine_traces(eps, mu):
+    """``(tau, log|tau|, tau - 1, err)`` of the undamped sine drive over ``2T`` (flat arrays):
+    ``tau = tr M/2 = 1 + 2 w_I' w_II = 2 w_I w_II' - 1`` at ``z = pi/2`` (DLMF 28.2.(iv)); ``tau - 1``
+    free of the cancellation of the 1; ``err`` an estimate of the error of ``tau`` from rounding."""
+    eps = np.asarray(eps, float).reshape(-1)
+    if eps.size and not np.max(eps) <= _EPS_TRACE:  # the integration's steps grow like sqrt(q)
+        raise _v.KapitzaValueError(f"eps must satisfy eps <= {_EPS_TRACE:.6g} for the sine drive's Floquet data "
+                                   f"(Mathieu's q = 16 eps^2/pi^2 up to 1e6); got {float(np.max(eps))!r}")
+    wI, dwI, wII, dwII, s, s_max = _half_period(eps, mu)
+    m1, p1 = 2.0 * dwI * wII, 2.0 * wI * dwII  # (tau - 1) e^{-2s}, (tau + 1) e^{-2s}
+    with np.errstate(over="ignore", invalid="ignore"):
+        e2s = np.exp(2.0 * s)
+        tau_m1 = m1 * e2s
+        tau = np.where(np.abs(m1) <= np.abs(p1), 1.0 + tau_m1, p1 * e2s - 1.0)
+        tau = np.where(np.isfinite(e2s), tau, np.sign(m1 + p1) * np.inf)
+        # |tau| = |m1 + p1| e^{2s} / 2, formed in logarithms where it overflows
+        log_big = np.log(0.5 * np.abs(m1 + p1)) + 2.0 * s
+        log_tau = np.where(np.isfinite(tau) & (np.abs(tau) < 1e300), np.log(np.abs(tau)), log_big)
+        # an error of u in the largest state reaches the end amplified by at most its norm
+        # (det = 1): 64 u (steps) exp(2 s_max) relative to the products
+        err = 2.0**-47 * (8.0 + 2.0 * s_max) * np.exp(np.minimum(2.0 * s_max, 700.0)) * (np.abs(m1) + np.abs(p1)) * e2s
+    return tau, log_tau, tau_m1, err
+
+
+def sine_grid(eps, mu, out):
+    """Paint ``out[i, j] = stable(eps[j], mu[i])`` for the undamped sine drive (``eps`` ascending,
+    ``out`` zeroed), equal to ``is_stable`` at the same doubles.
+
+    Each crossing of a row with a characteristic value in view is bisected on the *pixels*: ten
+    steps for 1024 columns find the two neighbouring pixels it lies between (the Sturm count
+    at each pixel itself). A pixel within twice the rounding band (:func:`_band`) of the crossing
+    -- seen by probing just inside the pair -- is decided point by point as
+    :func:`sine_floquet0` decides it (certified where rounding may decide).
+    """
+    ok = np.flatnonzero(mu < 1.0)
+    if not ok.size:
+        return out
+    W = eps.size
+    m = mu[ok]
+    q1, a1 = _qa(np.full(m.size, float(eps[-1])), m)
+    K = _count(np.arange(4)[:, None], q1[None, :], a1[None, :]).reshape(-1)  # crossings up to eps[-1]
+    r = np.repeat(np.tile(np.arange(m.size), 4), K)
+    fam = np.repeat(np.repeat(np.arange(4), m.size), K)
+    k = np.arange(r.size) - np.repeat(np.cumsum(K) - K, K)
+    # pixel indices either side: -1 stands for eps = 0 (below every crossing), W - 1 is above
+    lo = np.full(r.size, -1, np.int64)
+    hi = np.full(r.size, W - 1, np.int64)
+    live = np.flatnonzero(hi - lo > 1)
+    while live.size:
+        mid = (lo[live] + hi[live]) // 2
+        up = _above(fam[live], k[live], eps[mid], m[r[live]])
+        hi[live[up]] = mid[up]
+        lo[live[~up]] = mid[~up]
+        live = live[hi[live] - lo[live] > 1]
+    # pixels too close to their crossing to be sure of their side
+    d = 2.0 * _band(m[r])
+    e_lo = np.where(lo >= 0, eps[np.maximum(lo, 0)], 0.0)
+    probe = np.concatenate([e_lo * (1.0 + d), eps[hi] * (1.0 - d)])
+    sure = _above(np.tile(fam, 2), np.tile(k, 2), probe, np.tile(m[r], 2)) == np.repeat([False, True], r.size)
+    # zones: from the crossing of a_n (lower) to that of b_{n+1} (upper; _LOWER, _UPPER)
+    first = np.cumsum(K) - K
+    flat = out.reshape(-1)
+    starts, stops = [], []
+    for par in (0, 1):
+        sel = np.flatnonzero(fam == _LOWER[par])
+        rl, kl = r[sel], k[sel]
+        fu = _UPPER[par]
+        has = kl < K[fu * m.size + rl]
+        stop = np.full(sel.size, W - 1, np.int64)  # an upper edge beyond the chart
+        stop[has] = lo[first[fu * m.size + rl[has]] + kl[has]]
+        starts.append((ok[rl] * W + hi[sel]))
+        stops.append((ok[rl] * W + stop + 1))
+    starts, stops = np.concatenate(starts), np.concatenate(stops)
+    for a, b in zip(starts[stops > starts].tolist(), stops[stops > starts].tolist()):
+        flat[a:b] = True
+    unsure = np.flatnonzero(~sure)
+    if unsure.size:
+        j = np.concatenate([lo, hi])[unsure]
+        rr = ok[np.tile(r, 2)[unsure]]
+        keep = j >= 0
+        key = np.unique(rr[keep].astype(np.int64) * W + j[keep])
+        if key.size:
+            rr, jj = key // W, key % W
+            out[rr, jj] = sine_floquet0(eps[jj], mu[rr])[4] >= 0
+    return out
