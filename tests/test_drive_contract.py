@@ -138,3 +138,29 @@ def test_compiled_and_numpy_engines_are_twins():
         assert (z_f[clear] == z_s[clear]).all()
         assert np.allclose(th_f[clear], th_s[clear], rtol=1e-9, atol=1e-9)
         assert np.allclose(fast_period[2], slow_period[2], rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("text", ["square", "sine", "triangle", "rectangular:0.3", "rectangular:0.7",
+                                  "steps:2,-1,1,-1:0.2,0.3,0.2,0.3", "steps:1.5,-0.5:0.25,0.75"])
+def test_a_drives_text_reads_back_as_the_same_drive(text):
+    d = kapitza.parse_drive(text)
+    again = kapitza.parse_drive(d.text())
+    assert again == d and again.describe() == d.describe()
+
+
+def test_peak_is_the_largest_acceleration_of_the_shape():
+    tau = np.linspace(0.0, 2.0, 200_001)
+    assert D.peak == pytest.approx(np.max(np.abs(shape(tau))), rel=1e-9)
+    assert kapitza.StepDrive([3.0, -1.0], [0.25, 0.75]).peak == 3.0
+    assert kapitza.SineWave().peak == 1.0 and kapitza.SquareWave().peak == 1.0
+
+
+def test_a_drive_without_text_form_says_so_where_one_is_needed():
+    from kapitza.sweeps.spec import SweepSpec
+
+    t = np.linspace(0.0, 1.0, 64, endpoint=False)
+    measured = kapitza.from_samples(t, np.sin(2 * np.pi * t))
+    with pytest.raises(ValueError, match="no text form"):
+        SweepSpec(plane="arnold", x=[1.0, 2.0], y=[0.2, 0.3], drive=measured)
+    # a drive with a text form is kept by it, the triangle wave too
+    assert SweepSpec(plane="arnold", x=[1.0, 2.0], y=[0.2, 0.3], drive=kapitza.TriangleWave()).drive == "triangle"

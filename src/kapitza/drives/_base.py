@@ -175,6 +175,11 @@ class Drive:
         return -self._engine.s_min
 
     @functools.cached_property
+    def peak(self) -> float:
+        """The largest ``|a| / A`` over the period, ``max |s|`` (1 for the square, sine and triangle waves)."""
+        return max(-self._engine.s_min, self._engine.s_max)
+
+    @functools.cached_property
     def _engine(self):
         from ..engines import Engine
 
@@ -291,6 +296,11 @@ class Drive:
     @property
     def label(self) -> str:
         """A short name for legends."""
+        return self.name
+
+    def text(self) -> str:
+        """The text form :func:`kapitza.parse_drive` reads back: the name, for a drive whose
+        :meth:`from_text` takes no parameters (a drive with parameters overrides both)."""
         return self.name
 
     def as_dict(self) -> dict:

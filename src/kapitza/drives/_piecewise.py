@@ -211,6 +211,7 @@ class PiecewiseConstant(Drive):
         self.fractions = fractions
         self._durations = tuple(2.0 * f for f in fractions)
         self._trough = -float(min(levels))
+        self.peak = float(max(abs(v) for v in levels))
         # Kinematics in tau = t/T: velocity V_i and displacement Z_i at the segment starts,
         # with the constants fixed by zero mean over the period.
         h = np.array(self._durations)

@@ -32,6 +32,9 @@ class RectangularWave(PiecewiseConstant):
         self.duty = d
         super().__init__((1.0, -d / (1.0 - d)), (d, 1.0 - d))
 
+    def text(self) -> str:
+        return f"rectangular:{self.duty!r}"
+
     def as_dict(self) -> dict:
         return {"drive": self.name, "duty": self.duty}
 

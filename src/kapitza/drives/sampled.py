@@ -115,6 +115,9 @@ class SampledDrive(Drive):
         """``(t, a)``: one period of the samples as used (the mean removed, times from 0)."""
         return self._phase * self.T, self._s * self.A
 
+    def text(self) -> str:
+        raise _v.KapitzaValueError("a measured drive (from_samples, --drive-file) has no text form to name it by (in a sweep's spec, a link)")
+
     def as_dict(self) -> dict:
         return {"drive": self.name, "kind": self.kind, "samples": int(self._s.size), "period": self.period,
                 "A": self.A, "mean": self.mean, "digest": self._digest}

@@ -25,6 +25,10 @@ class StepDrive(PiecewiseConstant):
     name = "steps"
     text_form = "steps:LEVELS:FRACTIONS"
 
+    def text(self) -> str:
+        return ("steps:" + ",".join(repr(float(v)) for v in self.levels) + ":"
+                + ",".join(repr(float(v)) for v in self.fractions))
+
     @classmethod
     def from_text(cls, parameters, text=None):
         levels, sep, fractions = (parameters or "").partition(":")

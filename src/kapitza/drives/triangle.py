@@ -29,6 +29,7 @@ class TriangleWave(Drive):
     _stroke_coefficient = 1.0 / 6.0
     _mean_square_velocity = 1.0 / 30.0
     _trough = 1.0
+    peak = 1.0
 
     def _shape(self, tau):
         tau = np.asarray(tau, float)

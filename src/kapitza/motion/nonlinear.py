@@ -104,7 +104,7 @@ _REDUCE_ABOVE = 1e3
 
 def _peak(drive):
     """Largest ``|a| / A`` of a drive (1 for the square wave and the sine)."""
-    return float(np.max(np.abs(drive.levels))) if hasattr(drive, "levels") else 1.0
+    return 1.0 if drive is None else float(drive.peak)
 
 
 def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):

@@ -95,7 +95,7 @@ class SweepSpec:
         s(self, "l", _v.one("l", _v.positive("l", self.l)))
         s(self, "g", _v.one("g", _v.positive("g", self.g)))
         d = parse_drive(self.drive) if isinstance(self.drive, str) else as_drive(self.drive)
-        s(self, "drive", _drive_text(d))
+        s(self, "drive", d.text())
         s(self, "c", float(_v.one("c", _damping(self.c))))
         s(self, "periods", _v.bounded_count("periods", self.periods, 1_000_000, minimum=1))
         s(self, "tol", _v.one("tol", _v.in_range("tol", self.tol, 0.0, np.pi)))
@@ -192,12 +192,3 @@ class SweepSpec:
     @classmethod
     def from_json(cls, text) -> "SweepSpec":
         return cls(**json.loads(text))
-
-
-def _drive_text(d) -> str:
-    """The text form :func:`kapitza.parse_drive` reads back."""
-    if d.name in ("square", "sine"):
-        return d.name
-    if d.name == "rectangular":
-        return f"rectangular:{d.duty!r}"
-    return "steps:" + ",".join(repr(float(v)) for v in d.levels) + ":" + ",".join(repr(float(v)) for v in d.fractions)
