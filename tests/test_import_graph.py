@@ -17,11 +17,6 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "kapitza"
 
 #: Private cross-module imports still to be made public (outer layers and the sine engine).
 KNOWN = {
-    "kapitza.drives._api imports kapitza.mathieu._sine_window",
-    "kapitza.drives.sine imports kapitza.mathieu._sine_edges",
-    "kapitza.drives.sine imports kapitza.mathieu._sine_floquet0",
-    "kapitza.drives.sine imports kapitza.mathieu._sine_log_tau",
-    "kapitza.drives.sine imports kapitza.mathieu._sine_tau_minus_one",
     "kapitza.figures.animation imports kapitza.motion.pivot._acceleration",
     "kapitza.figures.animation imports kapitza.motion.pivot._displacement",
     "kapitza.figures.nonlinear imports kapitza.normal_form._DEFECT_DRAW",
@@ -59,7 +54,6 @@ KNOWN = {
     "kapitza.resonances imports kapitza.normal_form._w_of",
     "kapitza.sweeps.kernel imports kapitza.motion.basins._ExactPeriod",
     "kapitza.sweeps.kernel imports kapitza.motion.basins._IntegratedPeriod",
-    "kapitza.sweeps.kernel imports kapitza.motion.basins._survival_chunk",
     "kapitza.sweeps.spec imports kapitza.motion.nonlinear._damping",
 }
 

@@ -8,7 +8,7 @@ import kapitza as K
 from kapitza import KapitzaValueError
 from kapitza.drives import as_drive
 from kapitza.motion import basin, nonlinear_motion, survival
-from kapitza.motion.basins import _IntegratedPeriod, _hermite_peak, _survival_chunk
+from kapitza.motion.basins import _IntegratedPeriod, _hermite_peak, survival_chunk
 
 A, L, G = 100.0, 1.0, 9.81
 
@@ -133,7 +133,7 @@ def test_integrated_path_without_damping_agrees_with_the_exact_one(drive):
     th0 = rng.uniform(-0.3, 0.3, 150)
     om0 = -8.0 * th0 + rng.uniform(-1.5, 1.5, 150)
     exact = survival(th0, om0, T, A, L, G, periods=periods, tol=tol, drive=d)
-    integrated = _survival_chunk(th0, om0, _IntegratedPeriod(T, A, L, G, 0.0, d, tol), periods, tol)
+    integrated = survival_chunk(th0, om0, _IntegratedPeriod(T, A, L, G, 0.0, d, tol), periods, tol)
     th = np.array([K.simulate(a, b, T, A, L, G, periods=periods, points_per_period=1000, drive=d).theta
                    for a, b in zip(th0, om0)]).T
     gap = np.abs(np.max(np.abs(th), axis=0) - tol)

@@ -11,7 +11,7 @@ pytest.importorskip("numba")
 
 import kapitza
 from kapitza.motion._elliptic import _phase_step
-from kapitza.motion.basins import _survival_chunk
+from kapitza.motion.basins import survival_chunk
 from kapitza.sweeps.kernel import block_quantities, period_step, ray_radii
 
 G = kapitza.parameters.G_EARTH
@@ -51,7 +51,7 @@ def test_survival_counts_agree_with_the_numpy_loop():
     om = np.linspace(-1.0, 1.0, 41) / T
     th0, om0 = (a.ravel() for a in np.meshgrid(th, om))
     point = np.zeros(th0.size, dtype=np.int64)
-    want = _survival_chunk(th0, om0, period, 300, 0.5, idx=point)
+    want = survival_chunk(th0, om0, period, 300, 0.5, idx=point)
     got = _jit().survival_compiled(th0, om0, point, *_jit().pack_plan(period.subs, 1), 300, 0.5)
     assert 0.03 < np.mean(want == 300) < 0.9  # both outcomes occur
     assert np.mean(got == want) >= 0.995

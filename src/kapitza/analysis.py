@@ -15,6 +15,7 @@ from . import _validate as _v
 from ._display import Summary, multipliers
 from .drives import as_drive
 from .parameters import G_EARTH, to_arnold
+from .safety import safe_tilt_sentence
 
 __all__ = ["StabilityReport", "analyze"]
 
@@ -158,7 +159,7 @@ class StabilityReport(Summary):
         rows.append(("Arnold", f"eps = {_fmt(self.eps)}, mu = {_fmt(self.mu)}"))
         rows.append(("verdict", self.verdict))
         if self.safe_tilt is not None:
-            rows.append(("safe tilt", _safe_text(self.safe_tilt, self.safe_tilt_periods, self.stable)))
+            rows.append(("safe tilt", safe_tilt_sentence(self.safe_tilt, self.safe_tilt_periods, self.stable)))
         lam = multipliers(self.multipliers)
         crit = "|tr M| < 2" if self.zeta == 0 else "|tr M| < 1 + det M"
         rows.append(("trace tr M", f"{_fmt(self.trace)}   (stable iff {crit})"))
@@ -204,15 +205,6 @@ class StabilityReport(Summary):
         d["multipliers"] = [[float(z.real), float(z.imag)] for z in self.multipliers]
         return {k: (None if isinstance(v, float) and not np.isfinite(v) and k not in ("trace", "margin") else v)
                 for k, v in d.items()}
-
-
-def _safe_text(theta, periods, stable):
-    """The safe tilt in words."""
-    over = f" over {periods} periods" if periods else ""
-    if not stable or not theta > 0:
-        return "none: the upright is not stable, any tilt grows"
-    return (f"stands for starting tilts from rest below {theta:.3g} rad ({math.degrees(theta):.3g} deg){over}; "
-            "a larger start falls")
 
 
 def _unstable_verdict(tau, nearest, eps, eps_lo):

@@ -21,12 +21,14 @@ not what a verdict means), and the search is skipped.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import _validate as _v
 from .parameters import G_EARTH
 
-__all__ = ["safe_tilt", "with_safe_tilt", "SAFE_TILT_PERIODS", "SAFE_TILT_TOL"]
+__all__ = ["safe_tilt", "safe_tilt_sentence", "with_safe_tilt", "SAFE_TILT_PERIODS", "SAFE_TILT_TOL"]
 
 #: Periods ``2T`` a start must survive, by default.
 SAFE_TILT_PERIODS = 50
@@ -118,9 +120,8 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
     if linear_check:
         from .zones import is_stable
 
-        dd = None if d.name == "square" else d
         zz = 0.5 * c * np.sqrt(l_ / g_)
-        todo = np.asarray(is_stable(np.ravel(e), np.ravel(m), drive=dd, zeta=float(zz)), bool).ravel()
+        todo = np.asarray(is_stable(np.ravel(e), np.ravel(m), drive=d, zeta=float(zz)), bool).ravel()
     if todo.any():
         out[todo] = _search(Tf[todo], Af[todo], l_, g_, float(c), d, periods, tol, accuracy, floor)
     out = out.reshape(shape)
@@ -144,7 +145,7 @@ _K = 24
 
 def _search(T, A, l, g, c, drive, periods, tol, accuracy, floor):
     """The safe tilt of each point ``(T[i], A[i])`` (validated, linearly stable ones)."""
-    from .motion.basins import _survival_chunk
+    from .motion.basins import survival_chunk
     from .sweeps.kernel import period_step
 
     P = T.size
@@ -161,7 +162,7 @@ def _search(T, A, l, g, c, drive, periods, tol, accuracy, floor):
         if idx.size == 0:
             break
         starts = cand[idx]
-        ok = _survival_chunk(starts.ravel(), np.zeros(starts.size), _Subset(step, idx), periods, tol,
+        ok = survival_chunk(starts.ravel(), np.zeros(starts.size), _Subset(step, idx), periods, tol,
                              idx=np.repeat(np.arange(idx.size), _K)).reshape(idx.size, _K) >= periods
         for j, p in enumerate(idx):
             good = np.flatnonzero(ok[j])
@@ -193,3 +194,13 @@ class _Subset:
 
     def __call__(self, th, om, idx):
         return self.step(th, om, self.points[idx])
+
+
+def safe_tilt_sentence(theta, periods, stable) -> str:
+    """The safe tilt ``theta`` [rad] over ``periods`` periods in words, as the report gives it
+    (``stable``: the linear verdict; an unstable upright has none)."""
+    over = f" over {periods} periods" if periods else ""
+    if not stable or not theta > 0:
+        return "none: the upright is not stable, any tilt grows"
+    return (f"stands for starting tilts from rest below {theta:.3g} rad ({math.degrees(theta):.3g} deg){over}; "
+            "a larger start falls")

@@ -46,10 +46,12 @@ FOUR_PI = 4.0 * np.pi
 _SERIES_M = 0.5
 
 
-def _complementary_nome(m1):
-    """Nome ``q1`` of the complementary parameter ``m1 = 1 - m`` (``0 <= m1 <= 1/2``),
-    with ``theta_3(0)``, ``theta_4(0)``, ``theta_2(0)/(2 q1^(1/4))`` at ``q1``,
-    ``K(m1)`` and ``K(m)`` (``inf`` at ``m1 = 0``)."""
+def _nome(m1):
+    """Nome ``q1`` of the complementary parameter ``m1 = 1 - m`` (``0 <= m1 <= 1/2``), with
+    ``theta_3(0)``, ``theta_4(0)``, ``theta_2(0)/(2 q1^(1/4))`` at ``q1`` and ``K(m1)``.
+
+    Arithmetic and square roots only, on arrays or on one float: the compiled twin
+    (:mod:`kapitza.motion._survival_jit`) compiles this same function."""
     m = 1.0 - m1
     r2 = np.sqrt(m)
     r4 = np.sqrt(r2)
@@ -67,6 +69,12 @@ def _complementary_nome(m1):
     q6 = q4 * q2
     th2n = 1.0 + q2 + q6 + q6 * q6 + q16 * q4
     K1 = 0.5 * PI * th3 * th3
+    return q, th3, th4, th2n, K1
+
+
+def _complementary_nome(m1):
+    """:func:`_nome` with ``log q1`` and ``K(m)`` (``inf`` at ``m1 = 0``)."""
+    q, th3, th4, th2n, K1 = _nome(m1)
     with np.errstate(divide="ignore"):
         logq = np.log(q)
     K = K1 * (-logq) / PI  # q1 = exp(-pi K(m) / K(m1)); -log(0) = inf on the separatrix
@@ -88,6 +96,16 @@ def _series(t, m1):
         # r = q1 exp(2y) <= k'/4 for |t| <= K/2; written through the logarithm so that
         # q1 = 0 (the separatrix) gives 0 for any y.
         r = np.where(q > 0, np.exp(np.minimum(logq + 2.0 * y, 0.0)), 0.0)
+    sn, cn, dn = _theta_quotients(t, e, q, r, th3, th4, th2n)
+    return sn, cn, dn, K, j
+
+
+def _theta_quotients(t, e, q, r, th3, th4, th2n):
+    """``sn, cn, dn`` at the reduced ``t`` from the theta series in the nome ``q`` (four terms),
+    with ``e = exp(-2y)``, ``r = q exp(2y)`` and ``y = |t| pi / (2 K(m1))`` (DLMF 22.2, 22.6.iv).
+
+    Arithmetic, a square root and a sign only, on arrays or on one float: the compiled twin
+    compiles this same function."""
     q2 = q * q
     qr = q * r
     q2r = q2 * r
@@ -117,7 +135,7 @@ def _series(t, m1):
     sn = np.copysign(th3 / th4 * num / den, t)
     cn = th2n / th4 * (1.0 - odd + even) * sech_like
     dn = th2n / th3 * (1.0 + odd + even) * sech_like
-    return sn, cn, dn, K, j
+    return sn, cn, dn
 
 
 def _ellipj_reduced(u, m):

@@ -1,6 +1,6 @@
 """The exact path's survival searches, compiled per state (numba): the twin of the numpy loops.
 
-The numpy path (:func:`kapitza.motion.basins._survival_chunk`, :func:`kapitza.sweeps.kernel.ray_radii`)
+The numpy path (:func:`kapitza.motion.basins.survival_chunk`, :func:`kapitza.sweeps.kernel.ray_radii`)
 advances every state of a chunk together, one period per Python iteration, so its cost per state is
 set by numpy's per-call overhead once few states remain. Here each state (one start, or one radius
 search: a scan then a bisection) runs to its end inside compiled code, one state at a time, so the
@@ -33,6 +33,8 @@ import math
 
 import numpy as np
 from numba import njit
+
+from ._elliptic import _nome, _theta_quotients
 
 __all__ = ["pack_plan", "ray_radii_compiled", "survival_compiled", "phase_step"]
 
@@ -70,7 +72,7 @@ def ray_radii_compiled(point, cos, sin_omega, S, H, CNT, periods, tol, accuracy,
 
 
 def survival_compiled(theta, dtheta, point, S, H, CNT, periods, tol):
-    """Periods each start stays within ``tol`` (as :func:`kapitza.motion.basins._survival_chunk`)."""
+    """Periods each start stays within ``tol`` (as :func:`kapitza.motion.basins.survival_chunk`)."""
     out = np.empty(np.size(theta), dtype=np.int64)
     survival_kernel(np.ascontiguousarray(theta, float), np.ascontiguousarray(dtheta, float),
                     np.ascontiguousarray(point, np.int64), S, H, CNT, int(periods), float(tol), out)
@@ -89,25 +91,15 @@ def fmod_pos(x, y):
         r -= y
     return r
 
+#: the theta-series arithmetic of the numpy path, compiled from the same functions
+nome = _jit(_nome)
+theta_quotients = _jit(_theta_quotients)
+
+
 @_jit
 def series(t, m1):
     """``sn, cn, dn, K, j`` for ``0 <= m1 <= 1/2`` (:func:`kapitza.motion._elliptic._series`)."""
-    m = 1.0 - m1
-    r2 = math.sqrt(m)
-    r4 = math.sqrt(r2)
-    lam = m1 / (2.0 * (1.0 + r2) * (1.0 + r4) ** 2)
-    l2 = lam * lam
-    l4 = l2 * l2
-    q = lam * (1.0 + l4 * (2.0 + l4 * (15.0 + l4 * (150.0 + l4 * 1707.0))))
-    q2 = q * q
-    q4 = q2 * q2
-    q9 = q4 * q4 * q
-    q16 = q9 * q4 * q2 * q
-    th3 = 1.0 + 2.0 * (q + q4 + q9 + q16)
-    th4 = 1.0 + 2.0 * (-q + q4 - q9 + q16)
-    q6 = q4 * q2
-    th2n = 1.0 + q2 + q6 + q6 * q6 + q16 * q4
-    K1 = 0.5 * PI * th3 * th3
+    q, th3, th4, th2n, K1 = nome(m1)
     if q > 0.0:
         logq = math.log(q)
         K = K1 * (-logq) / PI
@@ -120,34 +112,7 @@ def series(t, m1):
     y = abs(t) * (0.5 * PI / K1)
     e = math.exp(-2.0 * y)
     r = math.exp(min(logq + 2.0 * y, 0.0)) if q > 0.0 else 0.0
-    qr = q * r
-    q2r = q2 * r
-    q3r = q2r * q
-    a1 = qr
-    a2 = q2r * q2r
-    a3 = q3r * q3r * q3r
-    e3 = e * e * e
-    e5 = e3 * e * e
-    e7 = e5 * e * e
-    num = (1.0 - e) - a1 * (1.0 - e3) + a2 * (1.0 - e5) - a3 * (1.0 - e7)
-    den = (1.0 + e) + a1 * (1.0 + e3) + a2 * (1.0 + e5) + a3 * (1.0 + e7)
-    b2 = qr * qr
-    b3 = a2 * q2r
-    b4 = a3 * q3r
-    c1 = q * e
-    q2e = q2 * e
-    q3e = q2e * q
-    q4e = q3e * q
-    c2 = q2e * q2e
-    c3 = q3e * q3e * q3e
-    c4 = q4e * q4e
-    c4 = c4 * c4
-    odd = r + c1 + b3 + c3
-    even = b2 + c2 + b4 + c4
-    sech_like = 2.0 * math.sqrt(e) / den
-    sn = math.copysign(th3 / th4 * num / den, t)
-    cn = th2n / th4 * (1.0 - odd + even) * sech_like
-    dn = th2n / th3 * (1.0 + odd + even) * sech_like
+    sn, cn, dn = theta_quotients(t, e, q, r, th3, th4, th2n)
     return sn, cn, dn, K, j
 
 @_jit

@@ -24,7 +24,7 @@ drive and any damping ``c > 0`` (``theta'' = s sin(theta) - c theta'``) have no 
 flow: they take the **integrated path** (:class:`_IntegratedPeriod`), DOP853 over each
 period with the window checked at sampled instants and between them on the cubic
 Hermite interpolant through ``(theta, theta')``. Both are one-period steps behind one
-survival loop (:func:`_survival_chunk`), which :mod:`kapitza.sweeps.kernel` drives too.
+survival loop (:func:`survival_chunk`), which :mod:`kapitza.sweeps.kernel` drives too.
 """
 from __future__ import annotations
 
@@ -222,7 +222,7 @@ class _IntegratedPeriod:
         return y[:n], y[n:], left
 
 
-def _survival_chunk(theta, dtheta, period, periods, tol, idx=None):
+def survival_chunk(theta, dtheta, period, periods, tol, idx=None):
     """Periods completed with ``|theta| <= tol`` throughout, for one chunk (trusted input).
 
     ``period``: a one-period step, :class:`_ExactPeriod` or :class:`_IntegratedPeriod`;
@@ -248,7 +248,7 @@ def _survival_chunk(theta, dtheta, period, periods, tol, idx=None):
 def _run_chunks(theta, dtheta, period, periods, tol, chunk, workers, progress):
     bounds = [(a, min(a + chunk, theta.size)) for a in range(0, theta.size, chunk)]
     out = np.empty(theta.size, dtype=np.int64)
-    for a, b, res in chunk_results(_survival_chunk, bounds,
+    for a, b, res in chunk_results(survival_chunk, bounds,
                                    lambda a, b: (theta[a:b], dtheta[a:b], period, periods, tol), workers, progress):
         out[a:b] = res
     return out

@@ -168,18 +168,18 @@ def chain_motion(chain, theta0, dtheta0=0.0, *, T, A, g=G_EARTH, drive=None, per
 
     from ..drives import as_drive
 
-    from ..chain import Chain, _scale_check, _tolerance
+    from ..chain import Chain, scale_check
 
     if not isinstance(chain, Chain):
         raise _v.KapitzaValueError(f"chain must be a kapitza.Chain; got {chain!r}")
     d = as_drive(drive)
-    rtol = _tolerance("rtol", rtol)
-    atol = _tolerance("atol", atol, 1e-20, 1.0)
+    rtol = _v.one("rtol", _v.in_range("rtol", rtol, 1e-14, 1e-3, lo_open=False, hi_open=False))
+    atol = _v.one("atol", _v.in_range("atol", atol, 1e-20, 1.0, lo_open=False, hi_open=False))
     T = _v.one("T", _v.in_range("T", T, 1e-9, 1e6, lo_open=False, hi_open=False))
     A = _v.one("A", _v.nonnegative("A", A))
     g = _v.one("g", _v.positive("g", g))
     periods = _v.one("periods", _v.in_range("periods", periods, 1e-3, MAX_PERIODS, lo_open=False, hi_open=False))
-    _scale_check(chain, T, A, g, d)
+    scale_check(chain, T, A, g, d)
     ppp = _v.bounded_count("points_per_period", points_per_period, 10_000, minimum=4)
     tol = _v.one("tol", _v.in_range("tol", tol, 0.0, math.pi, hi_open=False))
     th0, om0 = _initial(chain, theta0, dtheta0)

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..drives import as_drive, parse_drive
 from ..drives._api import zeta_of
-from ..motion.basins import _ExactPeriod, _IntegratedPeriod, _survival_chunk, exact_path
+from ..motion.basins import _ExactPeriod, _IntegratedPeriod, survival_chunk, exact_path
 from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
 from ..zones import stability_margin
@@ -193,7 +193,7 @@ def _basin_grid(T, period, n, periods, tol, compiled=False):
 
         got = survival_compiled(theta0, dtheta0, point, *plan, periods, tol).reshape(P, half)
     else:
-        got = _survival_chunk(theta0, dtheta0, period, periods, tol, idx=point).reshape(P, half)
+        got = survival_chunk(theta0, dtheta0, period, periods, tol, idx=point).reshape(P, half)
     full = np.concatenate([got, got[:, : n * n - half][:, ::-1]], axis=1)
     area = np.mean(full >= periods, axis=1)
     median = np.median(full, axis=1).astype(float)
@@ -228,14 +228,13 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
     shape = (np.size(y), np.size(x))
     out = {}
     d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
-    dd = None if d.name == "square" else d
     if "linear" in quantities:
         z = float(zeta_of(c, l, g))
         # One certified verdict for all three: the margin carries the verdict and its zone.
-        m = stability_margin(eps, mu, drive=dd, zeta=z)
+        m = stability_margin(eps, mu, drive=d, zeta=z)
         out["stable"] = np.asarray(m.stable).astype(np.int8)
         out["zone"] = np.where(m.stable, m.zone, -1).astype(np.int16)
-        out["growth"] = np.asarray(growth_rate(eps, mu, drive=dd, zeta=z), float)
+        out["growth"] = np.asarray(growth_rate(eps, mu, drive=d, zeta=z), float)
         out["margin"] = np.asarray(m.margin, float)
     period = period_step(T, A, l, g, c, d, tol)
     if compiled is None:
