@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..curves import edge_kinds
 from ..parameters import G_EARTH
 from ..zones import period_edges, zone_edges
 from ._style import EDGE_2T, EDGE_4T, Drawn, caption, new_figure, place_legend
@@ -68,9 +69,8 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
     if colorbar:
         drawn["colorbar"] = ax.figure.colorbar(mesh, ax=ax, label=label)
     if edges:
-        square = drive is None or getattr(drive, "name", drive) == "square"
         for n, yy, lo, hi in _edges(plane, (y.min(), y.max()), x.max(), l, g, drive, c=c):
-            lo_style, hi_style = (EDGE_2T, EDGE_4T) if (n % 2 == 0 or not square) else (EDGE_4T, EDGE_2T)
+            lo_style, hi_style = (EDGE_2T, EDGE_4T) if edge_kinds(n)[0] == "2T" else (EDGE_4T, EDGE_2T)
             a = ax.plot(lo, yy, **lo_style, label="2T-periodic edge" if n == 0 else None)
             b = ax.plot(hi, yy, **hi_style, label="4T-periodic edge" if n == 0 else None)
             drawn["edges"] += a + b
