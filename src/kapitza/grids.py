@@ -47,7 +47,7 @@ def stability_grid_da(eps, mu, drive=None, zeta=0.0, *, l=None, g=None):
     from .zones import stability_grid
 
     d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
-    grid = stability_grid(eps, mu, drive=None if d.name == "square" else d, zeta=zeta)
+    grid = stability_grid(eps, mu, drive=d, zeta=zeta)
     e = np.asarray(eps, float).ravel()
     m = np.asarray(mu, float).ravel()
     coords = {"eps": ("eps", e, {"long_name": "Arnold's eps = T sqrt(A / (8 l))", "units": "1"}),

@@ -306,7 +306,7 @@ def create_app(hosts=None) -> FastAPI:
         from ..propagation import floquet
 
         P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
-        f = floquet(P["eps"], P["mu"], drive=None if P["drive"].name == "square" else P["drive"], zeta=P["zeta"])
+        f = floquet(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"])
         stable = bool(f.stable)
         if stable:
             kind, text = "stable", f"stable (zone {int(f.zone)})" + (", motions decay" if P["zeta"] > 0 else "")
@@ -329,19 +329,18 @@ def create_app(hosts=None) -> FastAPI:
         """``safe_tilt`` [rad]: the largest starting tilt from rest whose motion stays above the horizontal
         for ``periods`` periods 2T (``kapitza.safe_tilt``; 0 where the upright is not stable), with the
         verdict it goes with and ``text``, the report's sentence."""
-        from ..analysis import _safe_text
-        from ..safety import safe_tilt
+        from ..safety import safe_tilt, safe_tilt_sentence
         from ..zones import is_stable
 
         from ..motion.basins import exact_path
 
         P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
         n = _safe_periods(periods, exact_path(P["drive"], P["zeta"]))
-        d = None if P["drive"].name == "square" else P["drive"]
+        d = P["drive"]
         stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
         theta = float(safe_tilt(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"], periods=n)) if stable else 0.0
         return _JSON(dict(safe_tilt=theta, periods=n, stable=stable, eps=P["eps"], mu=P["mu"],
-                          text=_safe_text(theta, n, stable)))
+                          text=safe_tilt_sentence(theta, n, stable)))
 
     # -------------------------------------------------------------- motion
     @app.get("/api/motion", response_class=_JSON, summary="linear and nonlinear motion, sampled for animation")
@@ -611,8 +610,34 @@ def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
     amplitude), with ``rod`` for ``l`` and ``damping`` (c) for ``zeta``; and its drive."""
     from dataclasses import replace
 
+    P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+    if P["T"] is not None:
+        rep = analyze(T=P["T"], A=P["A"], l=P["l"], g=P["g"], drive=P["drive"], damping=P["c"])
+    else:
+        rep = analyze(eps=P["eps"], mu=P["mu"], drive=P["drive"], zeta=P["zeta"])
+    if P["given"] or P["pendulum"]:
+        rep = replace(rep, given=P["given"], pendulum=P["pendulum"] or rep.pendulum)
+    return rep, P["drive"]
+
+
+def _safe_periods(periods, exact):
+    """The periods of a safe tilt, bounded (far fewer where DOP853 follows the motion)."""
+    if exact:
+        return int(_bounded("periods", periods, LIMITS["periods"], 1))
+    hi = LIMITS["safe_tilt_integrated_periods"]
+    if not 1 <= periods <= hi:
+        raise _v.KapitzaValueError(f"periods must satisfy 1 <= periods <= {hi} in the explorer for the sine drive or "
+                                   f"damping (followed by DOP853); got {periods!r}")
+    return int(periods)
+
+
+def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping):
+    """A point as ``eps, mu, zeta`` (and ``T, A, l, g`` and the damping ``c`` [1/s] when physical) with its
+    drive, what the rig gave (``given``) and the rod's description (``pendulum``), validated."""
+    from ..drives._api import zeta_of
+
     d = _drive(drive)
-    pendulum = None
+    pendulum = c = None
     if rod is not None:
         from ..system import Pendulum
 
@@ -631,54 +656,8 @@ def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
     if T is not None or A is not None:
         if eps is not None or mu is not None:
             raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
-        c = _damping(zeta, l, g) if damping is None else _v.one("damping", _v.nonnegative("damping", damping))
-        if damping is not None:  # the explorer's bound on the damping ratio
-            from ..drives._api import zeta_of
-
-            _zeta(float(zeta_of(c, _v.one("l", _v.positive("l", l)), _v.one("g", _v.positive("g", g)))))
-        rep = analyze(T=T, A=A, l=l, g=g, drive=d, damping=c)
-    else:
-        if damping is not None:
-            raise _v.KapitzaValueError("with eps and mu give the damping as zeta, not damping")
-        rep = analyze(eps=eps, mu=mu, drive=d, zeta=_zeta(zeta))
-    if given or pendulum:
-        rep = replace(rep, given=given, pendulum=pendulum or rep.pendulum)
-    return rep, d
-
-
-def _safe_periods(periods, exact):
-    """The periods of a safe tilt, bounded (far fewer where DOP853 follows the motion)."""
-    if exact:
-        return int(_bounded("periods", periods, LIMITS["periods"], 1))
-    hi = LIMITS["safe_tilt_integrated_periods"]
-    if not 1 <= periods <= hi:
-        raise _v.KapitzaValueError(f"periods must satisfy 1 <= periods <= {hi} in the explorer for the sine drive or "
-                                   f"damping (followed by DOP853); got {periods!r}")
-    return int(periods)
-
-
-def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping):
-    """A point as ``eps, mu, zeta`` (and ``T, A`` when physical) with its drive, validated as ``_report``."""
-    from ..drives._api import zeta_of
-
-    d = _drive(drive)
-    if rod is not None:
-        from ..system import Pendulum
-
-        l = Pendulum.uniform_rod(rod).l
-    given = None
-    if frequency is not None or stroke is not None or amplitude is not None:
-        if T is not None or eps is not None or mu is not None:
-            raise _v.KapitzaValueError("give a rig's frequency with stroke or amplitude (or A), without T, eps or mu")
-        if frequency is None:
-            raise _v.KapitzaValueError("stroke and amplitude go with frequency")
-        T, A = (float(v) for v in d.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
-        given = "stroke" if stroke is not None else "amplitude" if amplitude is not None else "A"
-    if damping is not None and zeta:
-        raise _v.KapitzaValueError("give the damping as zeta or as damping (c), not both")
-    if T is not None or A is not None:
-        if eps is not None or mu is not None:
-            raise _v.KapitzaValueError("give either T and A, or eps and mu, not both")
+        if T is None or A is None:
+            raise _v.KapitzaValueError(f"give T and A together (or eps and mu); got only {'T' if A is None else 'A'}")
         T = _v.one("T", _v.positive("T", T))
         A = _v.one("A", _v.positive("A", A))
         l = _v.one("l", _v.positive("l", l))
@@ -686,15 +665,23 @@ def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, ro
         from ..parameters import to_arnold
 
         eps, mu = (float(v) for v in to_arnold(T, A, l, g))
-        z = _zeta(float(zeta_of(_v.one("damping", _v.nonnegative("damping", damping)), l, g))) if damping is not None \
-            else _zeta(zeta)
+        if damping is None:
+            z = _zeta(zeta)
+            c = _damping(z, l, g)
+        else:
+            c = _v.one("damping", _v.nonnegative("damping", damping))
+            z = _zeta(float(zeta_of(c, l, g)))  # the explorer's bound on the damping ratio
     else:
         if damping is not None:
             raise _v.KapitzaValueError("with eps and mu give the damping as zeta, not damping")
+        if eps is None and mu is None:
+            raise _v.KapitzaValueError("give the point: eps and mu, T and A, or a rig's frequency with stroke or amplitude")
+        if eps is None or mu is None:
+            raise _v.KapitzaValueError(f"give eps and mu together (or T and A); got only {'eps' if mu is None else 'mu'}")
         eps = _v.one("eps", _v.positive("eps", eps))
         mu = _v.one("mu", _v.positive("mu", mu))
         z = _zeta(zeta)
-    return dict(eps=eps, mu=mu, T=T, A=A, zeta=z, drive=d, given=given)
+    return dict(eps=eps, mu=mu, T=T, A=A, l=l, g=g, c=c, zeta=z, drive=d, given=given, pendulum=pendulum)
 
 
 def _docs_page(app):
