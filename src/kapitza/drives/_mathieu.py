@@ -355,6 +355,32 @@ def sine_tau_minus_one(eps, mu):
     return out.reshape(eps.shape)
 
 
+def _continuant(p):
+    """``(D, log_scale)`` with ``D e^log_scale`` the last term of ``D_i = D_{i-1} - p_i D_{i-2}``
+    (``D_0 = D_{-1} = 1``; ``p`` of shape ``(..., N)``): the product of the steps' 2x2 matrices
+    ``[[1, -p_i], [1, 0]]`` taken pairwise (log2 N rounds of products of all pairs at once, each
+    renormalised by its largest entry), not N rounds of the recurrence."""
+    n = p.shape[-1]
+    size = p.shape[:-1] + (1 << max(n - 1, 0).bit_length(),)   # identities fill up to a power of two
+    a, b, c, d = np.ones(size), np.zeros(size), np.zeros(size), np.ones(size)
+    b[..., :n] = -p
+    c[..., :n] = 1.0
+    d[..., :n] = 0.0
+    logs = np.zeros(p.shape[:-1] + (size[-1] // 2,))
+    first = True
+    while a.shape[-1] > 1:
+        # later step (odd index) times earlier (even index)
+        a0, b0, c0, d0 = a[..., 0::2], b[..., 0::2], c[..., 0::2], d[..., 0::2]
+        a1, b1, c1, d1 = a[..., 1::2], b[..., 1::2], c[..., 1::2], d[..., 1::2]
+        a, b, c, d = a1 * a0 + b1 * c0, a1 * b0 + b1 * d0, c1 * a0 + d1 * c0, c1 * b0 + d1 * d0
+        big = np.maximum(np.maximum(np.abs(a), np.abs(b)), np.maximum(np.abs(c), np.abs(d)))
+        scale = np.where(big > 0, big, 1.0)
+        a, b, c, d = a / scale, b / scale, c / scale, d / scale
+        logs = np.log(scale) if first else logs[..., 0::2] + logs[..., 1::2] + np.log(scale)
+        first = False
+    return a[..., 0] + b[..., 0], logs[..., 0]
+
+
 def _hill_half_trace(a, q, minus_one=False):
     """``(tau, log|tau|)`` of Mathieu's monodromy over z in [0, pi] for ``a < 0`` (Hill);
     with ``minus_one``, ``tau - 1 = 2 Delta(0) sinh^2(pi sqrt(-a) / 2)`` itself (no 1 added and
@@ -371,17 +397,7 @@ def _hill_half_trace(a, q, minus_one=False):
     R = int(200 + np.ceil(4.0 * np.sqrt(np.max(np.abs(q), initial=0.0))))
     r = np.arange(-R, R + 1, dtype=float)
     xi = q[..., None] / (4.0 * r * r - a[..., None])
-    D_prev = np.ones(a.shape)
-    D = np.ones(a.shape)
-    logs = np.zeros(a.shape)
-    for i in range(1, 2 * R + 1):
-        D, D_prev = D - xi[..., i] * xi[..., i - 1] * D_prev, D
-        m = np.maximum(np.abs(D), np.abs(D_prev))
-        big = m > 1e100
-        if np.any(big):
-            s = np.where(big, m, 1.0)
-            D, D_prev = D / s, D_prev / s
-            logs = logs + np.log(s)
+    D, logs = _continuant(xi[..., 1:] * xi[..., :-1])
     # both tails (r > R and r < -R are the same by symmetry)
     R1 = 2 * R
     rt = np.arange(R + 1, R1 + 1, dtype=float)
@@ -621,23 +637,30 @@ def _half_period(eps, mu):
         kk = np.arange(_TERMS)
         # 2q (2h)^k / k! (the scaled coefficients without their trig factor)
         scale = 2.0 * qq[None, :] * ((2.0 * h) ** kk / fact[:_TERMS])[:, None]
-        for j in range(m):
-            cj, sj = np.cos(2.0 * j * h), np.sin(2.0 * j * h)
-            trig = np.where(kk % 2 == 0, cj, sj) * sign[kk % 4]
-            C = scale * trig[:, None]
+        # the steps' 2x2 maps (y, y') -> (y, y'), all steps of a block at once (their series do not
+        # depend on the state), then applied in order
+        block = max(1, 16384 // b)
+        for j0 in range(0, m, block):
+            jj = np.arange(j0, min(j0 + block, m))
+            cj, sj = np.cos(2.0 * jj * h), np.sin(2.0 * jj * h)
+            trig = np.where((kk % 2 == 0)[:, None], cj[None, :], sj[None, :]) * sign[kk % 4][:, None]
+            C = scale[:, None, :] * trig[:, :, None]           # (terms, steps, points)
             C[0] += 2.0 * qq * mm * mm
-            Y = np.empty((_TERMS + 2, b, 2))
-            Y[0] = y
-            Y[1] = dy * h
+            Y = np.zeros((_TERMS + 2, jj.size, b, 2))          # last axis: from (1, 0) and from (0, 1)
+            Y[0, ..., 0] = 1.0
+            Y[1, ..., 1] = h
             for k in range(_TERMS):
-                Y[k + 2] = np.einsum("ib,ibc->bc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
-            y = Y.sum(axis=0)
-            dy = np.einsum("k,kbc->bc", np.arange(_TERMS + 2.0), Y) / h
-            big = np.maximum(np.abs(y).max(axis=1), np.abs(dy).max(axis=1))
-            y /= big[:, None]
-            dy /= big[:, None]
-            s += np.log(big)
-            s_max = np.maximum(s_max, s)
+                Y[k + 2] = np.einsum("ijb,ijbc->jbc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
+            T_y = Y.sum(axis=0)                                # (steps, points, 2): row y of each map
+            T_dy = np.einsum("k,kjbc->jbc", np.arange(_TERMS + 2.0), Y) / h
+            for t in range(jj.size):
+                ty, td = T_y[t], T_dy[t]
+                y, dy = (ty[:, 0, None] * y + ty[:, 1, None] * dy, td[:, 0, None] * y + td[:, 1, None] * dy)
+                big = np.maximum(np.abs(y).max(axis=1), np.abs(dy).max(axis=1))
+                y /= big[:, None]
+                dy /= big[:, None]
+                s += np.log(big)
+                s_max = np.maximum(s_max, s)
         out[:, sel] = y[:, 0], dy[:, 0], y[:, 1], dy[:, 1], s, s_max
     return out
 
