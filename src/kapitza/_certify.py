@@ -45,37 +45,54 @@ def exact_half_trace(eps, mu):
 
 
 def tau_mp(eps, mu, levels, durations):
-    """``tr M / 2`` in mpmath, at a precision that covers the cancellation of ``e^{sum r}`` terms."""
-    import mpmath
+    """``tr M / 2`` in mpmath, at a precision that covers the cancellation of ``e^{sum r}`` terms:
+    ``[(tau, log|tau|, stable, angle)]`` per point (``angle`` as in :func:`exact_half_trace`).
 
+    The segment matrices and their product are formed on mpmath's raw binary numbers
+    (``mpmath.libmp``), each operation correctly rounded at the working precision."""
+    import mpmath
+    from mpmath import libmp as L
+
+    one, zero = L.fone, L.fzero
     out = []
     for e, m in zip(eps.tolist(), mu.tolist()):
         rsum = sum(np.sqrt(8.0 * e * e * abs(m * m + s)) * h for s, h in zip(levels, durations))
         # e^rsum-sized terms cancel far out; near eps -> 0, tr M/2 - 1 = O(rsum^4) is what decides
         dps = 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
-        with mpmath.workdps(dps):
-            E, Mu = mpmath.mpf(e), mpmath.mpf(m)
-            P = mpmath.eye(2)
-            for s, h in zip(levels, durations):
-                k = 8 * E * E * (Mu * Mu + mpmath.mpf(s))
-                H = mpmath.mpf(h)
-                if k > 0:
-                    w = mpmath.sqrt(k)
-                    S = mpmath.matrix([[mpmath.cosh(w * H), mpmath.sinh(w * H) / w],
-                                       [w * mpmath.sinh(w * H), mpmath.cosh(w * H)]])
-                elif k < 0:
-                    w = mpmath.sqrt(-k)
-                    S = mpmath.matrix([[mpmath.cos(w * H), mpmath.sin(w * H) / w],
-                                       [-w * mpmath.sin(w * H), mpmath.cos(w * H)]])
+        prec = L.dps_to_prec(dps)
+        E8 = L.mpf_mul(L.from_int(8), L.mpf_mul(L.from_float(e), L.from_float(e), prec), prec)
+        MM = L.mpf_mul(L.from_float(m), L.from_float(m), prec)
+        a, b, c, d = one, zero, zero, one
+        for s, h in zip(levels, durations):
+            k = L.mpf_mul(E8, L.mpf_add(MM, L.from_float(float(s)), prec), prec)
+            H = L.from_float(float(h))
+            sign = L.mpf_sign(k)
+            if sign == 0:
+                sa, sb, sc, sd = one, H, zero, one
+            else:
+                w = L.mpf_sqrt(L.mpf_abs(k), prec)
+                x = L.mpf_mul(w, H, prec)
+                if sign > 0:
+                    ch, sh = L.mpf_cosh_sinh(x, prec)
+                    sa, sb, sc, sd = ch, L.mpf_div(sh, w, prec), L.mpf_mul(w, sh, prec), ch
                 else:
-                    S = mpmath.matrix([[1, H], [0, 1]])
-                P = S * P
-            t = (P[0, 0] + P[1, 1]) / 2
-            # the verdict |t| < 1 is decided here, in extended precision; the float of t may
-            # round to +-1 on either side
-            st = bool(abs(t) < 1)
-            # on a zone the rotation angle acos(t), off it the growth acosh|t|, each to full
-            # relative accuracy (t may round to +-1)
-            out.append((float(t), float(mpmath.log(abs(t))) if t != 0 else -np.inf, st,
-                        float(mpmath.acos(t)) if st else float(mpmath.acosh(abs(t)))))
+                    co, si = L.mpf_cos_sin(x, prec)
+                    sa, sb, sc, sd = co, L.mpf_div(si, w, prec), L.mpf_neg(L.mpf_mul(w, si, prec)), co
+            a, b, c, d = (L.mpf_add(L.mpf_mul(sa, a, prec), L.mpf_mul(sb, c, prec), prec),
+                          L.mpf_add(L.mpf_mul(sa, b, prec), L.mpf_mul(sb, d, prec), prec),
+                          L.mpf_add(L.mpf_mul(sc, a, prec), L.mpf_mul(sd, c, prec), prec),
+                          L.mpf_add(L.mpf_mul(sc, b, prec), L.mpf_mul(sd, d, prec), prec))
+        t = L.mpf_shift(L.mpf_add(a, d, prec), -1)
+        # the verdict |t| < 1 is decided here, in extended precision; the float of t may
+        # round to +-1 on either side
+        at = L.mpf_abs(t)
+        st = L.mpf_lt(at, one)
+        # on a zone the rotation angle acos(t), off it the growth acosh|t|, each to full
+        # relative accuracy (t may round to +-1)
+        with mpmath.workprec(prec):
+            T = mpmath.mpf(t)
+            angle = float(mpmath.acos(T)) if st else float(mpmath.acosh(abs(T)))
+        near = L.round_nearest
+        out.append((L.to_float(t, rnd=near), L.to_float(L.mpf_log(at, prec, near), rnd=near) if t != zero else -np.inf,
+                    bool(st), angle))
     return out
