@@ -164,3 +164,8 @@ def test_a_drive_without_text_form_says_so_where_one_is_needed():
         SweepSpec(plane="arnold", x=[1.0, 2.0], y=[0.2, 0.3], drive=measured)
     # a drive with a text form is kept by it, the triangle wave too
     assert SweepSpec(plane="arnold", x=[1.0, 2.0], y=[0.2, 0.3], drive=kapitza.TriangleWave()).drive == "triangle"
+
+
+def test_a_step_drive_beyond_its_limit_points_to_measured_drives():
+    with pytest.raises(ValueError, match=r"at most 64 steps; got 65 .*from_samples"):
+        kapitza.StepDrive(np.tile([1.0, -1.0], 33)[:65] - np.mean(np.tile([1.0, -1.0], 33)[:65]), np.full(65, 1 / 65))

@@ -317,7 +317,8 @@ def _check_steps(levels, fractions):
     if lev.size < 2:
         raise _v.KapitzaValueError(f"a step drive needs at least 2 steps; got {lev.size}")
     if lev.size > 64:
-        raise _v.KapitzaValueError(f"a step drive may have at most 64 steps; got {lev.size}")
+        raise _v.KapitzaValueError(f"a step drive may have at most 64 steps; got {lev.size} (a longer measured "
+                                   "signal: kapitza.from_samples(t, a, kind='constant'))")
     if np.any(np.abs(lev) > 1e6):  # multiples of A: beyond this A itself should carry the scale
         raise _v.KapitzaValueError(f"levels must satisfy |level| <= 1e6 (multiples of A; scale A instead); got "
                                    f"{float(lev[np.argmax(np.abs(lev))])!r}")
