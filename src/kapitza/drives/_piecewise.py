@@ -189,7 +189,12 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     kk = np.rint((turn - base) / (2.0 * PI))
     theta_stable = 2.0 * PI * kk + base
     zone_stable = np.where(sig > 0, 2 * kk, 2 * kk - 1)
-    theta = np.where(stable, theta_stable, PI * np.rint(turn / PI))
+    # off the zones the multipliers are real: theta is k pi with k even for positive ones (tr M > 0)
+    # and odd for negative ones; the carried angle picks the nearest such k (far out its own
+    # rounding may leave it nearer the other parity)
+    odd = tau < 0
+    k_gap = 2.0 * np.rint((turn / PI - odd) / 2.0) + odd
+    theta = np.where(stable, theta_stable, PI * k_gap)
     zone = np.where(stable, zone_stable, -1).astype(np.int64)
     return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),
                     theta=theta.reshape(shape), zone=zone.reshape(shape))
