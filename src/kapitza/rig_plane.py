@@ -103,8 +103,6 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
     RigZoneCurves
     """
     from .drives import as_drive, parse_drive
-    from .zones import zone_edges
-
     l = _v.one("l", _v.positive("l", l))
     g = _v.one("g", _v.positive("g", g))
     zeta = _v.one("zeta", _v.nonnegative("zeta", zeta))
@@ -130,7 +128,7 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
         lo_e = np.full((n_max, mu.size), np.inf)
         hi_e = np.full((n_max, mu.size), np.inf)
         for i in range(n_max):
-            lo_e[i], hi_e[i] = _row_edges(zone_edges, mu, i, d, zeta, float(eps_all.max()))
+            lo_e[i], hi_e[i] = _row_edges(mu, i, d, zeta, float(eps_all.max()))
         edges = (mu, lo_e, hi_e)
 
     def frequencies(st):
@@ -172,10 +170,15 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
                          frequency_range=(f0, f1), stroke_range=(s0, s1))
 
 
-def _row_edges(zone_edges, mu, n, drive, zeta, eps_top):
+def _row_edges(mu, n, drive, zeta, eps_top):
     """Zone ``n``'s edges at the increasing ``mu`` samples, ``inf`` at the samples a drive's edge
     solver refuses as too far out (the sine drive's edges beyond ``q = 1e8`` as ``mu -> 1``): those
-    lie beyond the window as long as the last edge it gives is already above ``eps_top``."""
+    lie beyond the window as long as the last edge it gives is already above ``eps_top``. To a
+    pixel: each edge as the drive's search leaves it (not moved to its certified double)."""
+
+    def zone_edges(m, n, drive, zeta):
+        return drive.edges(np.asarray(m, float), np.int64(n), np.asarray(zeta, float), certify=False)
+
     try:
         lo, hi = zone_edges(mu, n, drive=drive, zeta=zeta)
         return np.asarray(lo, float), np.asarray(hi, float)

@@ -272,6 +272,57 @@ def window_edges(drive, mu, e0, e1, zeta):
     return r_idx, z_idx, lo, hi
 
 
+def certified_sides(drive, mu, lo, hi):
+    """The edges moved to the doubles the certified verdict puts them at: ``lo`` the last unstable
+    double below the zone (the next one up is stable), ``hi`` the first unstable one above it (the
+    one below is stable), so that zone ``n`` is ``lo < eps < hi`` as :func:`kapitza.is_stable` says
+    at every double. The double search leaves each within its rounding of that (a few ulp, more
+    where the trace is formed from large cancelling terms): a bracket of doubles about it is widened
+    until the certified verdict changes across it, then bisected on the bit patterns. A zone with
+    no stable double (thinner than their spacing) keeps the edges as found."""
+    lo, hi = lo.copy(), hi.copy()
+    live = np.flatnonzero(np.isfinite(lo) & np.isfinite(hi) & (lo < hi) & (lo > 0))
+    if not live.size:
+        return lo, hi
+    m = mu[live]
+    L, H = lo[live].view(np.int64), hi[live].view(np.int64)
+    half = np.maximum((H - L) // 2, 1)
+
+    def stable(bits, rows):
+        return drive._floquet0(bits.view(np.float64), m[rows], certify=True).zone >= 0
+
+    for edge, inside in ((L, 1), (H, -1)):
+        # out: a double outside the zone (unstable), inn: one inside (stable), widened in turns
+        k = np.ones(live.size, np.int64)
+        out, inn = edge.copy(), edge + inside
+        rows = np.arange(live.size)
+        found = np.zeros(live.size, bool)
+        for _ in range(40):
+            st = stable(np.concatenate([out[rows], inn[rows]]), np.concatenate([rows, rows]))
+            ok = ~st[:rows.size] & st[rows.size:]
+            found[rows[ok]] = True
+            rows = rows[~ok]
+            if not rows.size:
+                break
+            rows = rows[k[rows] < half[rows]]   # (widened to half the zone: left as found)
+            k[rows] = np.minimum(2 * k[rows], half[rows])
+            out[rows] = np.maximum(edge[rows] - inside * k[rows], 1)
+            inn[rows] = edge[rows] + inside * k[rows]
+        # bisection: out stays unstable, inn stable, until they are neighbours
+        rows = np.flatnonzero(found)
+        for _ in range(70):
+            rows = rows[np.abs(inn[rows] - out[rows]) > 1]
+            if not rows.size:
+                break
+            mid = out[rows] + (inn[rows] - out[rows]) // 2
+            st = stable(mid, rows)
+            inn[rows[st]] = mid[st]
+            out[rows[~st]] = mid[~st]
+        res = np.where(found, out, edge)
+        (lo if inside > 0 else hi)[live] = res.view(np.float64)
+    return lo, hi
+
+
 def _damped_window(drive, mu, zeta, e0, e1):
     """Damped zones of a chart ``[e0, e1]``: from the undamped ``phi``-zones in ``[0, 2 e1]``.
 
@@ -307,6 +358,46 @@ def _damped_window(drive, mu, zeta, e0, e1):
     return rows, zones, lo, hi
 
 
+#: Pixels within this relative distance of a painted edge are decided pointwise (certified): the
+#: edges of the closed forms and of the searches lie within a few ulp of the certified crossing,
+#: far closer than this; farther pixels are on the side the interval says.
+_EDGE_BAND = 1e-12
+
+
+def settle_near_edges(eps, out, rows, lo, hi, i0, i1, verdict):
+    """Repaint the pixels of ``out`` (painted from the edges ``lo``, ``hi`` of the rows ``rows``;
+    ``i0``, ``i1`` the first pixels above each) that lie within :data:`_EDGE_BAND` of an edge with
+    ``verdict(eps, rows)`` (boolean, certified; ``rows`` the row of each point), so that the grid
+    equals ``is_stable`` at its own doubles; a normal grid has no pixel there, which the pixels on
+    either side of each edge tell at the cost of a comparison."""
+    W = eps.size
+
+    def near(edge, i):
+        below = np.where(i > 0, eps[np.maximum(i - 1, 0)], -np.inf)
+        above = np.where(i < W, eps[np.minimum(i, W - 1)], np.inf)
+        with np.errstate(invalid="ignore"):
+            return (below >= edge * (1.0 - _EDGE_BAND)) | (above <= edge * (1.0 + _EDGE_BAND))
+
+    sel_lo, sel_hi = near(lo, i0), near(hi, i1)
+    if not (sel_lo.any() or sel_hi.any()):
+        return out
+    e = np.concatenate([lo[sel_lo], hi[sel_hi]])
+    r = np.concatenate([rows[sel_lo], rows[sel_hi]])
+    ok = np.isfinite(e)
+    e, r = e[ok], r[ok]
+    i0 = np.searchsorted(eps, e * (1.0 - _EDGE_BAND), side="left")
+    i1 = np.searchsorted(eps, e * (1.0 + _EDGE_BAND), side="right")
+    counts = i1 - i0
+    if not counts.any():
+        return out
+    rr = np.repeat(r, counts)
+    jj = np.repeat(i0, counts) + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    key = np.unique(rr * eps.size + jj)
+    rr, jj = key // eps.size, key % eps.size
+    out[rr, jj] = np.asarray(verdict(eps[jj], rr), bool)
+    return out
+
+
 def grid(eps, mu, drive, zeta, out):
     """Paint ``out[i, j] = stable(eps[j], mu[i])`` from the exact edges of every zone in view.
 
@@ -321,7 +412,7 @@ def grid(eps, mu, drive, zeta, out):
     base = rows[keep] * W
     for a, b in zip((base + i0[keep]).tolist(), (base + i1[keep]).tolist()):
         flat[a:b] = True
-    return out
+    return settle_near_edges(eps, out, rows, lo, hi, i0, i1, lambda e, r: verdict(e, mu[r], drive, zeta[r])[0])
 
 
 def _zone_range(drive, mu, zeta, e0, e1):

@@ -415,6 +415,10 @@ class Drive:
     #: The drive finds every zone of a window of ``eps`` at once (:meth:`_window0`).
     _windowed = False
 
+    #: Whether :meth:`edges` moves the undamped edges of :meth:`_edges0` to the doubles the
+    #: certified verdict puts them at (a drive whose edges come from its verdict itself: False).
+    _edges_need_sides = True
+
     #: One point's searches (margin, rig intervals) may ask the drive for many points of a row at
     #: once, spread over decades of ``eps`` and ``A`` (:func:`kapitza.drives._api.point_margin`).
     _batched_points = False
@@ -464,9 +468,19 @@ class Drive:
         """Rotation number per period (:func:`kapitza.rotation_number`)."""
         return _api.floquet(eps, mu, self, zeta)[4]
 
-    def edges(self, mu, n, zeta):
-        """``(eps_lo, eps_hi)`` of zone ``n``, NaN where there is none (:func:`kapitza.zone_edges`)."""
-        return self._edges(mu, n, zeta)
+    def edges(self, mu, n, zeta, certify=True):
+        """``(eps_lo, eps_hi)`` of zone ``n``, NaN where there is none (:func:`kapitza.zone_edges`).
+
+        ``certify``: undamped, move each edge to the double the certified verdict puts it at (the
+        last unstable double below the zone, the first above it: :func:`kapitza.is_stable` agrees at
+        every double); a chart that needs the curves to a pixel passes False."""
+        lo, hi = self._edges(mu, n, zeta)
+        if certify and self._edges_need_sides and not np.any(np.asarray(zeta) > 0):
+            shape = np.shape(lo)
+            m = np.broadcast_to(np.asarray(mu, float), shape).ravel()
+            lo, hi = _api.certified_sides(self, m, np.asarray(lo, float).ravel(), np.asarray(hi, float).ravel())
+            lo, hi = lo.reshape(shape), hi.reshape(shape)
+        return lo, hi
 
     def margin(self, eps, mu, zeta):
         """``(stable, zone, eps_lo, eps_hi, margin)`` (:func:`kapitza.stability_margin`)."""

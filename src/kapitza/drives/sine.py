@@ -60,6 +60,8 @@ class SineWave(Drive):
 
     #: every zone of a window at once, from the Sturm counts at its right end
     _windowed = True
+    #: edges and verdicts come from the same Sturm counts (the edges bisected on them)
+    _edges_need_sides = False
 
     def _window0(self, mu, e_a, e_b):
         from ._mathieu import sine_window

@@ -72,9 +72,9 @@ class SquareWave(PiecewiseConstant):
     def rotation(self, eps, mu, zeta):
         return super().rotation(eps, mu, zeta) if not _undamped(zeta) else S._floquet(eps, mu)[2] / (2.0 * np.pi)
 
-    def edges(self, mu, n, zeta):
+    def edges(self, mu, n, zeta, certify=True):
         if not _undamped(zeta):
-            return super().edges(mu, n, zeta)
+            return super().edges(mu, n, zeta, certify)
         return S._edges_eps(_v.in_range("mu", mu, 0.0, 1.0), n)
 
     def margin(self, eps, mu, zeta):

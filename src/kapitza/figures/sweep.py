@@ -5,7 +5,7 @@ import numpy as np
 
 from ..curves import edge_kinds
 from ..parameters import G_EARTH
-from ..zones import period_edges, zone_edges
+from ..zones import period_edges
 from ._style import EDGE_2T, EDGE_4T, Drawn, caption, new_figure, place_legend
 
 __all__ = ["plot_sweep_map", "sweep_figure"]
@@ -17,8 +17,10 @@ _AXES = {"arnold": (r"$\varepsilon = T\sqrt{A/(8l)}$", r"$\mu = \sqrt{g/A}$"),
 def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60, c=0.0):
     """``[(n, y, x_lo, x_hi)]`` of the zones that reach into ``x <= x_max`` (damping ``c`` [1/s])."""
     from ..curves import mu_top
+    from ..drives import as_drive
 
     out = []
+    d = as_drive(drive)
     top = mu_top(drive)  # beyond it no zone: the upright always falls
     if plane == "arnold":
         y = np.linspace(max(y_range[0], 1e-3), min(y_range[1], 0.999 * top), points)
@@ -27,7 +29,7 @@ def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60, c=0.0):
     if y.size == 0 or y[0] >= y[-1]:
         return out
     for n in range(max_zones):
-        lo, hi = (zone_edges(y, n, drive=drive, zeta=0.5 * c * np.sqrt(l / g)) if plane == "arnold"
+        lo, hi = (d.edges(y, np.int64(n), np.asarray(0.5 * c * np.sqrt(l / g)), certify=False) if plane == "arnold"
                   else period_edges(y, n, l, g, drive=drive, damping=c))
         if not np.any(np.isfinite(lo)) or np.nanmin(lo) > x_max:
             break
