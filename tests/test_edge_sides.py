@@ -1,0 +1,67 @@
+"""Zone edges and verdicts agree at every double, and the rotation number agrees with the trace.
+
+Zone ``n`` is ``eps_lo < eps < eps_hi`` (the docstring of :func:`kapitza.zone_edges`): the reported
+edges are the doubles on the unstable side, so ``is_stable`` (certified to the last bit) is False at
+each edge and True at its neighbour inside the zone. Off the zones the multipliers are real, so the
+rotation angle is ``k pi`` with ``k`` even where they are positive (``tr M > 0``) and odd where
+they are negative.
+"""
+import numpy as np
+import pytest
+
+import kapitza as K
+
+DRIVES = [K.RectangularWave(0.3), K.RectangularWave(0.8), K.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3]),
+          K.TriangleWave()]
+
+
+@pytest.mark.parametrize("drive", DRIVES, ids=lambda d: d.text())
+def test_each_reported_edge_is_the_last_unstable_double(drive):
+    rng = np.random.default_rng(7)
+    mu = rng.uniform(0.05, min(0.95, 0.95 * drive.mu_max), 6)
+    lo, hi = K.zone_edges(mu[:, None], np.arange(4)[None, :], drive=drive)
+    checked = 0
+    for m, a, b in zip(np.repeat(mu, 4), lo.ravel(), hi.ravel()):
+        inner_a, inner_b = np.nextafter(a, np.inf), np.nextafter(b, -np.inf)
+        if not (np.isfinite(a) and np.isfinite(b) and inner_a <= inner_b):
+            continue  # no such zone here, or none with a double inside
+        st = K.is_stable(np.array([a, inner_a, inner_b, b]), m, drive=drive)
+        assert st.tolist() == [False, True, True, False], (m, a, b)
+        checked += 1
+    assert checked >= 12
+
+
+@pytest.mark.parametrize("drive", DRIVES, ids=lambda d: d.text())
+def test_the_rotation_number_off_the_zones_has_the_parity_of_the_trace(drive):
+    rng = np.random.default_rng(11)
+    eps = rng.uniform(0.05, 12.0, 400)
+    mu = rng.uniform(0.0, 1.2 * drive.mu_max, 400)
+    f = K.floquet(eps, mu, drive=drive)
+    rho = np.asarray(K.rotation_number(eps, mu, drive=drive))
+    off = ~np.asarray(f.stable) & np.isfinite(f.trace)
+    assert off.sum() > 100
+    two_rho = 2.0 * rho[off]
+    assert np.all(two_rho == np.rint(two_rho))
+    odd = np.remainder(np.rint(two_rho), 2.0) == 1.0
+    assert np.array_equal(odd, np.asarray(f.trace)[off] < 0)
+
+
+def test_a_huge_positive_trace_has_an_integer_rotation_number():
+    # tr M/2 ~ 7.5e46 where the segment products reach e^147: the carried angle ends near an odd
+    # multiple of pi, the multipliers are positive
+    eps, mu, d = 10.06645231424355, 2.607491053933446, K.RectangularWave(0.9)
+    assert K.floquet(eps, mu, drive=d).trace > 0
+    rho = float(K.rotation_number(eps, mu, drive=d))
+    assert rho == round(rho)
+
+
+@pytest.mark.parametrize("drive", [K.SquareWave()] + DRIVES, ids=lambda d: d.text())
+def test_the_grid_equals_is_stable_at_doubles_beside_the_edges(drive):
+    rng = np.random.default_rng(5)
+    for mu in rng.uniform(0.05, min(0.9, 0.9 * drive.mu_max), 5):
+        lo, hi = K.zone_edges(mu, np.arange(3), drive=drive)
+        edges = np.concatenate([lo, hi])
+        edges = edges[np.isfinite(edges)]
+        eps = np.unique((edges[:, None].view(np.int64) + np.arange(-3, 4)[None, :]).view(np.float64))
+        grid = K.stability_grid(eps, np.array([mu]), drive=drive)[0]
+        assert np.array_equal(grid, K.is_stable(eps, mu, drive=drive)), mu
