@@ -202,6 +202,12 @@ def phase_flow(t, theta0, dtheta0, s):
     theta, dtheta : ndarray
         The state after the time ``t``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is not finite, ``sqrt|s| |t|`` exceeds ``1e5``, or the arguments do not
+        broadcast.
+
     Notes
     -----
     ``docs/theory.md`` section 6. With ``q = theta`` (``s < 0``) or
