@@ -522,6 +522,20 @@ def plot_zones_rig(ax=None, frequency_range=None, stroke_range=None, l=1.0, g=9.
     -------
     Drawn
         Artists ``"fill"``, ``"edges"``; ``.data`` the :class:`kapitza.rig_plane.RigZoneCurves`.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.rig_plane.rig_zone_curves`.
+
+    Examples
+    --------
+    >>> from kapitza.figures.chart import plot_zones_rig
+    >>> drawn = plot_zones_rig(l=0.2, around=(40.0, 0.02))
+    >>> sorted(drawn), drawn.ax.get_xlim()
+    (['edges', 'fill', 'legend'], (np.float64(10.0), np.float64(160.0)))
+    >>> drawn.data.n
+    array([0])
     """
     import matplotlib.pyplot as plt
 
@@ -565,6 +579,37 @@ def rig_chart_figure(frequency_range=None, stroke_range=None, *, l=1.0, g=9.81, 
 
     ``mark``: ``(StabilityReport, label)`` with physical ``T`` and ``A``: starred, and the window centred
     on it. Returns ``(Figure, RigZoneCurves, CSV header)``.
+
+    Parameters
+    ----------
+    frequency_range, stroke_range : (float, float), optional
+        The window [Hz], [m] (:func:`kapitza.rig_plane.rig_window` by default).
+    l, g, drive, zeta, points :
+        As in :func:`plot_zones_rig`.
+    mark : (StabilityReport, str), optional
+        The rig's report (physical ``T`` and ``A``) and its label.
+    title : str, optional
+    rod : float, optional
+        The rod's own length [m], for the caption.
+
+    Returns
+    -------
+    (Figure, RigZoneCurves, list of str)
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.rig_plane.rig_zone_curves`, or a ``mark`` without ``T`` and ``A``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures.chart import rig_chart_figure
+    >>> rig = kapitza.Rig(kapitza.Pendulum.uniform_rod(0.3))
+    >>> report = rig.analyze(frequency=40.0, stroke=0.02)
+    >>> fig, curves, header = rig_chart_figure(l=rig.pendulum.l, mark=(report, "the rig"), rod=0.3)
+    >>> header, curves.frequency_range
+    (['n', 'stroke', 'f_lo', 'f_hi'], (10.0, 160.0))
     """
     from ..drives import as_drive, parse_drive
     from ._style import caption, new_figure
