@@ -519,9 +519,11 @@ def analyze_chain(chain, *, T=None, A=None, frequency=None, stroke=None, amplitu
     >>> import kapitza
     >>> tower = kapitza.Chain([0.2, 0.2, 0.2])
     >>> kapitza.analyze_chain(tower, frequency=200.0, stroke=0.005)
-    <ChainReport: 3-link tower, T = 0.0025 s, A = 3200 m/s^2: stable: every mode in its zone (0, 0, 0); mode 1 (l = 0.4124... m) is the nearest to failing: it falls if T falls by 12.9 % at this A>
+    <ChainReport: 3-link tower, T = 0.0025 s, A = 3200 m/s^2: stable: every mode in its zone (0, 0, 0);
+     mode 1 (l = 0.4124... m) is the nearest to failing: it falls if T falls by 12.9 % at this A>
     >>> kapitza.analyze_chain(tower, frequency=100.0, stroke=0.005).verdict
-    'unstable: mode 1 of 3 fails; mode 1 (l = 0.4124... m) grows fastest and falls: the drive is too weak to hold it up (it falls; below zone 0)'
+    'unstable: mode 1 of 3 fails; mode 1 (l = 0.4124... m) grows fastest and falls: the drive is too weak
+     to hold it up (it falls; below zone 0)'
     >>> kapitza.analyze_chain(tower, frequency=60.0, stroke=0.03).failure
     'period doubling'
     """

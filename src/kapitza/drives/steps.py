@@ -39,7 +39,7 @@ class StepDrive(PiecewiseConstant):
     >>> kapitza.StepDrive([1, 1], [0.5, 0.5])
     Traceback (most recent call last):
         ...
-    kapitza._validate.KapitzaValueError: levels must have zero mean over the period (sum(levels * fractions) = 0, so that the pivot's velocity and displacement are periodic); got mean 1.0
+    kapitza._validate.KapitzaValueError: levels must have zero mean over the period (...); got mean 1.0
     """
 
     name = "steps"
