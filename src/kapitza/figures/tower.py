@@ -105,6 +105,8 @@ def plot_tower_chart(chain=None, drive=None, g=9.81, ax=None, frequency_range=No
     >>> drawn = plot_tower_chart(kapitza.Chain([0.2, 0.2, 0.2]), mark=(200.0, 0.005))
     >>> sorted(drawn), len(drawn["lower"])
     (['band', 'labels', 'legend', 'lower', 'mark', 'upper'], 3)
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -196,6 +198,8 @@ def tower_chart_figure(chains, drive=None, g=9.81, frequency_range=None, stroke_
     >>> fig, drawn = tower_chart_figure(tower_family(0.2, n_max=3), mark=(200.0, 0.005))
     >>> len(drawn), [d.data.n_links for d in drawn]
     (3, [1, 2, 3])
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     from ..chain import default_window
     from ..drives import as_drive
@@ -257,6 +261,25 @@ def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80,
     Returns
     -------
     pathlib.Path
+
+    Raises
+    ------
+    ValueError
+        If ``fps``, ``slowdown`` or ``duration`` is out of range.
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> import kapitza
+    >>> from kapitza.figures.tower import animate_tower
+    >>> tower = kapitza.Chain([0.2, 0.2])
+    >>> motion = kapitza.chain_motion(tower, 0.05, T=0.0025, A=3200.0, periods=4, points_per_period=8)
+    >>> folder = tempfile.mkdtemp()
+    >>> animate_tower(motion, os.path.join(folder, "tower.gif"), fps=10).name
+    'tower.gif'
+    >>> shutil.rmtree(folder)
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     from pathlib import Path
 
