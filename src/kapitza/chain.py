@@ -1094,6 +1094,24 @@ def default_window(chain, drive=None, g=G_EARTH):
     top (the shortest mode's period doubling at high frequency) to 5 times it, the frequency from
     a fifth of the band's lowest (where the longest mode's lower edge meets that stroke) to 30 times it.
 
+    Parameters
+    ----------
+    chain : Chain
+    drive : Drive or str, optional
+        The paper's square wave by default.
+    g : float
+        Gravity [m/s^2], 1e-3 .. 1e3.
+
+    Returns
+    -------
+    ((float, float), (float, float))
+        ``((frequency_min, frequency_max), (stroke_min, stroke_max))`` [Hz], [m].
+
+    Raises
+    ------
+    ValueError
+        If ``g`` is out of range or ``drive`` names no drive.
+
     Examples
     --------
     >>> import kapitza

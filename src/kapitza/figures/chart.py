@@ -85,6 +85,12 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
         Artists ``"fill"``, ``"edges"`` (lists), ``"G"``; ``.data`` the :class:`ZoneCurves` (another
         drive or damping: the drive's curves).
 
+    Raises
+    ------
+    ValueError
+        If the window is empty or outside the plane, or another argument is out of range
+        (:func:`kapitza.curves.window_curves`).
+
     Notes
     -----
     2T-periodic edges (``T_n``; lower edge of even zones, upper edge of odd ones)
@@ -159,6 +165,11 @@ def magnified_zones(eps_range, mu_range, candidates=(1, 2, 3), fraction=0.02):
     Returns
     -------
     list of int
+
+    Raises
+    ------
+    ValueError
+        If the window is not as in :func:`kapitza.curves.window_range`.
 
     Examples
     --------
@@ -322,6 +333,11 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     Drawn
         Artists ``"fill"``, ``"lower"``, ``"upper"``; ``.data`` the :class:`TongueCurves`.
 
+    Raises
+    ------
+    ValueError
+        As in :func:`tongue_curves`.
+
     Examples
     --------
     >>> from kapitza.figures import plot_tongue
@@ -400,6 +416,11 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
     -------
     Drawn
         Artists ``"fill"``, ``"edges"``; ``.data`` the :class:`PhysicalZoneCurves`.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.curves.physical_zone_curves`.
 
     Notes
     -----

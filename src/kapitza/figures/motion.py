@@ -460,7 +460,14 @@ def strobe_figure(orbits, *, title=None, highlight=None):
         one) are drawn faint.
     highlight : (theta_k, dtheta_k), optional
         The user's own orbit at ``t = 2kT``, drawn on top.
+    title : str, optional
 
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Notes
+    -----
     The axes frame the island and the user's orbit (:func:`strobe_window`); only when
     neither stays near the upright is the whole wrapped map shown. The caption says
     what is drawn.

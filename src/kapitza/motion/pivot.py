@@ -77,6 +77,11 @@ def pivot_acceleration(t, T, A):
     ndarray
         ``+A`` on ``[2kT, (2k+1)T)``, ``-A`` on ``[(2k+1)T, (2k+2)T)``.
 
+    Raises
+    ------
+    ValueError
+        If ``T`` or ``A`` is not finite and > 0, or the arguments do not broadcast.
+
     Examples
     --------
     >>> from kapitza.motion import pivot_acceleration
