@@ -19,7 +19,17 @@ ALLOW_LARGE_ENV = "KAPITZA_ALLOW_LARGE"
 
 
 class KapitzaValueError(ValueError):
-    """A parameter is outside its allowed range (a :class:`ValueError`)."""
+    """A parameter is outside its allowed range (a :class:`ValueError`).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> try:
+    ...     kapitza.is_stable(0.5, 0.0)
+    ... except ValueError as err:
+    ...     print(type(err).__name__, "|", err)
+    KapitzaValueError | mu must be finite and > 0 (0 < mu < inf); got 0.0
+    """
 
 
 def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:

@@ -91,6 +91,19 @@ class StabilityReport(Summary):
         square wave only): Lyapunov stable by Moser's twist theorem or Markeev's criterion,
         or undecided at third order, with the twist (:func:`kapitza.nonlinear_stability`,
         ``docs/nonlinear.md``).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> r = kapitza.analyze(T=0.15, A=100.0, l=1.0)
+    >>> r
+    <StabilityReport: T = 0.15 s, A = 100 m/s^2, eps = 0.5303..., mu = 0.3132...: stable (zone 0)>
+    >>> r.stable, r.zone, r.verdict
+    (True, 0, 'stable (zone 0)')
+    >>> r.T_lo, r.T_hi
+    (0.1091..., 0.2008...)
+    >>> r.as_dict()["margin"]
+    0.2726...
     """
 
     eps: float
@@ -261,6 +274,21 @@ def analyze(*, eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=None, 
     ------
     ValueError
         If neither or both parameter sets are given, or a value is out of range.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.analyze(eps=0.5, mu=0.3)
+    <StabilityReport: eps = 0.5, mu = 0.3: stable (zone 0)>
+    >>> kapitza.analyze(eps=1.2, mu=0.3).verdict
+    'unstable: parametric resonance, 4T-type, period doubling (multipliers real, negative)'
+    >>> r = kapitza.analyze(T=0.15, A=100.0, l=1.0, damping=0.5)
+    >>> r.stable, r.zeta, r.determinant
+    (True, 0.0798..., 0.8607...)
+    >>> kapitza.analyze(eps=0.5)
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: eps and mu must be given together
     """
     rep = _analyze(eps, mu, T, A, l, g, drive, damping, zeta)
     if safe_tilt is not False and safe_tilt is not None:

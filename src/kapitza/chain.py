@@ -91,11 +91,32 @@ class Chain:
         Viscous friction ``c`` [N m s/rad] at every joint, the pivot included: torque
         ``-c (theta_j' - theta_{j-1}')``. >= 0.
 
+    Raises
+    ------
+    ValueError
+        If a length or mass is outside its range, there are no links or more than 32, ``links`` is
+        neither ``"rod"`` nor ``"point"``, or ``joint_damping`` is negative.
+
     Notes
     -----
     ``docs/tower.md``. One link is the single pendulum: ``Chain([L])`` has the modal length
     ``2 L / 3`` of :meth:`kapitza.Pendulum.uniform_rod` (``L`` for ``links="point"``), and a
     joint friction ``c`` is the pendulum's damping ``c / I`` [1/s], ``I = M_11``.
+
+    Examples
+    --------
+    Three 20 cm rods of 1 kg, one on another:
+
+    >>> import kapitza
+    >>> tower = kapitza.Chain([0.2, 0.2, 0.2])
+    >>> tower
+    Chain([0.2, 0.2, 0.2], masses=[1.0, 1.0, 1.0], links='rod')
+    >>> tower.height
+    0.6000...
+    >>> tower.modal_lengths
+    (0.4124..., 0.0666..., 0.0186...)
+    >>> tower.describe()
+    '3 links (uniform rods), lengths 0.2, 0.2, 0.2 m, masses 1, 1, 1 kg'
     """
 
     lengths: tuple
@@ -251,6 +272,15 @@ class ModeReport(Summary):
     ``shape`` is the mode's link angles scaled to a largest ``|theta_j|`` of 1. The rest are the
     fields of :class:`kapitza.StabilityReport` of that pendulum (``margin`` along ``T`` at fixed
     ``A``; ``T_lo, T_hi`` the mode's nearest zone in ``T`` at this ``A``).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> report = kapitza.analyze_chain(kapitza.Chain([0.2, 0.2, 0.2]), frequency=200.0, stroke=0.005)
+    >>> [(m.index, round(m.l, 4), m.stable, round(m.margin, 3)) for m in report.modes]
+    [(1, 0.4124, True, 0.129), (2, 0.0667, True, 0.65), (3, 0.0187, True, 0.815)]
+    >>> report.modes[0].shape
+    (0.6000..., 0.7954..., 1.0)
     """
 
     index: int
@@ -326,6 +356,17 @@ class ChainReport(Summary):
         (at this stroke) and in stroke (at this frequency), where stable.
     method : str
         ``"modes"`` or the monodromy used with friction.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> report = kapitza.analyze_chain(kapitza.Chain([0.2, 0.2, 0.2]), frequency=200.0, stroke=0.005)
+    >>> report.stable, report.critical_mode, report.failure
+    (True, 1, 'falls')
+    >>> round(report.frequency_lo, 1), report.frequency_hi
+    (174.2, inf)
+    >>> round(report.margin, 3)
+    0.129
     """
 
     stable: bool
@@ -460,12 +501,31 @@ def analyze_chain(chain, *, T=None, A=None, frequency=None, stroke=None, amplitu
     -------
     ChainReport
 
+    Raises
+    ------
+    ValueError
+        If a value is out of range, the point is given twice or not at all, or ``drive`` names no
+        drive.
+
     Notes
     -----
     Without friction each mode is asked of :func:`kapitza.analyze` with ``l = l_k`` (the single
     pendulum's certified verdicts, zones and margins); with friction the verdict, multipliers
     and growth are the ``2N`` monodromy's (:func:`chain_floquet`). A one-link chain is the single
     pendulum, its friction included (``c / I``).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> tower = kapitza.Chain([0.2, 0.2, 0.2])
+    >>> kapitza.analyze_chain(tower, frequency=200.0, stroke=0.005)
+    <ChainReport: 3-link tower, T = 0.0025 s, A = 3200 m/s^2: stable: every mode in its zone (0, 0, 0);
+     mode 1 (l = 0.4124... m) is the nearest to failing: it falls if T falls by 12.9 % at this A>
+    >>> kapitza.analyze_chain(tower, frequency=100.0, stroke=0.005).verdict
+    'unstable: mode 1 of 3 fails; mode 1 (l = 0.4124... m) grows fastest and falls: the drive is too weak
+     to hold it up (it falls; below zone 0)'
+    >>> kapitza.analyze_chain(tower, frequency=60.0, stroke=0.03).failure
+    'period doubling'
     """
     from .drives import as_drive
 
@@ -710,6 +770,16 @@ class ChainFloquet(Summary):
         ``exp(-log_scale)`` times the monodromy.
     log_scale : float
     method : str
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> tower = kapitza.Chain([0.2, 0.2, 0.2], joint_damping=0.01)
+    >>> fl = kapitza.chain_floquet(tower, T=0.0025, A=3200.0)
+    >>> fl
+    <ChainFloquet: stable, growth -5.6771e-05 per period>
+    >>> fl.multipliers.shape, bool(abs(fl.multipliers).max() < 1)
+    ((6,), True)
     """
 
     multipliers: np.ndarray
@@ -763,6 +833,12 @@ def chain_floquet(chain, *, T, A, g=G_EARTH, drive=None, rtol=1e-12, _certify=Tr
     -------
     ChainFloquet
 
+    Raises
+    ------
+    ValueError
+        If ``T``, ``A`` or ``g`` is out of range (a period over which the shortest mode could grow
+        beyond a double's range is refused too), or ``drive`` names no drive.
+
     Notes
     -----
     Piecewise-constant drives: the exact product of the segment exponentials
@@ -770,6 +846,17 @@ def chain_floquet(chain, *, T, A, g=G_EARTH, drive=None, rtol=1e-12, _certify=Tr
     ``||G_i|| h_i <= 8`` and the product renormalised after each so nothing overflows; other
     drives: DOP853 over one period. A verdict within 1e-9 of ``|lambda| = 1`` is settled in
     mpmath at 40 digits (piecewise-constant drives).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> tower = kapitza.Chain([0.2, 0.2, 0.2], joint_damping=0.01)
+    >>> kapitza.chain_floquet(tower, T=0.0025, A=3200.0).stable
+    True
+    >>> kapitza.chain_floquet(tower, T=0.0025, A=3200.0, drive="sine")
+    <ChainFloquet: unstable, growth 0.0108... per period>
+    >>> kapitza.chain_floquet(tower, T=1 / 120, A=200.0).growth
+    0.1534...
     """
     from .drives import as_drive
 
@@ -928,6 +1015,15 @@ class TowerCurves(Summary):
         The window.
     drive, chain : str
         Descriptions.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> band = kapitza.tower_curves(kapitza.Chain([0.2, 0.2, 0.2]), points=50, grid=30)
+    >>> band
+    <TowerCurves: band of a 3-link tower, square wave (+A for T, -A for T)>
+    >>> band.frequency_lo.shape, band.stable.shape
+    ((3, 49), (30, 30))
     """
 
     modal_lengths: tuple
@@ -996,7 +1092,33 @@ def _mode_edges(drive, l, g, mu, n=0):
 def default_window(chain, drive=None, g=G_EARTH):
     """A rig-plane window showing the tower's whole band: the stroke from 1/100 of the band's
     top (the shortest mode's period doubling at high frequency) to 5 times it, the frequency from
-    a fifth of the band's lowest (where the longest mode's lower edge meets that stroke) to 30 times it."""
+    a fifth of the band's lowest (where the longest mode's lower edge meets that stroke) to 30 times it.
+
+    Parameters
+    ----------
+    chain : Chain
+    drive : Drive or str, optional
+        The paper's square wave by default.
+    g : float
+        Gravity [m/s^2], 1e-3 .. 1e3.
+
+    Returns
+    -------
+    ((float, float), (float, float))
+        ``((frequency_min, frequency_max), (stroke_min, stroke_max))`` [Hz], [m].
+
+    Raises
+    ------
+    ValueError
+        If ``g`` is out of range or ``drive`` names no drive.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.chain import default_window
+    >>> default_window(kapitza.Chain([0.2, 0.2, 0.2]))
+    ((10.6107..., 1591.6162...), (0.0001..., 0.0820...))
+    """
     from .drives import as_drive
 
     d = as_drive(drive)
@@ -1037,6 +1159,11 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
     -------
     TowerCurves
 
+    Raises
+    ------
+    ValueError
+        If ``g``, ``points``, ``grid`` or a window is out of range, or ``drive`` names no drive.
+
     Notes
     -----
     Mode ``k`` is the pendulum ``l_k``: its zone-0 edges ``eps_lo(mu), eps_hi(mu)``
@@ -1044,6 +1171,15 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
     frequency ``1/(2T)`` and stroke ``k_s A T^2 = 8 k_s l_k eps^2`` (``k_s`` the drive's stroke
     coefficient): on log axes the modes' curves are copies shifted by ``l_k``. The band is
     where every mode is stable (:func:`kapitza.is_stable` of each mode on the grid).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> band = kapitza.tower_curves(kapitza.Chain([0.2, 0.2, 0.2]), points=50, grid=30)
+    >>> band.frequency_range, band.stroke_range
+    ((10.6107..., 1591.6162...), (0.0001..., 0.0820...))
+    >>> round(float(band.stable.mean()), 3)
+    0.182
     """
     from .drives import as_drive
 

@@ -28,6 +28,22 @@ def edge_kinds(n) -> tuple[str, str]:
 
     The lower edge of zone ``n`` is 2T-periodic (``T_n``) for even ``n`` and 4T-periodic
     (``T~_n``) for odd ``n``; the upper edge the other way round (Corollary 4.1).
+
+    Parameters
+    ----------
+    n : int
+        Zone index ``>= 0``.
+
+    Returns
+    -------
+    lower, upper : str
+        ``"2T"`` or ``"4T"``. ``n`` is not checked.
+
+    Examples
+    --------
+    >>> from kapitza.curves import edge_kinds
+    >>> edge_kinds(0), edge_kinds(1)
+    (('2T', '4T'), ('4T', '2T'))
     """
     return ("2T", "4T") if int(n) % 2 == 0 else ("4T", "2T")
 
@@ -35,7 +51,17 @@ def edge_kinds(n) -> tuple[str, str]:
 @dataclass(frozen=True)
 class ZoneCurves:
     """Edge curves of the zones visible in a window: for zone ``n[i]``,
-    ``eps_lo[i]``, ``eps_hi[i]`` sampled at ``mu`` (arrays ``(zones, points)``)."""
+    ``eps_lo[i]``, ``eps_hi[i]`` sampled at ``mu`` (arrays ``(zones, points)``).
+
+    Examples
+    --------
+    >>> from kapitza.curves import zone_curves
+    >>> zc = zone_curves((0.0, 2.0), (0.0, 1.0), points=50)
+    >>> zc.n, zc.mu.shape, zc.eps_lo.shape
+    (array([0, 1]), (50,), (2, 50))
+    >>> next(zc.rows())
+    (0, np.float64(1e-09), np.float64(1.2247...e-09), np.float64(0.6629...))
+    """
 
     n: np.ndarray
     mu: np.ndarray
@@ -68,6 +94,23 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
     Returns
     -------
     ZoneCurves
+
+    Raises
+    ------
+    ValueError
+        If a range is outside the bounds above or empty, ``points`` is below 2, or the window needs
+        more than ``max_zones`` zones.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from kapitza.curves import zone_curves
+    >>> zc = zone_curves((0.0, 2.0), (0.0, 1.0), points=50)
+    >>> zc.n
+    array([0, 1])
+    >>> i = int(np.argmin(abs(zc.mu - 0.3)))
+    >>> float(zc.mu[i]), zc.eps_lo[0, i], zc.eps_hi[0, i]
+    (0.2976..., np.float64(0.3661...), np.float64(0.7051...))
     """
     e0, e1 = window_range(eps_range, mu_range)
     m0, m1 = (float(v) for v in mu_range)
@@ -160,11 +203,26 @@ def window_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), drive=None, zeta=0.
         NaN where a zone does not exist at a sample (other drives, damping); an upper edge of
         a damped zone beyond the window may be ``inf``.
 
+    Raises
+    ------
+    ValueError
+        If a range is outside the bounds above or empty, ``points`` is below 2, ``zeta`` is negative,
+        or the window needs more than ``max_zones`` zones.
+
     Notes
     -----
     The undamped square wave takes :func:`zone_curves` (closed forms, refined where an edge
     crosses a narrow window); any other drive or damping takes :func:`drive_curves` at
     ``points`` values of ``mu`` spread over the window, each edge exact (``docs/drives.md``).
+
+    Examples
+    --------
+    >>> from kapitza.curves import window_curves
+    >>> wc = window_curves((0.0, 2.0), (0.05, 0.9), drive="sine", points=20)
+    >>> wc.n, wc.eps_lo.shape
+    (array([0]), (1, 20))
+    >>> wc.mu[0], wc.eps_lo[0, 0], wc.eps_hi[0, 0]
+    (np.float64(0.05), np.float64(0.0785...), np.float64(0.7499...))
     """
     zeta = _v.one("zeta", _v.damping_ratio(zeta))
     general = as_drive(drive)
@@ -201,7 +259,28 @@ _BLOCK = 8
 def mu_top(drive=None) -> float:
     """The largest ``mu`` a chart of ``drive`` may show: 1 (``A = g``), or the drive's
     :attr:`~kapitza.drives.Drive.mu_max` where that is larger (a rectangular wave of duty above one
-    half holds the rod up with ``A < g``)."""
+    half holds the rod up with ``A < g``).
+
+    Parameters
+    ----------
+    drive : Drive or str, optional
+        The paper's square wave by default.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        If ``drive`` names no drive.
+
+    Examples
+    --------
+    >>> from kapitza.curves import mu_top
+    >>> mu_top(), mu_top("rectangular:0.7")
+    (1.0, 1.5275...)
+    """
     return max(1.0, as_drive(drive).mu_max)
 
 
@@ -209,7 +288,27 @@ def physical_window(T_range=None, A_range=None, l=1.0, g=G_EARTH, drive=None):
     """``((T_min, T_max), (A_min, A_max))``: a window of the ``T``-``A`` plane with its defaults
     filled in (either range, or either end of one, may be None): ``T`` from 0 to ``2.5 sqrt(l/g)``,
     ``A`` from ``g / mu_top^2`` (:func:`mu_top`: ``g`` for the square and sine waves) to ``50 g``.
-    Not checked: :func:`physical_zone_curves` checks it."""
+    Not checked: :func:`physical_zone_curves` checks it.
+
+    Parameters
+    ----------
+    T_range, A_range : (float or None, float or None) or None
+        The window's half-periods [s] and acceleration scales [m/s^2], ends that are None filled in.
+    l, g : float
+        Rod length [m] and gravity [m/s^2].
+    drive : Drive or str, optional
+        The paper's square wave by default.
+
+    Returns
+    -------
+    ((float, float), (float, float))
+
+    Examples
+    --------
+    >>> from kapitza.curves import physical_window
+    >>> physical_window(None, (None, 200.0), l=1.0, g=9.81)
+    ((0.0, 0.7981...), (9.81, 200.0))
+    """
     T0, T1 = (None, None) if T_range is None else T_range
     A0, A1 = (None, None) if A_range is None else A_range
     return ((0.0 if T0 is None else float(T0), 2.5 * float(np.sqrt(l / g)) if T1 is None else float(T1)),
@@ -224,7 +323,34 @@ def mu_top_note(top: float) -> str:
 def window_range(eps_range, mu_range, mu_top=1.0):
     """``(eps_min, eps_max)`` of a window of Arnold's plane, checked: ``0 <= eps_min < eps_max < inf``,
     ``0 <= mu_min < mu_max <= mu_top`` (:class:`kapitza.KapitzaValueError` otherwise); ``mu_top``:
-    :func:`mu_top` of the drive."""
+    :func:`mu_top` of the drive.
+
+    Parameters
+    ----------
+    eps_range, mu_range : (float, float)
+        The window.
+    mu_top : float
+        The largest ``mu`` allowed.
+
+    Returns
+    -------
+    (float, float)
+
+    Raises
+    ------
+    ValueError
+        If the window is not as above.
+
+    Examples
+    --------
+    >>> from kapitza.curves import window_range
+    >>> window_range((0, 2), (0.1, 0.9), 1.0)
+    (0.0, 2.0)
+    >>> window_range((2, 1), (0.1, 0.9), 1.0)
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: eps range must satisfy 0 <= eps_min < eps_max < inf; got (2, 1)
+    """
     e0, e1 = (float(v) for v in eps_range)
     m0, m1 = (float(v) for v in mu_range)
     if not (np.isfinite(e0) and np.isfinite(e1) and 0.0 <= e0 < e1):
@@ -238,7 +364,17 @@ def window_range(eps_range, mu_range, mu_top=1.0):
 @dataclass(frozen=True)
 class PhysicalZoneCurves:
     """Zone edges in the physical plane: for zone ``n[i]``, the half-periods
-    ``T_lo[i]``, ``T_hi[i]`` at the amplitudes ``A`` (arrays ``(zones, points)``)."""
+    ``T_lo[i]``, ``T_hi[i]`` at the amplitudes ``A`` (arrays ``(zones, points)``).
+
+    Examples
+    --------
+    >>> from kapitza.curves import physical_zone_curves
+    >>> pc = physical_zone_curves(A_range=(20.0, 200.0), l=1.0, points=20)
+    >>> pc.n, pc.T_lo.shape
+    (array([0, 1, 2]), (3, 20))
+    >>> next(pc.rows())
+    (0, np.float64(200.0), np.float64(0.0543...), np.float64(0.1370...))
+    """
 
     n: np.ndarray
     A: np.ndarray
@@ -279,10 +415,26 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
     -------
     PhysicalZoneCurves
 
+    Raises
+    ------
+    ValueError
+        If a range is empty or outside its bounds, ``l`` or ``g`` is not > 0, ``points`` is below 2,
+        or ``zeta`` is negative.
+
     Notes
     -----
     The edges of :func:`zone_curves`, mapped by ``A = g / mu^2`` and ``T = eps sqrt(8 l / A)``:
     at each ``A`` zone ``n`` is ``T_lo < T < T_hi`` (:func:`kapitza.period_edges`).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.curves import physical_zone_curves
+    >>> pc = physical_zone_curves(A_range=(100.0, 200.0), l=1.0, points=2)
+    >>> pc.A[0], pc.T_lo[0, 0], pc.T_hi[0, 0]
+    (np.float64(200.0), np.float64(0.0543...), np.float64(0.1370...))
+    >>> kapitza.period_edges(200.0, 0, l=1.0)
+    (np.float64(0.0543...), np.float64(0.1370...))
     """
     l = _v.one("l", _v.positive("l", l))
     g = _v.one("g", _v.positive("g", g))
@@ -306,7 +458,17 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
 
 @dataclass(frozen=True)
 class DriveCurves:
-    """Zone edges of one drive at the ``mu`` samples: ``lo[k]``, ``hi[k]`` for ``zones[k]``."""
+    """Zone edges of one drive at the ``mu`` samples: ``lo[k]``, ``hi[k]`` for ``zones[k]``.
+
+    Examples
+    --------
+    >>> from kapitza.curves import drive_curves
+    >>> dc = drive_curves("sine", [0.1, 0.3, 0.5], 2.0)
+    >>> dc.zones, dc.lo.shape
+    (array([0]), (1, 3))
+    >>> next(dc.rows())
+    ('sine wave', 0.0, 0, 0.1, 0.1570..., 0.7547...)
+    """
 
     drive: str
     zeta: float
@@ -343,6 +505,23 @@ def drive_curves(drive, mu, eps_max, zeta=0.0, eps_min=0.0):
     DriveCurves
         NaN where a zone does not exist at a ``mu``; an upper edge beyond the window of a
         damped zone may be ``inf`` (``docs/drives.md``).
+
+    Raises
+    ------
+    ValueError
+        If ``drive`` names no drive. The other arguments are not checked: :func:`window_curves`
+        checks a window before it calls this.
+
+    Examples
+    --------
+    >>> from kapitza.curves import drive_curves
+    >>> dc = drive_curves("sine", [0.1, 0.3, 0.5], 2.0)
+    >>> dc.lo
+    array([[0.1570..., 0.4746..., 0.8316...]])
+    >>> dc.hi
+    array([[0.7547..., 0.8114..., 0.9687...]])
+    >>> dc.averaging
+    array([0.1570..., 0.4712..., 0.7853...])
     """
     d = as_drive(drive)
     mu = np.asarray(mu, float)

@@ -32,13 +32,38 @@ def averaging_threshold(mu, drive=None):
     Returns
     -------
     ndarray
+
+    Raises
+    ------
+    ValueError
+        If ``mu`` is not finite and > 0.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.averaging_threshold(0.1)
+    np.float64(0.1224...)
+    >>> kapitza.zone_edges(0.1, 0)[0]
+    np.float64(0.1224...)
+    >>> kapitza.averaging_threshold(0.1, drive=kapitza.SineWave())
+    np.float64(0.1570...)
     """
     return as_drive(drive).kapitza_eps(mu)
 
 
 @dataclass(frozen=True)
 class ThresholdRow:
-    """One drive at one ``mu``: the averaging criterion against the exact lower edge of zone 0."""
+    """One drive at one ``mu``: the averaging criterion against the exact lower edge of zone 0.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> row = kapitza.threshold_table(0.1, [kapitza.SquareWave()])[0]
+    >>> row.drive, row.mu
+    ('square wave', 0.1)
+    >>> row.eps_averaging, row.eps_exact, row.relative_error
+    (0.1224..., 0.1224..., -5.7144...e-05)
+    """
 
     drive: str
     description: str
@@ -70,6 +95,21 @@ def threshold_table(mu, drives, zeta=0.0):
     list of ThresholdRow
         ``relative_error = eps_averaging / eps_exact - 1``; both NaN where the damped drive has
         no zone 0 at this ``mu`` (damping can close it).
+
+    Raises
+    ------
+    ValueError
+        If a ``mu`` is not in ``(0, 1)``, ``zeta`` is negative, or a drive is not a drive.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> for row in kapitza.threshold_table([0.03, 0.3], [kapitza.SquareWave(), kapitza.SineWave()]):
+    ...     print(f"{row.drive:12s} mu = {row.mu}: {row.relative_error:+.1e}")
+    square wave  mu = 0.03: -4.6e-07
+    square wave  mu = 0.3: -4.6e-03
+    sine wave    mu = 0.03: -7.1e-07
+    sine wave    mu = 0.3: -7.1e-03
     """
     mu = np.atleast_1d(_v.in_range("mu", mu, 0.0, 1.0)).ravel()
     if isinstance(drives, (str, bytes)) or not hasattr(drives, "__iter__"):

@@ -33,10 +33,23 @@ def characteristic_a(n, q):
     ndarray
         ``a_n(q)`` to a few ulp of ``|a_n| + q`` (1e-17 absolute near 0).
 
+    Raises
+    ------
+    ValueError
+        If ``n`` is not an integer ``>= 0``, or ``q`` is not finite or beyond the bound.
+
     Notes
     -----
     DLMF 28.2, 28.4: eigenvalues of the symmetric tridiagonal matrices in the module notes, by
     Sturm bisection; ``docs/mathieu.md``.
+
+    Examples
+    --------
+    >>> from kapitza.mathieu import characteristic_a
+    >>> characteristic_a([0, 1, 2], 0.0)
+    array([0., 1., 4.])
+    >>> characteristic_a(0, 1.0)
+    np.float64(-0.4551...)
     """
     n = _v.nonnegative_int("n", n)
     q = _v.finite("q", q)
@@ -57,6 +70,19 @@ def characteristic_b(n, q):
     Returns
     -------
     ndarray
+
+    Raises
+    ------
+    ValueError
+        If ``n`` is not an integer ``>= 1``, or ``q`` is not finite or beyond the bound.
+
+    Examples
+    --------
+    >>> from kapitza.mathieu import characteristic_b
+    >>> characteristic_b([1, 2], 0.0)
+    array([1., 4.])
+    >>> characteristic_b(1, 1.0)
+    np.float64(-0.1102...)
     """
     n = _v.nonnegative_int("n", n, minimum=1)
     q = _v.finite("q", q)
@@ -84,12 +110,26 @@ def sine_zone_edges(mu, n):
         thinner than the spacing of doubles (large ``q``) has no double inside: then
         ``eps_lo == eps_hi`` or they are neighbours.
 
+    Raises
+    ------
+    ValueError
+        If ``mu`` is not in ``(0, 1)`` or ``n`` is not an integer ``>= 0``.
+
     Notes
     -----
     Each crossing of the ray with its characteristic value is bisected on doubles with the
     Sturm count of DLMF's tridiagonal matrix (module notes; ``docs/mathieu.md``), to within
     ``4e-15 + 4u / (1 - mu^2)`` relative (``u`` the unit roundoff: the root's own conditioning
     as ``mu -> 1``). Damped zones: :func:`kapitza.zone_edges` with ``drive=SineWave()`` and ``zeta``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.mathieu import sine_zone_edges
+    >>> sine_zone_edges(0.3, [0, 1])
+    (array([0.4746..., 2.3934...]), array([0.8114..., 2.3972...]))
+    >>> kapitza.zone_edges(0.3, 0, drive="sine")
+    (np.float64(0.4746...), np.float64(0.8114...))
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     n = _v.nonnegative_int("n", n)

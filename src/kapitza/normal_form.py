@@ -211,6 +211,16 @@ class TaylorMap:
         The monodromy ``M = E H`` in the scaled variables.
     cubic : ndarray, shape ``(..., 2, 4)``
         Coefficients of ``q^3, q^2 p, q p^2, p^3`` in each component.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> P = kapitza.period_map_taylor(0.5, 0.3)
+    >>> P.linear
+    array([[ 2.7213...,  1.9742...],
+           [-2.3572..., -1.3426...]])
+    >>> P.cubic.shape
+    (2, 4)
     """
 
     linear: np.ndarray
@@ -309,6 +319,17 @@ class BirkhoffNormalForm:
         the rounding of the closed forms.
     m12 : ndarray
         ``M[0, 1]`` in the scaled variables (``r = 2 |z| |m12|``).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> bnf = kapitza.birkhoff_normal_form([0.5, 0.6], 0.3)
+    >>> bnf.rotation_number
+    array([0.1289..., 0.2320...])
+    >>> bnf.twist
+    array([-0.0677..., -0.1148...])
+    >>> bnf.coefficients.shape, bool((bnf.area_defect < 1e-12).all())
+    ((2, 4), True)
     """
 
     w: np.ndarray
@@ -472,6 +493,16 @@ def birkhoff_normal_form(eps, mu):
     Takes and validates ``eps, mu`` as :func:`twist_coefficient` does; returns a
     :class:`BirkhoffNormalForm` of their broadcast shape.
 
+    Parameters
+    ----------
+    eps, mu : array_like
+        Arnold's parameters, broadcast together; each point inside a stability zone of the
+        square wave (``0 < mu < 1``).
+
+    Returns
+    -------
+    BirkhoffNormalForm
+
     Raises
     ------
     ValueError
@@ -621,12 +652,14 @@ class NonlinearVerdict:
     stable : ndarray of bool
         Lyapunov stable by the theorem named in ``kind``.
     unstable : ndarray of bool
-        Unstable by Markeev's criterion at 1:4 (neither flag: undecided at this order).
+        Unstable by Markeev's criterion at 1:4, or linearly unstable (a multiplier outside the
+        unit circle); neither flag: undecided at this order.
     kind : ndarray of str
         ``"moser"`` (twist != 0, ``w`` off 1:4), ``"moser 1:3"`` (on ``tr M = -1``: oddness
         removes the resonant ``zbar^2``, the twist decides), ``"markeev stable"`` /
         ``"markeev unstable"`` (on ``tr M = 0``: ``|tau|`` against ``|c4|``), ``"undecided"``
-        (twist zero, or ``|tau| = |c4|`` at 1:4).
+        (twist zero, or ``|tau| = |c4|`` at 1:4), or ``"linearly unstable"`` outside the zones
+        (there the other numbers are NaN).
     rotation_number : ndarray
         ``w / (2 pi)`` in ``(0, 1/2)``.
     trace : ndarray
@@ -635,6 +668,17 @@ class NonlinearVerdict:
         ``tau`` of :func:`twist_coefficient`.
     resonant_4 : ndarray
         ``|c4|``: the ``zbar^3`` coefficient in the units of ``tau`` (it decides only at 1:4).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> v = kapitza.nonlinear_stability([0.5, 1.0], 0.3)
+    >>> v.kind
+    array(['moser', 'linearly unstable'], dtype='<U17')
+    >>> v.stable, v.unstable
+    (array([ True, False]), array([False,  True]))
+    >>> v.twist
+    array([-0.0677...,         nan])
     """
 
     eps: np.ndarray

@@ -224,6 +224,15 @@ class BoundaryPeriod(Summary):
         ``"lower"`` or ``"upper"`` edge of the zone.
     eps, mu : float
         Arnold's parameters of the point.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> b = kapitza.boundary_table(100.0, 1)[1]
+    >>> b
+    <BoundaryPeriod: T~_1 = 0.2008... s, 4T-periodic (eq. 3.13, k = 0), upper edge of zone 0>
+    >>> b.name, b.period, b.equation, b.zone, b.edge
+    ('T~_1', '4T', '3.13', 0, 'upper')
     """
 
     name: str
@@ -343,6 +352,16 @@ class PeriodicSolution(Summary):
         ``2T`` or ``4T`` [s].
     sign : int
         +1 if ``theta(t + 2T) = theta(t)``, -1 if ``theta(t + 2T) = -theta(t)``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> sol = kapitza.periodic_solution(A=100.0, index=1, tilde=True)
+    >>> sol.period, sol.sign
+    (0.8034..., -1)
+    >>> theta, dtheta = sol.motion([0.0, sol.period / 2, sol.period])
+    >>> theta
+    array([ 0.6163..., -0.6163...,  0.6163...])
     """
 
     boundary: BoundaryPeriod

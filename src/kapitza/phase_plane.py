@@ -183,6 +183,20 @@ def G_inverse(s, branch=0):
     -------
     ndarray
         ``pi/4 - atan(e^{-2s})`` (branch 0) or ``-3pi/4 + atan(e^{-2s})`` (branch -1).
+
+    Raises
+    ------
+    ValueError
+        If ``s`` is not finite or ``branch`` is neither 0 nor -1.
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import G, G_inverse
+    >>> s = G(0.3)
+    >>> s
+    np.float64(0.3198...)
+    >>> G_inverse(s)
+    np.float64(0.3)
     """
     s = _v.finite("s", s)
     if not (isinstance(branch, (int, np.integer)) and not isinstance(branch, (bool, np.bool_))) or branch not in (0, -1):
@@ -305,6 +319,15 @@ class NotablePoints:
     r, phi : ndarray
         Polar coordinates, in hyperbolic variables for ``i = 0, 1, 4`` and in
         elliptic variables for ``i = 2, 3``.
+
+    Examples
+    --------
+    >>> from kapitza.phase_plane import notable_points
+    >>> pts = notable_points(0.3, 0.15, 100.0)
+    >>> pts.r
+    array([1.        , 4.2604..., 4.4761..., 4.4761..., 4.3418...])
+    >>> pts.phi
+    array([ 0.3       ,  0.7626...,  0.8118..., -0.6126..., -0.5672...])
     """
 
     r: np.ndarray

@@ -58,6 +58,19 @@ class Floquet(Summary):
         Zone index, -1 where unstable.
     determinant : ndarray or float
         ``det M = exp(-2 c T)`` (1 without damping; ``docs/drives.md`` section 3).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> f = kapitza.floquet(0.5, 0.3)
+    >>> f
+    <Floquet: stable, zone 0, tr M = 1.3786..., growth 0, rotation number 0.1289...>
+    >>> f.stable, f.zone
+    (np.True_, np.int64(0))
+    >>> f.multipliers
+    array([0.6893...+0.7244...j, 0.6893...-0.7244...j])
+    >>> abs(f.multipliers)
+    array([1., 1.])
     """
 
     trace: np.ndarray
@@ -110,6 +123,11 @@ def floquet(eps, mu, drive=None, zeta=0.0):
     -------
     Floquet
 
+    Raises
+    ------
+    ValueError
+        If ``eps`` or ``mu`` is not finite and > 0, ``zeta`` is negative, or they do not broadcast.
+
     Notes
     -----
     ``tr M = 2 cosh x cos u + (D - 1/D) sinh x sin u`` (``docs/theory.md`` section 3)
@@ -117,6 +135,19 @@ def floquet(eps, mu, drive=None, zeta=0.0):
     ``tau -+ 1`` as products of sines of ``(u - alpha)/2`` and ``(u - beta)/2``
     (see :mod:`kapitza._exact`); the growth ``acosh|tau|`` is formed from
     ``log|tau|`` far out, so it is finite for every input.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> f = kapitza.floquet([0.5, 1.2], 0.3)
+    >>> f.stable
+    array([ True, False])
+    >>> f.trace
+    array([  1.3786..., -34.7585...])
+    >>> f.growth
+    array([0.        , 3.5475...])
+    >>> kapitza.floquet(0.5, 0.3, zeta=0.1).growth
+    np.float64(-0.0848...)
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
@@ -140,6 +171,19 @@ def floquet_multipliers(eps, mu, drive=None, zeta=0.0):
         On the unit circle (``exp(+-2 pi i rho)``) where stable; real,
         ``lambda_1 lambda_2 = 1`` otherwise. A modulus beyond a double's range
         is ``inf``; :func:`growth_rate` gives its logarithm.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`floquet`.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.floquet_multipliers(0.5, 0.3)
+    array([0.6893...+0.7244...j, 0.6893...-0.7244...j])
+    >>> kapitza.floquet_multipliers(1.2, 0.3)
+    array([-3.4729...e+01+0.j, -2.8793...e-02+0.j])
     """
     return floquet(eps, mu, drive, zeta).multipliers
 
@@ -157,6 +201,19 @@ def growth_rate(eps, mu, drive=None, zeta=0.0):
     -------
     ndarray
         With damping, negative where the motion decays.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`floquet`.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.growth_rate([0.5, 1.2, 40.0], 0.3)
+    array([  0.        ,   3.5475..., 117.4725...])
+    >>> kapitza.growth_rate(0.5, 0.3, zeta=0.1)
+    np.float64(-0.0848...)
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
@@ -177,6 +234,17 @@ def rotation_number(eps, mu, drive=None, zeta=0.0):
     ndarray
         In ``(n/2, (n+1)/2)`` on zone ``n``. The mean number of zeros of
         ``theta(t)`` per period is twice this.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`floquet`.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.rotation_number([0.5, 1.2, 1.5], 0.3)
+    array([0.1289..., 0.5       , 0.5       ])
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
@@ -204,9 +272,28 @@ def monodromy(T, A, l=1.0, g=G_EARTH, drive=None, damping=None, zeta=None):
     ndarray, shape ``(..., 2, 2)``
         ``det M = exp(-2 c T)`` (1 undamped). Entries overflow to ``inf`` once ``w_h T > 710``.
 
+    Raises
+    ------
+    ValueError
+        If ``T``, ``A``, ``l`` or ``g`` is not finite and > 0, both ``damping`` and ``zeta`` are given,
+        or the arguments do not broadcast.
+
     Notes
     -----
     ``docs/theory.md`` section 3; the phase matrices solve (2.4) and (2.5).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> M = kapitza.monodromy(0.15, 100.0, 1.0)
+    >>> M
+    array([[  2.8811...,   0.2936...],
+           [-20.0788...,  -1.6996...]])
+    >>> round(float(np.linalg.det(M)), 12)
+    1.0
+    >>> float(np.trace(M)), float(kapitza.floquet(*kapitza.to_arnold(0.15, 100.0, 1.0)).trace)
+    (1.1815..., 1.1815...)
     """
     T = _v.positive("T", T)
     A = _v.positive("A", A)
@@ -255,6 +342,9 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
 
     Raises
     ------
+    ValueError
+        If a time is negative, a parameter is not finite and > 0, neither or both of ``(T, A)``
+        and ``(eps, mu)`` are given, or both ``damping`` and ``zeta``.
     OverflowError
         Where the motion grows beyond the range of a double.
 
@@ -265,6 +355,18 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
     closed form from the exact rotation angle or growth), so the cost does not
     depend on ``t``; the remainder of the period applies the phase flows of
     (2.4)-(2.5).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> t = np.array([0.0, 0.3, 3.0, 30.0])
+    >>> theta, dtheta = kapitza.linear_motion(t, 0.01, 0.0, T=0.15, A=100.0, l=1.0)
+    >>> theta
+    array([ 0.01      ,  0.0288..., -0.0089..., -0.0008...])
+    >>> theta, dtheta = kapitza.linear_motion(t, 0.01, 0.0, T=0.3, A=100.0, l=1.0)
+    >>> theta
+    array([ 1.0000...e-02,  1.1616...e-01, -1.5954...e+04,  1.5854...e+64])
     """
     t = _v.finite("t", t)
     if np.any(t < 0):

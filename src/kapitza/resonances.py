@@ -158,6 +158,16 @@ class ZoneCurves:
         Sign changes of the twist found by the scan (undecided at third order).
     twist_sign : int
         The sign of ``tau`` over the zone when it has one (0 otherwise).
+
+    Examples
+    --------
+    >>> from kapitza.resonances import nonlinear_chart
+    >>> zone = nonlinear_chart([0.2, 0.3], zones=(0,), scan=0).zones[0]
+    >>> zone.n, zone.mu
+    (0, array([0.2, 0.3]))
+    >>> zone.eps_lo, zone.eps_1to4, zone.eps_1to3, zone.eps_hi
+    (array([0.2451..., 0.3691...]), array([0.5802..., 0.6138...]),
+     array([0.6367..., 0.6652...]), array([0.6811..., 0.7059...]))
     """
 
     n: int
@@ -201,6 +211,13 @@ class NonlinearChart:
     zones : tuple of ZoneCurves
     scan : int
         Points per zone and ``mu`` of the scan for twist zeros.
+
+    Examples
+    --------
+    >>> from kapitza.resonances import nonlinear_chart
+    >>> chart = nonlinear_chart([0.2, 0.3], zones=(0, 1), scan=0)
+    >>> [zone.n for zone in chart.zones], chart.scan
+    ([0, 1], 0)
     """
 
     zones: tuple
@@ -245,6 +262,19 @@ def nonlinear_chart(mu, zones=(0, 1, 2), *, scan=60):
     Returns
     -------
     NonlinearChart
+
+    Raises
+    ------
+    ValueError
+        If a ``mu`` is not in ``(0, 1)``, a zone index is not an integer ``>= 0``, or ``scan`` is
+        out of range.
+
+    Examples
+    --------
+    >>> from kapitza.resonances import nonlinear_chart
+    >>> zone = nonlinear_chart([0.3], zones=(0,), scan=0).zones[0]
+    >>> zone.twist_sign, zone.twist_zeros
+    (-1, [])
     """
     mu = np.atleast_1d(_v.in_range("mu", mu, 0.0, 1.0)).ravel()
     zones = tuple(int(_v.nonnegative_int("zones", z)) for z in zones)

@@ -26,11 +26,28 @@ class Rig:
     drive : Drive or str, optional
         The paper's square wave by default.
 
+    Raises
+    ------
+    ValueError
+        If ``pendulum`` is not a :class:`kapitza.Pendulum` or :class:`kapitza.Chain`, or ``drive``
+        names no drive; :meth:`analyze` and :meth:`physical` also when a value is out of range or
+        the point is given twice or not at all.
+
     Examples
     --------
-    >>> rig = Rig(Pendulum.uniform_rod(0.3, damping=0.2), SineWave())      # doctest: +SKIP
-    >>> T, A = rig.drive.from_rig(40.0, amplitude=0.01)                      # doctest: +SKIP
-    >>> rig.analyze(T=T, A=A).stable                                         # doctest: +SKIP
+    A 30 cm rod on a shaker run at 40 Hz with a 20 mm stroke (square-wave acceleration):
+
+    >>> import kapitza
+    >>> rig = kapitza.Rig(kapitza.Pendulum.uniform_rod(0.3, damping=0.2))
+    >>> rig.physical(frequency=40.0, stroke=0.02)
+    (np.float64(0.0125), np.float64(511.99...))
+    >>> report = rig.analyze(frequency=40.0, stroke=0.02)
+    >>> report
+    <StabilityReport: T = 0.0125 s, A = 512 m/s^2, eps = 0.223607, mu = 0.13842: stable (zone 0), motions decay>
+    >>> round(report.frequency_lo, 2), report.frequency_hi
+    (30.35, inf)
+    >>> [r.stable for r in rig.analyze(frequency=[20.0, 40.0], stroke=0.02)]
+    [False, True]
     """
 
     pendulum: Pendulum = field(default_factory=Pendulum)

@@ -29,7 +29,30 @@ MAX_ZONES = 40
 
 
 def stroke_coefficient(drive=None) -> float:
-    """``k`` in ``stroke = k A T^2`` for the drive (1/4 for the square wave)."""
+    """``k`` in ``stroke = k A T^2`` for the drive (1/4 for the square wave).
+
+    Parameters
+    ----------
+    drive : Drive or str, optional
+        The paper's square wave by default.
+
+    Returns
+    -------
+    float
+        The pivot's peak-to-peak travel is ``k A T^2`` for the acceleration scale ``A`` and
+        half-period ``T``.
+
+    Raises
+    ------
+    ValueError
+        If ``drive`` names no drive.
+
+    Examples
+    --------
+    >>> from kapitza.rig_plane import stroke_coefficient
+    >>> stroke_coefficient(), stroke_coefficient("sine")
+    (0.25, 0.2026...)
+    """
     from .drives import as_drive
 
     return float(as_drive(drive).stroke(1.0, 1.0))
@@ -41,6 +64,28 @@ def rig_window(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, around
     Around a rig's point ``around = (f, s)``: a factor 4 either way in frequency and 40 in stroke
     (the point in the middle of both log axes). Without one: from twice the hanging pendulum's
     own frequency ``sqrt(g/l) / (2 pi)`` to 200 times it, and strokes from ``l / 1000`` to ``l``.
+
+    Parameters
+    ----------
+    frequency_range, stroke_range : (float, float), optional
+        Given ends are kept.
+    l, g : float
+        Equivalent length [m] and gravity [m/s^2].
+    around : (float, float), optional
+        A rig's ``(frequency [Hz], stroke [m])``.
+
+    Returns
+    -------
+    ((float, float), (float, float))
+        Not checked: :func:`rig_zone_curves` checks the window.
+
+    Examples
+    --------
+    >>> from kapitza.rig_plane import rig_window
+    >>> rig_window(l=0.2, around=(40.0, 0.02))
+    ((10.0, 160.0), (0.0005, 0.8))
+    >>> rig_window(l=0.2)
+    ((2.2293..., 222.9305...), (0.0002, 0.2))
     """
     f0, f1 = (None, None) if frequency_range is None else frequency_range
     s0, s1 = (None, None) if stroke_range is None else stroke_range
@@ -57,7 +102,17 @@ def rig_window(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, around
 @dataclass(frozen=True)
 class RigZoneCurves:
     """Zone ``n[i]`` is ``f_lo[i, j] < f < f_hi[i, j]`` at the stroke ``stroke[j]`` [m]; NaN where the
-    zone misses that stroke in the window, ``-inf``/``inf`` where an edge lies beyond it."""
+    zone misses that stroke in the window, ``-inf``/``inf`` where an edge lies beyond it.
+
+    Examples
+    --------
+    >>> from kapitza.rig_plane import rig_zone_curves
+    >>> rc = rig_zone_curves(l=0.2, around=(40.0, 0.02), points=30)
+    >>> rc.n, rc.f_lo.shape == (1, rc.stroke.size)
+    (array([0]), True)
+    >>> next(rc.rows())
+    (0, np.float64(0.0005), np.float64(1213.0554...), np.float64(inf))
+    """
 
     n: np.ndarray
     stroke: np.ndarray
@@ -101,6 +156,25 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
     Returns
     -------
     RigZoneCurves
+
+    Raises
+    ------
+    ValueError
+        If a range is empty or not positive, ``l`` or ``g`` is not > 0, ``points`` is out of range,
+        ``zeta`` is negative, or ``drive`` names no drive.
+
+    Examples
+    --------
+    A 30 cm rod (``l = 0.2`` m) on a square-wave shaker: at a 20 mm stroke it stands from 30 Hz up.
+
+    >>> import numpy as np
+    >>> from kapitza.rig_plane import rig_zone_curves
+    >>> rc = rig_zone_curves(l=0.2, around=(40.0, 0.02), points=30)
+    >>> rc.n
+    array([0])
+    >>> j = int(np.argmin(abs(rc.stroke - 0.02)))
+    >>> float(rc.stroke[j]), float(rc.f_lo[0, j]), float(rc.f_hi[0, j])
+    (0.0198..., 30.5001..., inf)
     """
     from .drives import as_drive, parse_drive
     l = _v.one("l", _v.positive("l", l))

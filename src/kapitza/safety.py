@@ -68,13 +68,24 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
     float or ndarray
         ``theta*`` [rad] (numpy scalar for scalar input), ``tol`` when ``tol`` itself survives.
 
+    Raises
+    ------
+    ValueError
+        If neither or both of ``(eps, mu)`` and ``(T, A)`` are given, a value is out of range
+        (``tol`` outside ``(0, pi)``, ``periods`` beyond its bound), or ``drive`` names no drive.
+
     Examples
     --------
+    Zone 0 has a wide core; zone 2 is stable too, but only for tiny tilts; outside the zones
+    nothing is safe:
+
     >>> from kapitza import safe_tilt
-    >>> float(safe_tilt(0.5, 0.3)) > 0.1                       # zone 0: a wide core
-    True
-    >>> float(safe_tilt(2.9442806, 0.3)) < 0.05                 # zone 2: stable, but only for small tilts
-    True
+    >>> round(float(safe_tilt(0.5, 0.3)), 2)
+    0.23
+    >>> safe_tilt(2.9442806, 0.3)
+    np.float64(3.7...e-06)
+    >>> safe_tilt(1.2, 0.3)
+    np.float64(0.0)
     """
     from .drives import as_drive, parse_drive
     from .parameters import to_arnold, to_physical
@@ -131,7 +142,33 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
 def with_safe_tilt(report, drive=None, periods=None):
     """``report`` (a :class:`kapitza.StabilityReport`) with its ``safe_tilt`` filled in: the safe tilt
     of its ``(eps, mu)``, damping ratio and ``drive`` over ``periods`` (default
-    :data:`SAFE_TILT_PERIODS`); 0 where the upright is not stable."""
+    :data:`SAFE_TILT_PERIODS`); 0 where the upright is not stable.
+
+    Parameters
+    ----------
+    report : StabilityReport
+    drive : Drive or str, optional
+        The pivot's motion; the paper's square wave by default.
+    periods : int, optional
+        How long a start must stand, in drive periods ``2T``.
+
+    Returns
+    -------
+    StabilityReport
+
+    Raises
+    ------
+    ValueError
+        If ``periods`` is out of range or ``drive`` names no drive.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.safety import with_safe_tilt
+    >>> report = with_safe_tilt(kapitza.analyze(eps=0.5, mu=0.3), periods=3)
+    >>> report.safe_tilt, report.safe_tilt_periods
+    (0.2575..., 3)
+    """
     from dataclasses import replace
 
     periods = SAFE_TILT_PERIODS if periods is None else periods
@@ -198,7 +235,29 @@ class _Subset:
 
 def safe_tilt_sentence(theta, periods, stable) -> str:
     """The safe tilt ``theta`` [rad] over ``periods`` periods in words, as the report gives it
-    (``stable``: the linear verdict; an unstable upright has none)."""
+    (``stable``: the linear verdict; an unstable upright has none).
+
+    Parameters
+    ----------
+    theta : float
+        The safe tilt [rad].
+    periods : int
+        Periods ``2T`` it was tested over.
+    stable : bool
+        The linear verdict.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from kapitza.safety import safe_tilt_sentence
+    >>> safe_tilt_sentence(0.4, 50, True)
+    'stands for starting tilts from rest below 0.4 rad (22.9 deg) over 50 periods; a larger start falls'
+    >>> safe_tilt_sentence(0.0, 50, False)
+    'none: the upright is not stable, any tilt grows'
+    """
     over = f" over {periods} periods" if periods else ""
     if not stable or not theta > 0:
         return "none: the upright is not stable, any tilt grows"

@@ -49,6 +49,22 @@ class Pendulum:
 
     Use :meth:`point_mass`, :meth:`uniform_rod` or :meth:`compound` to describe the body as
     it is measured.
+
+    Raises
+    ------
+    ValueError
+        If ``l`` or ``g`` is not finite and > 0, or ``damping`` is negative.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> rod = kapitza.Pendulum.uniform_rod(0.3, damping=0.2)
+    >>> rod.l, rod.zeta
+    (0.1999..., np.float64(0.0142...))
+    >>> rod.describe()
+    'uniform rod of length 0.3 m (equivalent length l = 0.2 m), damping c = 0.2 1/s (ratio 0.0142...)'
+    >>> kapitza.Pendulum.compound(inertia=0.012, mass=0.4, distance=0.15).l
+    0.2
     """
 
     l: float = 1.0

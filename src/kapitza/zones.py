@@ -61,11 +61,30 @@ def is_stable(eps, mu, drive=None, zeta=0.0):
         undamped); in general where both Floquet multipliers lie strictly inside the unit
         circle, or on it and distinct (``|tr M_phi| < 2 cosh(c T)``).
 
+    Raises
+    ------
+    ValueError
+        If ``eps`` or ``mu`` is not finite and > 0, ``zeta`` is negative, or they do not broadcast.
+
     Notes
     -----
     Theorems 3.3-3.4 and Corollary 4.1; ``docs/theory.md`` section 5. Points exactly
     on an edge (a 2T- or 4T-periodic solution exists, ``|tr M| = 2``) are unstable.
     Other drives and damping: ``docs/drives.md``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.is_stable(0.5, 0.3)
+    np.True_
+    >>> kapitza.is_stable([0.2, 0.5, 1.2], 0.3)
+    array([False,  True, False])
+    >>> kapitza.is_stable(0.5, 0.3, drive="sine")
+    np.True_
+    >>> kapitza.is_stable(0.5, -0.3)
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: mu must be finite and > 0 (0 < mu < inf); got -0.3
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
@@ -86,6 +105,17 @@ def zone_index(eps, mu, drive=None, zeta=0.0):
     ndarray of int
         Zone ``n`` is where the rotation angle per period lies in ``(n pi, (n + 1) pi)``
         (``docs/drives.md`` section 2); for the square wave ``alpha + n pi < u < beta + n pi``.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`is_stable`.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.zone_index([0.2, 0.5, 1.2, 1.4], 0.3)
+    array([-1,  0, -1, -1])
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
@@ -122,12 +152,27 @@ def zone_edges(mu, n, drive=None, zeta=0.0):
         ``n`` (eq. 3.10) and a 4T-periodic one for odd ``n`` (eq. 3.12); the upper
         edge a 4T- (3.13) respectively 2T-periodic one (3.11).
 
+    Raises
+    ------
+    ValueError
+        If ``mu`` is not in ``(0, 1)``, ``n`` is negative or not an integer, or ``zeta`` is negative.
+
     Notes
     -----
     ``u = alpha + n pi`` and ``u = beta + n pi`` at fixed ``mu``, ``u = 2 sqrt 2 eps
     sqrt(1 - mu^2)``; ``docs/theory.md`` section 5. Where the zone is narrower than
     a double's resolution of ``eps`` the two edges round to the same number; use
     :func:`zone_width` for the width.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.zone_edges(0.3, 0)
+    (np.float64(0.3691...), np.float64(0.7059...))
+    >>> kapitza.zone_edges(0.3, [0, 1, 2])
+    (array([0.3691..., 1.7760..., 2.9441...]), array([0.7059..., 1.7837..., 2.9444...]))
+    >>> kapitza.zone_edges(0.3, 0, drive="sine")
+    (np.float64(0.4746...), np.float64(0.8114...))
     """
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
     n = _v.nonnegative_int("n", n)
@@ -154,6 +199,11 @@ def zone_width(mu, n, log=False):
     -------
     ndarray
 
+    Raises
+    ------
+    ValueError
+        If ``mu`` is not in ``(0, 1)`` or ``n`` is not an integer ``>= 0``.
+
     Notes
     -----
     With ``x = D u`` at the two edges (``u_lo = n pi + gamma(x_lo) - delta(x_lo)``,
@@ -166,6 +216,14 @@ def zone_width(mu, n, log=False):
     zone is wide the edges are subtracted directly (no cancellation to fear); where
     it is narrow the relation above is solved by fixed-point iteration (it contracts
     by ``D gamma' ~ e^{-2x}``), so the edges are never subtracted.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.zone_width(0.3, [0, 1, 2])
+    array([3.3678...e-01, 7.7025...e-03, 2.4735...e-04])
+    >>> kapitza.zone_width(0.3, 400, log=True)
+    np.float64(-1376.7438...)
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     n = _v.nonnegative_int("n", n)
@@ -213,6 +271,20 @@ def G_m_curve(mu, m):
     -------
     ndarray
         ``eps`` on ``G_m``. Zone ``m`` lies along ``G_m`` (section 4 of the paper).
+
+    Raises
+    ------
+    ValueError
+        If ``mu`` is not in ``(0, 1)`` or ``m`` is not an integer ``>= 0``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.G_m_curve(0.3, 0)
+    np.float64(0.5821...)
+    >>> lo, hi = kapitza.zone_edges(0.3, 0)
+    >>> bool(lo < kapitza.G_m_curve(0.3, 0) < hi)
+    True
     """
     mu = _v.in_range("mu", mu, 0.0, 1.0)
     m = _v.nonnegative_int("m", m)
@@ -238,6 +310,15 @@ class StabilityMargin(Summary):
         (the fraction by which ``T`` may change before stability is lost),
         negative outside (the fraction by which ``T`` must change to gain it).
         ``-inf`` where ``mu >= 1`` or ``u > 2^52``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> m = kapitza.stability_margin(0.5, 0.3)
+    >>> m.stable, m.zone
+    (np.True_, np.int64(0))
+    >>> m.margin
+    np.float64(0.2617...)
     """
 
     stable: np.ndarray
@@ -278,6 +359,20 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     Returns
     -------
     StabilityMargin
+
+    Raises
+    ------
+    ValueError
+        As in :func:`is_stable`.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> m = kapitza.stability_margin([0.5, 1.2], 0.3)
+    >>> m.zone
+    array([0, 0])
+    >>> m.margin
+    array([ 0.2617..., -0.4117...])
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
@@ -309,12 +404,30 @@ def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
         ``grid[i, j] == is_stable(eps[j], mu[i])`` except within about 1e-13
         relative of an edge.
 
+    Raises
+    ------
+    ValueError
+        If ``eps`` or ``mu`` is not a 1-D array of finite values > 0, ``out`` has the wrong shape,
+        dtype or layout, or ``zeta`` is negative.
+
     Notes
     -----
     No per-pixel trigonometry: for each ``mu`` the edges of the zones that meet
     the ``eps`` range are computed (:func:`zone_edges`), located in the sorted
     ``eps`` grid by binary search, and the stable runs are painted row by row.
     The cost is ``O(len(mu) * zones * log len(eps))`` plus writing the output.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> grid = kapitza.stability_grid(np.linspace(0.1, 1.5, 8), [0.1, 0.3, 0.5])
+    >>> grid.shape
+    (3, 8)
+    >>> grid.astype(int)
+    array([[0, 1, 1, 0, 0, 0, 0, 0],
+           [0, 0, 1, 1, 0, 0, 0, 0],
+           [0, 0, 0, 1, 0, 0, 0, 0]])
     """
     eps, mu = _v.arnold(eps, mu, together=False)  # the grid's two axes
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
@@ -368,6 +481,20 @@ def period_edges(A, n, l=1.0, g=G_EARTH, drive=None, damping=None, zeta=None):
     T_lo, T_hi : ndarray
         For even ``n``: ``(T_{n+1}, T~_{n+1})``; for odd ``n``: ``(T~_{n+1}, T_{n+1})``
         (Corollary 4.1). NaN where another drive has no zone ``n`` at this ``A``.
+
+    Raises
+    ------
+    ValueError
+        If ``A <= g``, a length or gravity is not > 0, ``n`` is not an integer ``>= 0``, or both
+        ``damping`` and ``zeta`` are given.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.period_edges(100.0, 0, l=1.0)
+    (np.float64(0.1091...), np.float64(0.2008...))
+    >>> kapitza.period_edges(100.0, 0, l=1.0, damping=0.5)
+    (np.float64(0.1091...), np.float64(0.2010...))
     """
     A = _v.positive("A", A)
     l = _v.positive("l", l)
@@ -399,6 +526,12 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=None, zeta=None)
     A_lo, A_hi : ndarray
         Zone ``n`` at this ``T`` is ``A_lo < A < A_hi``.
 
+    Raises
+    ------
+    ValueError
+        If ``T``, ``l`` or ``g`` is not > 0, ``n`` is not an integer ``>= 0``, or both ``damping`` and
+        ``zeta`` are given.
+
     Notes
     -----
     At fixed ``T`` the elliptic phase angle ``u = T sqrt((A - g)/l)`` increases with
@@ -409,6 +542,12 @@ def amplitude_edges(T, n, l=1.0, g=G_EARTH, drive=None, damping=None, zeta=None)
     cancellation-free form of that gap (:func:`kapitza._exact.sin_half_a0`). Both edges are
     within 5 ulp of the 50-digit reference on the rigs of ``tests/test_rig_edges_oracle.py``
     (``kappa`` from 1e-299 to about 100, zones 0-2; no proof of a bound is claimed).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.amplitude_edges(0.15, 0, l=1.0)
+    (np.float64(73.0882...), np.float64(169.1717...))
     """
     T = _v.positive("T", T)
     l = _v.positive("l", l)

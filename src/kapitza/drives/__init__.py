@@ -41,6 +41,46 @@ def register(cls=None, *, name=None):
 
     Its text form is ``NAME`` or ``NAME:PARAMETERS``, read by the class's
     :meth:`Drive.from_text`; a name already taken by another class is refused.
+
+    Parameters
+    ----------
+    cls : type, optional
+        A subclass of :class:`Drive`; omitted when used as ``@register(name=...)``.
+    name : str, optional
+        A lower-case word without ``:``.
+
+    Returns
+    -------
+    type
+        ``cls`` (or, without it, a decorator that registers its class).
+
+    Raises
+    ------
+    ValueError
+        If ``cls`` is not a :class:`Drive` subclass, or the name is not a lower-case word or is
+        taken by another class.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> from kapitza.drives import register, parse_drive
+    >>> @register
+    ... class Sawtooth(kapitza.Drive):
+    ...     name = "my-sawtooth"
+    ...     _breakpoints = (1.0,)
+    ...     def _shape(self, tau):
+    ...         return np.where(tau < 1.0, tau, tau - 2.0)
+    >>> parse_drive("my-sawtooth")
+    Sawtooth()
+    >>> kapitza.zone_edges(0.3, 0, drive="my-sawtooth")
+    (np.float64(0.7206...), np.float64(1.0404...))
+    >>> register(kapitza.SineWave, name="my-sawtooth")
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: the drive name 'my-sawtooth' is taken by Sawtooth
+    >>> from kapitza.drives import DRIVES
+    >>> del DRIVES["my-sawtooth"]  # the registry as it was
     """
     def add(c):
         if not (isinstance(c, type) and issubclass(c, Drive)):
@@ -64,13 +104,49 @@ _SQUARE = SquareWave()
 
 
 def text_forms() -> list[str]:
-    """The text forms of the registered drives (``square``, ``rectangular:DUTY``, ...), for help texts."""
+    """The text forms of the registered drives (``square``, ``rectangular:DUTY``, ...), for help texts.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from kapitza.drives import text_forms
+    >>> text_forms()[:5]
+    ['square', 'rectangular:DUTY', 'steps:LEVELS:FRACTIONS', 'sine', 'triangle']
+    """
     return [c.text_form or key for key, c in DRIVES.items()]
 
 
 def as_drive(drive) -> Drive:
     """The drive object for ``drive``: ``None`` (the square wave), a :class:`Drive` instance, or a
-    text (a registered name, or a text form such as ``"rectangular:0.3"``: :func:`parse_drive`)."""
+    text (a registered name, or a text form such as ``"rectangular:0.3"``: :func:`parse_drive`).
+
+    Parameters
+    ----------
+    drive : None, Drive or str
+
+    Returns
+    -------
+    Drive
+
+    Raises
+    ------
+    ValueError
+        If ``drive`` is none of these, a class rather than an instance, or a text naming no drive.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.drives import as_drive
+    >>> as_drive(None), as_drive("rectangular:0.3"), as_drive(kapitza.SineWave())
+    (SquareWave(), RectangularWave(duty=0.3), SineWave())
+    >>> as_drive(kapitza.SineWave)
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: drive must be a drive instance, e.g. SineWave(...); got the class
+    """
     if drive is None:
         return _SQUARE
     if isinstance(drive, Drive):
@@ -90,6 +166,31 @@ def parse_drive(text: str) -> Drive:
     ``NAME`` or ``NAME:PARAMETERS`` for a registered name: ``square``; ``sine``;
     ``rectangular:DUTY`` (e.g. ``rectangular:0.3``); ``steps:LEVELS:FRACTIONS`` with
     comma-separated numbers (e.g. ``steps:2,-1,1,-1:0.2,0.3,0.2,0.3``).
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    Drive
+
+    Raises
+    ------
+    ValueError
+        If ``text`` is empty, names no registered drive, or its parameters are not the drive's.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> kapitza.parse_drive("sine")
+    SineWave()
+    >>> kapitza.parse_drive("steps:2,-1,1,-1:0.2,0.3,0.2,0.3")
+    StepDrive(levels=[2.0, -1.0, 1.0, -1.0], fractions=[0.2, 0.3, 0.2, 0.3])
+    >>> kapitza.parse_drive("rectangular:1.5")
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: duty must lie in (0, 1); got 1.5
     """
     if not isinstance(text, str) or not text.strip():
         raise _v.KapitzaValueError(f"drive must be a non-empty text such as 'square'; got {text!r}")

@@ -109,16 +109,23 @@ class Drive:
 
     Examples
     --------
-    A drive of one's own needs its shape and a name::
+    A drive of one's own needs its shape and a name; every function taking ``drive=`` then
+    answers for it (here it agrees with the built-in :class:`~kapitza.TriangleWave`):
 
-        class Triangle(kapitza.Drive):
-            name = "my-triangle"
-            _breakpoints = (0.5, 1.5)
-
-            def _shape(self, tau):
-                return np.where(tau < 0.5, 2 * tau, np.where(tau < 1.5, 2 - 2 * tau, 2 * tau - 4))
-
-        kapitza.analyze(T=0.15, A=100, drive=Triangle())
+    >>> import numpy as np
+    >>> import kapitza
+    >>> class Triangle(kapitza.Drive):
+    ...     name = "my-triangle"
+    ...     _breakpoints = (0.5, 1.5)
+    ...
+    ...     def _shape(self, tau):
+    ...         return np.where(tau < 0.5, 2 * tau, np.where(tau < 1.5, 2 - 2 * tau, 2 * tau - 4))
+    >>> kapitza.zone_edges(0.3, 0, drive=Triangle())
+    (np.float64(0.5870...), np.float64(0.9184...))
+    >>> kapitza.zone_edges(0.3, 0, drive="triangle")
+    (np.float64(0.5870...), np.float64(0.9184...))
+    >>> kapitza.is_stable(0.7, 0.3, drive=Triangle())
+    np.True_
     """
 
     #: short name used by the command line and in reports

@@ -15,6 +15,26 @@ class RectangularWave(PiecewiseConstant):
     ----------
     duty : float
         ``0 < duty < 1``.
+
+    Raises
+    ------
+    ValueError
+        If ``duty`` is not in ``(0, 1)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> drive = kapitza.RectangularWave(0.3)
+    >>> drive.text(), drive.describe()
+    ('rectangular:0.3', 'rectangular wave, duty 0.3 (+A for 0.3 of the period)')
+    >>> drive.acceleration(np.array([0.0, 0.05, 0.1, 0.15]), T=0.1, A=100.0)
+    array([100.        , 100.        , -42.8571..., -42.8571...])
+    >>> kapitza.zone_edges(0.3, 0, drive=drive)
+    (np.float64(0.6529...), np.float64(1.0310...))
+    >>> half = kapitza.zone_edges(0.3, 0, drive=kapitza.RectangularWave(0.5))
+    >>> np.allclose(half, kapitza.zone_edges(0.3, 0), rtol=1e-14)  # duty 0.5: the square wave
+    True
     """
 
     name = "rectangular"

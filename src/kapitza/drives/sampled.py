@@ -175,6 +175,24 @@ def from_samples(t, a, period=None, kind="linear", *, rows=None):
         samples, a span longer than the period that is not a whole number of uniform steps,
         a constant signal, or a mean larger than the signal's peak about it (an offset such as
         gravity left in the trace).
+
+    Examples
+    --------
+    One period of a measured 40 Hz sine, 64 samples, with an offset of 5 m/s^2 (removed):
+
+    >>> import numpy as np
+    >>> import kapitza
+    >>> t = np.arange(64) / 64 * 0.025
+    >>> drive = kapitza.from_samples(t, 5.0 + 650.0 * np.sin(2 * np.pi * t / 0.025))
+    >>> float(drive.T), float(drive.A), round(float(drive.mean), 6)
+    (0.0125, 650.0, 5.0)
+    >>> eps, mu = kapitza.to_arnold(drive.T, drive.A, l=0.2)
+    >>> kapitza.is_stable(eps, mu, drive=drive), kapitza.is_stable(eps, mu, drive="sine")
+    (np.True_, np.True_)
+    >>> kapitza.from_samples([0.0, 0.01, 0.02], [1.0, 1.0, 1.0])
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: the acceleration samples are constant: there is no drive to analyse
     """
     rows = rows or (lambda i: f"sample {i}")
     if kind not in ("linear", "constant"):

@@ -17,7 +17,21 @@ PI = np.pi
 
 
 class SineWave(Drive):
-    """Sinusoidal pivot: acceleration ``A sin(pi t / T)`` (period ``2T``)."""
+    """Sinusoidal pivot: acceleration ``A sin(pi t / T)`` (period ``2T``).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> drive = kapitza.SineWave()
+    >>> drive.describe()
+    'sine wave (acceleration A sin(pi t/T))'
+    >>> kapitza.zone_edges(0.3, 0, drive=drive)
+    (np.float64(0.4746...), np.float64(0.8114...))
+    >>> kapitza.is_stable(0.45, 0.3), kapitza.is_stable(0.45, 0.3, drive=drive)
+    (np.True_, np.False_)
+    >>> drive.from_rig(40.0, stroke=0.02)
+    (np.float64(0.0125), np.float64(631.6546...))
+    """
 
     name = "sine"
     _stroke_coefficient = 2.0 / PI**2

@@ -22,7 +22,22 @@ def _undamped(zeta) -> bool:
 
 
 class SquareWave(PiecewiseConstant):
-    """The paper's symmetric square wave: acceleration ``+A`` on ``[0, T)``, ``-A`` on ``[T, 2T)``."""
+    """The paper's symmetric square wave: acceleration ``+A`` on ``[0, T)``, ``-A`` on ``[T, 2T)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> drive = kapitza.SquareWave()
+    >>> drive.describe()
+    'square wave (+A for T, -A for T)'
+    >>> drive.acceleration(np.array([0.0, 0.05, 0.1, 0.15]), T=0.1, A=100.0)
+    array([ 100.,  100., -100., -100.])
+    >>> drive.from_rig(40.0, stroke=0.02)
+    (np.float64(0.0125), np.float64(511.9999...))
+    >>> kapitza.zone_edges(0.3, 0, drive=drive) == kapitza.zone_edges(0.3, 0)
+    True
+    """
 
     name = "square"
     #: zones one by one from their closed-form edges (a few Newton steps each), not by a window

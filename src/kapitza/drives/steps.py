@@ -16,10 +16,30 @@ class StepDrive(PiecewiseConstant):
     fractions : sequence of float
         Each > 0, summing to 1; the same length as ``levels``.
 
+    Raises
+    ------
+    ValueError
+        If the levels or fractions are not as above.
+
     Notes
     -----
     The monodromy is the product of the exact segment matrices (``docs/drives.md``);
     ``StepDrive([1, -1], [0.5, 0.5])`` is the paper's square wave.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> drive = kapitza.StepDrive([1, -1, 1, -1], [0.2, 0.3, 0.3, 0.2])
+    >>> drive.text()
+    'steps:1.0,-1.0,1.0,-1.0:0.2,0.3,0.3,0.2'
+    >>> kapitza.zone_edges(0.3, 0, drive=drive)
+    (np.float64(0.6620...), np.float64(1.0186...))
+    >>> kapitza.StepDrive([1, -1], [0.5, 0.5]).describe()
+    '2-step drive (+1 A for 0.5, -1 A for 0.5 of the period)'
+    >>> kapitza.StepDrive([1, 1], [0.5, 0.5])
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: levels must have zero mean over the period (...); got mean 1.0
     """
 
     name = "steps"

@@ -21,7 +21,19 @@ from ._base import Drive
 
 class TriangleWave(Drive):
     """Triangle-wave pivot acceleration: linear between ``+A`` (at ``t = T/2``) and ``-A``
-    (at ``t = 3T/2``), period ``2T``, zero mean."""
+    (at ``t = 3T/2``), period ``2T``, zero mean.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> drive = kapitza.TriangleWave()
+    >>> drive.describe()
+    'triangle wave (acceleration linear between +A and -A)'
+    >>> kapitza.zone_edges(0.3, 0, drive=drive)
+    (np.float64(0.5870...), np.float64(0.9184...))
+    >>> drive.stroke(T=0.0125, A=768.0)
+    np.float64(0.0200...)
+    """
 
     name = "triangle"
     _breakpoints = (0.5, 1.5)

@@ -46,6 +46,7 @@ Example
 (True, ['G', 'edges', 'fill', 'legend'])
 
 See ``docs/figures.md``.
+>>> plt.close("all")
 """
 from __future__ import annotations
 

@@ -162,6 +162,16 @@ class Drawn(dict):
     data : object or None
         The numbers behind the drawing (e.g. :class:`kapitza.figures.chart.ZoneCurves`),
         when the function computed them.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from kapitza.figures import plot_zones
+    >>> fig, ax = plt.subplots()
+    >>> drawn = plot_zones(ax, eps_range=(0, 2))
+    >>> drawn.ax is ax, sorted(drawn), type(drawn.data).__name__
+    (True, ['G', 'edges', 'fill', 'legend'], 'ZoneCurves')
+    >>> plt.close("all")
     """
 
     def __init__(self, ax, artists=None, data=None):

@@ -324,6 +324,20 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     Returns
     -------
     AnimationResult
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> import kapitza
+    >>> from kapitza.figures import animate
+    >>> folder = tempfile.mkdtemp()
+    >>> result = animate(kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=1), os.path.join(folder, "up.gif"),
+    ...                  fps=10, dpi=40)
+    >>> result.path.name, result.frames, result.format
+    ('up.gif', 25, 'gif')
+    >>> shutil.rmtree(folder)
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     path = Path(path)
     fmt = format or (path.suffix.lower().lstrip(".") or "gif")

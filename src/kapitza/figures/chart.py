@@ -85,6 +85,12 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
         Artists ``"fill"``, ``"edges"`` (lists), ``"G"``; ``.data`` the :class:`ZoneCurves` (another
         drive or damping: the drive's curves).
 
+    Raises
+    ------
+    ValueError
+        If the window is empty or outside the plane, or another argument is out of range
+        (:func:`kapitza.curves.window_curves`).
+
     Notes
     -----
     2T-periodic edges (``T_n``; lower edge of even zones, upper edge of odd ones)
@@ -100,6 +106,7 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
     >>> drawn = plot_zones(ax, eps_range=(0, 2))
     >>> sorted(drawn)
     ['G', 'edges', 'fill', 'legend']
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -144,7 +151,34 @@ def plot_zones(ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), show_G=True, 
 
 def magnified_zones(eps_range, mu_range, candidates=(1, 2, 3), fraction=0.02):
     """Zones among ``candidates`` that meet the window but are narrower than ``fraction``
-    of its width everywhere in it: those a chart should magnify."""
+    of its width everywhere in it: those a chart should magnify.
+
+    Parameters
+    ----------
+    eps_range, mu_range : (float, float)
+        The window.
+    candidates : sequence of int
+        Zones to consider.
+    fraction : float
+        Of the window's ``eps`` width.
+
+    Returns
+    -------
+    list of int
+
+    Raises
+    ------
+    ValueError
+        If the window is not as in :func:`kapitza.curves.window_range`.
+
+    Examples
+    --------
+    >>> from kapitza.figures import magnified_zones
+    >>> magnified_zones((0, 4), (0, 1))
+    [1, 2, 3]
+    >>> magnified_zones((1.7, 1.9), (0.2, 0.4))
+    []
+    """
     curves = zone_curves(eps_range, mu_range, 200)
     width = float(eps_range[1] - eps_range[0])
     keep = []
@@ -170,7 +204,27 @@ def magnified_zones_physical(T_range, A_range, l=1.0, g=9.81, candidates=(1, 2, 
 
 
 def zone_chart_axes(fig, count):
-    """The main Axes of a zone chart and ``count`` panels below it for magnified tongues."""
+    """The main Axes of a zone chart and ``count`` panels below it for magnified tongues.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure
+    count : int
+        Panels for magnified zones (0: the main Axes alone).
+
+    Returns
+    -------
+    main, list of panels : matplotlib Axes
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from kapitza.figures import zone_chart_axes
+    >>> main, panels = zone_chart_axes(plt.figure(), 2)
+    >>> len(panels)
+    2
+    >>> plt.close("all")
+    """
     if count == 0:
         return fig.add_subplot(), []
     gs = fig.add_gridspec(2, count, height_ratios=(2.4, 1.0))
@@ -220,6 +274,11 @@ def tongue_curves(n, mu_range=(0.0, 1.0), points=400):
     -------
     TongueCurves
 
+    Raises
+    ------
+    ValueError
+        If ``n`` is not an integer ``>= 0``, the range is not as above, or ``points`` is below 2.
+
     Notes
     -----
     The zones ``n >= 1`` are exponentially narrow (``docs/theory.md``; widths in ``eps`` of
@@ -227,6 +286,13 @@ def tongue_curves(n, mu_range=(0.0, 1.0), points=400):
     of each merge into one line. Measured from the midpoint in a power of ten that suits the zone,
     as Figure 6 magnifies its zones, both edges are distinct curves. The edges are exact at
     every sample (:func:`kapitza.zone_edges`).
+
+    Examples
+    --------
+    >>> from kapitza.figures import tongue_curves
+    >>> tc = tongue_curves(1, points=50)
+    >>> type(tc).__name__, tc.mu.shape
+    ('TongueCurves', (50,))
     """
     n = int(_v.nonnegative_int("n", n))
     points = _v.bounded_count("points", points, _v.MAX_POINTS, minimum=2)
@@ -267,12 +333,19 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     Drawn
         Artists ``"fill"``, ``"lower"``, ``"upper"``; ``.data`` the :class:`TongueCurves`.
 
+    Raises
+    ------
+    ValueError
+        As in :func:`tongue_curves`.
+
     Examples
     --------
     >>> from kapitza.figures import plot_tongue
     >>> drawn = plot_tongue(2)
     >>> sorted(drawn)
     ['fill', 'lower', 'upper']
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -344,11 +417,25 @@ def plot_zones_physical(ax=None, T_range=None, A_range=None, l=1.0, g=9.81, poin
     Drawn
         Artists ``"fill"``, ``"edges"``; ``.data`` the :class:`PhysicalZoneCurves`.
 
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.curves.physical_zone_curves`.
+
     Notes
     -----
     The same edges as :func:`plot_zones`, mapped by ``A = g / mu^2`` and
     ``T = eps sqrt(8 l / A)``: at each ``A`` zone ``n`` is ``T_lo < T < T_hi``
     (:func:`kapitza.period_edges`).
+
+    Examples
+    --------
+    >>> from kapitza.figures import plot_zones_physical
+    >>> drawn = plot_zones_physical(l=1.0, points=200)
+    >>> drawn.ax.get_xlabel(), drawn.data.n
+    ('half-period of the drive $T$ [s]', array([0, 1, 2, 3, 4, 5]))
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -522,6 +609,22 @@ def plot_zones_rig(ax=None, frequency_range=None, stroke_range=None, l=1.0, g=9.
     -------
     Drawn
         Artists ``"fill"``, ``"edges"``; ``.data`` the :class:`kapitza.rig_plane.RigZoneCurves`.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.rig_plane.rig_zone_curves`.
+
+    Examples
+    --------
+    >>> from kapitza.figures.chart import plot_zones_rig
+    >>> drawn = plot_zones_rig(l=0.2, around=(40.0, 0.02))
+    >>> sorted(drawn), drawn.ax.get_xlim()
+    (['edges', 'fill', 'legend'], (np.float64(10.0), np.float64(160.0)))
+    >>> drawn.data.n
+    array([0])
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -565,6 +668,39 @@ def rig_chart_figure(frequency_range=None, stroke_range=None, *, l=1.0, g=9.81, 
 
     ``mark``: ``(StabilityReport, label)`` with physical ``T`` and ``A``: starred, and the window centred
     on it. Returns ``(Figure, RigZoneCurves, CSV header)``.
+
+    Parameters
+    ----------
+    frequency_range, stroke_range : (float, float), optional
+        The window [Hz], [m] (:func:`kapitza.rig_plane.rig_window` by default).
+    l, g, drive, zeta, points :
+        As in :func:`plot_zones_rig`.
+    mark : (StabilityReport, str), optional
+        The rig's report (physical ``T`` and ``A``) and its label.
+    title : str, optional
+    rod : float, optional
+        The rod's own length [m], for the caption.
+
+    Returns
+    -------
+    (Figure, RigZoneCurves, list of str)
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.rig_plane.rig_zone_curves`, or a ``mark`` without ``T`` and ``A``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures.chart import rig_chart_figure
+    >>> rig = kapitza.Rig(kapitza.Pendulum.uniform_rod(0.3))
+    >>> report = rig.analyze(frequency=40.0, stroke=0.02)
+    >>> fig, curves, header = rig_chart_figure(l=rig.pendulum.l, mark=(report, "the rig"), rod=0.3)
+    >>> header, curves.frequency_range
+    (['n', 'stroke', 'f_lo', 'f_hi'], (10.0, 160.0))
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     from ..drives import as_drive, parse_drive
     from ._style import caption, new_figure

@@ -38,6 +38,19 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
     Drawn
         ``"fills"``, ``"edges"``, ``"averaging"`` (lists of artists) and ``"legend"``, with
         ``.ax`` and ``.data`` (the curves).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> from kapitza.figures import drive_curves, plot_drive_comparison
+    >>> mu = np.linspace(0.01, 0.99, 40)
+    >>> curves = [drive_curves(d, mu, eps_max=4.0) for d in (kapitza.SquareWave(), kapitza.SineWave())]
+    >>> drawn = plot_drive_comparison(curves)
+    >>> sorted(drawn)
+    ['averaging', 'edges', 'fills', 'legend']
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -78,7 +91,35 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
 
 
 def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
-    """Two panels: the whole chart and a zoom on zone 0 near Kapitza's limit; returns the figure."""
+    """Two panels: the whole chart and a zoom on zone 0 near Kapitza's limit; returns the figure.
+
+    Parameters
+    ----------
+    curves : sequence of DriveCurves
+        From :func:`drive_curves`, one per drive.
+    eps_max : float
+        The whole chart's ``eps`` range is ``(0, eps_max)``.
+    zoom : (float, float)
+        The zoomed panel's largest ``eps`` and ``mu``.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> from kapitza.figures import drive_comparison_figure, drive_curves
+    >>> mu = np.linspace(0.01, 0.99, 40)
+    >>> curves = [drive_curves(d, mu, eps_max=4.0) for d in (kapitza.SquareWave(), kapitza.SineWave())]
+    >>> fig = drive_comparison_figure(curves)
+    >>> len(fig.axes)
+    2
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
+    """
     fig = _style.new_figure(width=11.0, height=5.0, caption_lines=3)
     ax1, ax2 = fig.subplots(1, 2)
     plot_drive_comparison(curves, ax1, eps_range=(0.0, eps_max), legend=None)

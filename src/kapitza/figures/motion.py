@@ -102,6 +102,8 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     >>> drawn = plot_time_series(traj)
     >>> drawn.data is traj
     True
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     ax = _ax(ax)
     out = Drawn(ax, {"theta": ax.plot(traj.t, traj.theta, label=_model_label(traj), **NONLINEAR_STYLE)[0]}, data=traj)
@@ -144,10 +146,26 @@ def _legend(out, legend):
 def plot_pivot(traj, ax=None):
     """Pivot height ``y(t)`` [mm] above its mean position.
 
+    Parameters
+    ----------
+    traj : Trajectory
+        From :func:`kapitza.simulate`.
+    ax : matplotlib Axes, optional
+
     Returns
     -------
     Drawn
         ``{"pivot": line}``, with ``.ax`` and ``.data`` (the trajectory).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures import plot_pivot
+    >>> drawn = plot_pivot(kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=2))
+    >>> sorted(drawn), drawn.ax.get_ylabel()
+    (['pivot'], 'pivot y  (mm)')
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     ax = _ax(ax)
     line = ax.plot(traj.t, 1e3 * traj.pivot, **PIVOT_STYLE)[0]
@@ -185,6 +203,8 @@ def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None, legend=None):
     >>> drawn = plot_phase_portrait(traj)
     >>> drawn.ax.get_xlabel()
     'θ  (rad from upright)'
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     ax = _ax(ax)
     if wrap is None:
@@ -225,6 +245,18 @@ def plot_strobe(orbits, ax=None, *, wrap=True, max_members=200, colorbar=True):
     -------
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> from kapitza.figures import plot_strobe
+    >>> orbits = kapitza.stroboscopic_map(np.linspace(0.05, 0.4, 8), 0.0, T=0.15, A=100.0, periods=50)
+    >>> drawn = plot_strobe(orbits)
+    >>> sorted(drawn)
+    ['colorbar', 'points']
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     ax = _ax(ax)
     th = orbits.theta.reshape(orbits.theta.shape[0], -1)[:, :max_members]
@@ -264,6 +296,16 @@ def plot_basin(basin, ax=None, *, colorbar=True):
     -------
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures import plot_basin
+    >>> drawn = plot_basin(kapitza.basin(T=0.15, A=100.0, periods=10, n_theta=11, n_dtheta=11))
+    >>> sorted(drawn)
+    ['colorbar', 'edge', 'image']
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     ax = _ax(ax)
     N = basin.periods
@@ -294,7 +336,32 @@ def plot_basin(basin, ax=None, *, colorbar=True):
 
 # ------------------------------------------------------------------ captioned figures
 def time_series_figure(traj, *, linear=None, tol=None, title=None):
-    """Angle and pivot height against time, with a caption."""
+    """Angle and pivot height against time, with a caption.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        From :func:`kapitza.simulate`.
+    linear : Trajectory, optional
+        The linear motion on the same samples, drawn beside it.
+    tol : float, optional
+        A window ``|theta| < tol`` to shade.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures import time_series_figure
+    >>> fig = time_series_figure(kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=10))
+    >>> len(fig.axes)
+    2
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
+    """
     fig = new_figure(7.5, 5.0, caption_lines=3)
     gs = fig.add_gridspec(2, 1, height_ratios=[3, 1])
     ax = fig.add_subplot(gs[0])
@@ -317,7 +384,28 @@ def time_series_figure(traj, *, linear=None, tol=None, title=None):
 
 
 def phase_portrait_figure(traj, *, title=None):
-    """Phase portrait ``(theta, theta')`` with stroboscopic points, with a caption."""
+    """Phase portrait ``(theta, theta')`` with stroboscopic points, with a caption.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        From :func:`kapitza.simulate`.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures import phase_portrait_figure
+    >>> fig = phase_portrait_figure(kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=10))
+    >>> fig.axes[0].get_xlabel()
+    'θ  (rad from upright)'
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
+    """
     fig = new_figure(6.5, 5.2, caption_lines=3)
     ax = fig.add_subplot()
     plot_phase_portrait(traj, ax)
@@ -372,10 +460,29 @@ def strobe_figure(orbits, *, title=None, highlight=None):
         one) are drawn faint.
     highlight : (theta_k, dtheta_k), optional
         The user's own orbit at ``t = 2kT``, drawn on top.
+    title : str, optional
 
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Notes
+    -----
     The axes frame the island and the user's orbit (:func:`strobe_window`); only when
     neither stays near the upright is the whole wrapped map shown. The caption says
     what is drawn.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> from kapitza.figures import strobe_figure
+    >>> orbits = kapitza.stroboscopic_map(np.linspace(0.05, 0.4, 8), 0.0, T=0.15, A=100.0, periods=50)
+    >>> fig = strobe_figure(orbits)
+    >>> fig.axes[0].get_xlabel()
+    'θ(2kT)  (rad from upright)'
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     fig = new_figure(6.5, 5.2, caption_lines=3)
     ax = fig.add_subplot()
@@ -421,7 +528,30 @@ def strobe_figure(orbits, *, title=None, highlight=None):
 
 
 def basin_figure(basins, *, title=None):
-    """Basins side by side (e.g. linear and nonlinear), with a caption."""
+    """Basins side by side (e.g. linear and nonlinear), with a caption.
+
+    Parameters
+    ----------
+    basins : sequence of Basin
+        From :func:`kapitza.basin`, one panel each.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures import basin_figure
+    >>> grids = [kapitza.basin(T=0.15, A=100.0, periods=10, n_theta=11, n_dtheta=11, model=m)
+    ...          for m in ("linear", "nonlinear")]
+    >>> fig = basin_figure(grids)
+    >>> len(fig.axes)
+    3
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
+    """
     basins = list(basins)
     fig = new_figure(5.2 * len(basins) + 0.8, 4.8, caption_lines=3)
     axes = fig.subplots(1, len(basins), squeeze=False)[0]

@@ -31,7 +31,34 @@ def _plain_log_axis(axis, lo, hi):
 
 def tower_family(lengths, masses=None, links="rod", joint_damping=0.0, n_max=4):
     """Towers of 1 to ``n_max`` links: the first ``n`` links of ``lengths`` (a single length is
-    repeated), e.g. ``tower_family(0.2)``: one, two, three and four 0.2 m rods."""
+    repeated), e.g. ``tower_family(0.2)``: one, two, three and four 0.2 m rods.
+
+    Parameters
+    ----------
+    lengths : float or sequence of float
+        Link lengths [m] from the pivot up.
+    masses, links, joint_damping :
+        As in :class:`kapitza.Chain`.
+    n_max : int
+        The most links.
+
+    Returns
+    -------
+    list of Chain
+
+    Raises
+    ------
+    ValueError
+        As in :class:`kapitza.Chain`.
+
+    Examples
+    --------
+    >>> from kapitza.figures.tower import tower_family
+    >>> [tower.n for tower in tower_family(0.2)]
+    [1, 2, 3, 4]
+    >>> tower_family([0.3, 0.2])
+    [Chain([0.3], masses=[1.0], links='rod'), Chain([0.3, 0.2], masses=[1.0, 1.0], links='rod')]
+    """
     L = list(np.atleast_1d(np.asarray(lengths, dtype=float)))
     if len(L) == 1:
         L = L * n_max
@@ -65,6 +92,21 @@ def plot_tower_chart(chain=None, drive=None, g=9.81, ax=None, frequency_range=No
     Drawn
         ``"band"``, ``"lower"`` and ``"upper"`` (lists, one line per mode), ``"labels"``,
         ``"mark"``; ``.data`` is the :class:`~kapitza.chain.TowerCurves`.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.tower_curves`.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> from kapitza.figures.tower import plot_tower_chart
+    >>> drawn = plot_tower_chart(kapitza.Chain([0.2, 0.2, 0.2]), mark=(200.0, 0.005))
+    >>> sorted(drawn), len(drawn["lower"])
+    (['band', 'labels', 'legend', 'lower', 'mark', 'upper'], 3)
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     import matplotlib.pyplot as plt
 
@@ -134,9 +176,30 @@ def tower_chart_figure(chains, drive=None, g=9.81, frequency_range=None, stroke_
 
     ``curves``: the towers' :class:`~kapitza.chain.TowerCurves`, when computed already.
 
+    Parameters
+    ----------
+    chains : sequence of Chain
+    drive, g, frequency_range, stroke_range, amplitude, mark :
+        As in :func:`plot_tower_chart`; the window defaults to one holding every tower's band.
+    curves : sequence of TowerCurves, optional
+
     Returns
     -------
     fig, list of Drawn
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.tower_curves`.
+
+    Examples
+    --------
+    >>> from kapitza.figures.tower import tower_chart_figure, tower_family
+    >>> fig, drawn = tower_chart_figure(tower_family(0.2, n_max=3), mark=(200.0, 0.005))
+    >>> len(drawn), [d.data.n_links for d in drawn]
+    (3, [1, 2, 3])
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     from ..chain import default_window
     from ..drives import as_drive
@@ -198,6 +261,25 @@ def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80,
     Returns
     -------
     pathlib.Path
+
+    Raises
+    ------
+    ValueError
+        If ``fps``, ``slowdown`` or ``duration`` is out of range.
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> import kapitza
+    >>> from kapitza.figures.tower import animate_tower
+    >>> tower = kapitza.Chain([0.2, 0.2])
+    >>> motion = kapitza.chain_motion(tower, 0.05, T=0.0025, A=3200.0, periods=4, points_per_period=8)
+    >>> folder = tempfile.mkdtemp()
+    >>> animate_tower(motion, os.path.join(folder, "tower.gif"), fps=10).name
+    'tower.gif'
+    >>> shutil.rmtree(folder)
+    >>> import matplotlib.pyplot as plt
+    >>> plt.close("all")
     """
     from pathlib import Path
 

@@ -402,6 +402,15 @@ class Basin(Summary):
         ``None`` for the square wave.
     c : float
         Viscous damping [1/s].
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> b = kapitza.basin(T=0.15, A=100.0, periods=10, n_theta=11, n_dtheta=11)
+    >>> b
+    <Basin: nonlinear, T = 0.15 s, A = 100 m/s^2, 11 x 11 grid, 7.44% stay within 0.5 rad for 10 periods>
+    >>> b.periods_survived.shape, int(b.periods_survived.max())
+    ((11, 11), 10)
     """
 
     theta0: np.ndarray

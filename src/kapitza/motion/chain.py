@@ -64,6 +64,19 @@ class ChainMotion(Summary):
         Link lengths (for drawing).
     T, A, g : float
     drive : str
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> tower = kapitza.Chain([0.2, 0.2, 0.2])
+    >>> m = kapitza.chain_motion(tower, 0.05, T=0.0025, A=3200.0, periods=10, points_per_period=8)
+    >>> m
+    <ChainMotion: stands: every link within 1.571 rad for 0.05 s>
+    >>> m.theta.shape, m.toppled
+    ((3, 81), False)
+    >>> x, y = m.joints()
+    >>> x.shape
+    (4, 81)
     """
 
     t: np.ndarray
@@ -163,6 +176,21 @@ def chain_motion(chain, theta0, dtheta0=0.0, *, T, A, g=G_EARTH, drive=None, per
     Returns
     -------
     ChainMotion
+
+    Raises
+    ------
+    ValueError
+        If a value is out of range (``theta0`` or ``dtheta0`` of the wrong length, a count or
+        tolerance outside its bounds), or ``drive`` names no drive.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> tower = kapitza.Chain([0.2, 0.2, 0.2])
+    >>> kapitza.chain_motion(tower, 0.05, T=0.0025, A=3200.0, periods=10, points_per_period=8)
+    <ChainMotion: stands: every link within 1.571 rad for 0.05 s>
+    >>> kapitza.chain_motion(tower, 0.05, T=0.0025, A=0.0, periods=200, points_per_period=4)
+    <ChainMotion: toppled at t = 0.4515... s (a link beyond 1.571 rad)>
     """
     from scipy.integrate import solve_ivp
 
@@ -286,6 +314,15 @@ class SafeTilt(Summary):
         The test: every link within ``tol`` of the upright for ``periods`` periods ``2T``; a
         value ``v`` survives and ``v + accuracy`` does not (0: not even ``accuracy``; ``tol``:
         capped, the tilt ``tol`` itself survives).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> tilt = kapitza.tower_safe_tilt(kapitza.Chain([0.2, 0.2, 0.2]), T=0.0025, A=3200.0, periods=3, accuracy=0.1)
+    >>> tilt
+    <SafeTilt: safe tilt 1.178 rad together, 1.473 rad along mode 1>
+    >>> round(tilt.together, 2), round(tilt.mode, 2)
+    (1.18, 1.47)
     """
 
     together: float
@@ -317,9 +354,39 @@ def tower_safe_tilt(chain, *, T, A, g=G_EARTH, drive=None, periods=50.0, tol=mat
     link passes ``tol``; where the safe starts do not form one segment from the upright the
     value is the edge of the first one met by the bisection.
 
+    Parameters
+    ----------
+    chain : kapitza.Chain
+    T, A : float
+        Half-period [s] and acceleration scale [m/s^2] of the drive.
+    g : float
+        Gravity [m/s^2].
+    drive : Drive or str, optional
+        Square wave by default.
+    periods : float
+        How long the tower must stand, in drive periods ``2T``.
+    tol : float
+        A link beyond ``tol`` from the upright has fallen (``0 < tol <= pi``).
+    accuracy : float
+        The bisection stops when the bracket is this narrow [rad].
+    rtol, atol : float
+        DOP853 tolerances of each trial motion.
+
     Returns
     -------
     SafeTilt
+
+    Raises
+    ------
+    ValueError
+        If a value is out of range, or ``drive`` names no drive.
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> tilt = kapitza.tower_safe_tilt(kapitza.Chain([0.2, 0.2, 0.2]), T=0.0025, A=3200.0, periods=3, accuracy=0.1)
+    >>> round(tilt.together, 2)
+    1.18
     """
     from ..chain import Chain
 

@@ -202,6 +202,12 @@ def phase_flow(t, theta0, dtheta0, s):
     theta, dtheta : ndarray
         The state after the time ``t``.
 
+    Raises
+    ------
+    ValueError
+        If an argument is not finite, ``sqrt|s| |t|`` exceeds ``1e5``, or the arguments do not
+        broadcast.
+
     Notes
     -----
     ``docs/theory.md`` section 6. With ``q = theta`` (``s < 0``) or
@@ -474,10 +480,28 @@ def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None
         Constant within each undamped phase; with damping ``c`` its rate is
         ``-c theta'^2 <= 0``. It jumps at the switches, where ``a`` does.
 
+    Raises
+    ------
+    ValueError
+        As in :func:`nonlinear_motion`.
+
     Notes
     -----
     Energy per unit ``m l^2`` in the frame of the pivot, where gravity is
     ``g + a(t)``: ``d/dt (theta'^2/2 + s cos theta) = theta' (theta'' - s sin theta)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import kapitza
+    >>> from kapitza.motion import phase_energy
+    >>> traj = kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=1)
+    >>> E = phase_energy(traj.t, traj.theta, traj.dtheta, T=0.15, A=100.0)
+    >>> E[0]
+    np.float64(109.2614...)
+    >>> first = traj.t < 0.15  # the hyperbolic phase: E is conserved there
+    >>> bool(np.ptp(E[first]) < 1e-9 * E[0])
+    True
     """
     t = _v.finite("t", t)
     theta = _v.finite("theta", theta)
@@ -619,6 +643,18 @@ class Trajectory(Summary):
         ``'exact'`` or ``'dop853'``.
     drive : Drive or None
         The pivot's motion (``None``: the paper's square wave).
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> traj = kapitza.simulate(0.1, 0.0, T=0.15, A=100.0, periods=10)
+    >>> traj
+    <Trajectory: nonlinear (exact), T = 0.15 s, A = 100 m/s^2, 10 periods, 2001 samples,
+     max |theta| = 0.4013 rad, stays up>
+    >>> traj.t.shape, float(abs(traj.theta).max())
+    ((2001,), 0.4012...)
+    >>> traj.summary()["stays_up"]
+    True
     """
 
     t: np.ndarray

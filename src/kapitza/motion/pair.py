@@ -32,6 +32,16 @@ class MotionPair:
         The linear motion on the same samples; None where it was not asked for or
         exceeds a double (then ``linear_note`` says so).
     linear_note : str or None
+
+    Examples
+    --------
+    >>> from kapitza.motion import motion_pair
+    >>> pair = motion_pair(0.1, 0.0, 0.15, 100.0, periods=5)
+    >>> pair.motion
+    <Trajectory: nonlinear (exact), T = 0.15 s, A = 100 m/s^2, 5 periods, 1001 samples,
+     max |theta| = 0.4013 rad, stays up>
+    >>> pair.linear.model, pair.linear_note
+    ('linear', None)
     """
 
     motion: Trajectory
@@ -94,6 +104,21 @@ def motion_pair(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, model="nonlinear", c
     -------
     MotionPair
         The linear motion is left out, with a note, where it grows beyond a double.
+
+    Raises
+    ------
+    ValueError
+        As in :func:`kapitza.simulate`.
+
+    Examples
+    --------
+    Started 0.5 rad from the upright the real pendulum falls over and turns; the linear model,
+    whose motion only scales with the start, stays near the upright:
+
+    >>> from kapitza.motion import motion_pair
+    >>> pair = motion_pair(0.5, 0.0, 0.15, 100.0, periods=5)
+    >>> float(abs(pair.motion.theta).max()), float(abs(pair.linear.theta).max())
+    (11.1671..., 1.9380...)
     """
     traj = simulate(theta0, dtheta0, T, A, l, g, model=model, **kwargs)
     linear, note = None, None

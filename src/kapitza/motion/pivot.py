@@ -77,6 +77,11 @@ def pivot_acceleration(t, T, A):
     ndarray
         ``+A`` on ``[2kT, (2k+1)T)``, ``-A`` on ``[(2k+1)T, (2k+2)T)``.
 
+    Raises
+    ------
+    ValueError
+        If ``T`` or ``A`` is not finite and > 0, or the arguments do not broadcast.
+
     Examples
     --------
     >>> from kapitza.motion import pivot_acceleration
@@ -100,6 +105,17 @@ def pivot_velocity(t, T, A):
     ndarray
         ``A (t - T/2)`` on the hyperbolic phase, ``-A (t - 3T/2)`` on the elliptic one
         (``t`` taken modulo ``2T``).
+
+    Raises
+    ------
+    ValueError
+        As in :func:`pivot_acceleration`.
+
+    Examples
+    --------
+    >>> from kapitza.motion import pivot_velocity
+    >>> pivot_velocity([0.0, 0.075, 0.15], 0.15, 100.0)
+    array([-7.5,  0. ,  7.5])
     """
     return _v.scalars(np.asarray(_velocity(*_checked(t, T, A))))
 
@@ -120,10 +136,21 @@ def pivot_displacement(t, T, A):
         on ``[T, 2T)`` (``t`` modulo ``2T``); continuous with a continuous first
         derivative, second derivative ``a(t)``.
 
+    Raises
+    ------
+    ValueError
+        As in :func:`pivot_acceleration`.
+
     Notes
     -----
     The two integration constants are fixed by periodicity of the velocity and a
     zero mean of the displacement over one period.
+
+    Examples
+    --------
+    >>> from kapitza.motion import pivot_displacement
+    >>> pivot_displacement([0.075, 0.225], 0.15, 100.0)
+    array([-0.2812...,  0.2812...])
     """
     return _v.scalars(np.asarray(_displacement(*_checked(t, T, A))))
 

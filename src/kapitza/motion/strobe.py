@@ -37,6 +37,15 @@ class StrobeOrbits(Summary):
     T, A, l, g, c : float
         Parameters.
     model : str
+
+    Examples
+    --------
+    >>> import kapitza
+    >>> orbits = kapitza.stroboscopic_map([0.1, 0.2], 0.0, T=0.15, A=100.0, periods=10)
+    >>> orbits
+    <StrobeOrbits: nonlinear, T = 0.15 s, A = 100 m/s^2, 2 members, 11 records up to period 10, 2 stay up>
+    >>> orbits.n[-1], orbits.theta.shape
+    (np.int64(10), (11, 2))
     """
 
     n: np.ndarray

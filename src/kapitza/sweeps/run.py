@@ -35,6 +35,21 @@ class SweepRun:
         recomputed (they count in ``computed``).
     notes : tuple of str
         Store-wide repairs made before resuming (a lost coordinate, unreadable flags).
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> from kapitza.sweeps import SweepSpec, sweep
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("linear",), chunk=2)
+    >>> folder = tempfile.mkdtemp()
+    >>> run = sweep(spec, os.path.join(folder, "map.zarr"), serial=True, progress=False)
+    >>> run.total, run.computed, run.skipped, run.damaged
+    (4, 4, 0, ())
+    >>> run.open().zone.values
+    array([[ 0,  0, -1, -1],
+           [-1,  0,  0, -1],
+           [-1,  0,  0, -1]], dtype=int16)
+    >>> shutil.rmtree(folder)
     """
 
     store: Path
@@ -52,7 +67,30 @@ class SweepRun:
 
 
 def compute_chunk(spec: SweepSpec, iy: int, ix: int) -> dict:
-    """Every variable of chunk ``(iy, ix)``: a pure function of its arguments (the unit of work)."""
+    """Every variable of chunk ``(iy, ix)``: a pure function of its arguments (the unit of work).
+
+    Parameters
+    ----------
+    spec : SweepSpec
+    iy, ix : int
+        The chunk's row and column in the grid of chunks (:attr:`SweepSpec.chunk_shape`).
+
+    Returns
+    -------
+    dict of str to ndarray
+        Each variable of :attr:`SweepSpec.variables`, of the chunk's shape.
+
+    Examples
+    --------
+    >>> from kapitza.sweeps import SweepSpec, compute_chunk
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("linear",), chunk=2)
+    >>> values = compute_chunk(spec, 0, 0)
+    >>> sorted(values)
+    ['growth', 'margin', 'stable', 'zone']
+    >>> values["zone"]
+    array([[ 0,  0],
+           [-1,  0]], dtype=int16)
+    """
     ys, xs = spec.chunk_slices(iy, ix)
     return block_quantities(spec.x[xs], spec.y[ys], plane=spec.plane, l=spec.l, g=spec.g, drive=spec.drive,
                             periods=spec.periods, tol=spec.tol, quantities=spec.quantities,
@@ -119,6 +157,28 @@ def sweep(spec: SweepSpec, store, *, resume=False, serial=False, workers=None, s
     Returns
     -------
     SweepRun
+
+    Raises
+    ------
+    ValueError
+        If the store exists and ``resume`` is not set, ``resume`` meets a store of another ``spec``,
+        or ``workers`` is out of range.
+
+    Examples
+    --------
+    A tiny map of the exact linear verdicts, computed in this process; a second call resumes and
+    finds every chunk done:
+
+    >>> import os, shutil, tempfile
+    >>> from kapitza.sweeps import SweepSpec, sweep
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("linear",), chunk=2)
+    >>> folder = tempfile.mkdtemp()
+    >>> store = os.path.join(folder, "map.zarr")
+    >>> sweep(spec, store, serial=True, progress=False).computed
+    4
+    >>> sweep(spec, store, serial=True, progress=False, resume=True).skipped
+    4
+    >>> shutil.rmtree(folder)
     """
     if not isinstance(spec, SweepSpec):
         raise _v.KapitzaValueError(f"spec must be a SweepSpec; got {type(spec).__name__}")

@@ -62,6 +62,29 @@ class SweepSpec:
         Smallest radius tried [rad]; a radius below it is reported as 0.
     chunk : int
         Points per side of a chunk (the unit of work, of storage and of resumption).
+
+    Raises
+    ------
+    ValueError
+        If a value is out of range: a grid value not > 0, an unknown plane, drive or quantity, a
+        count beyond its bound, or (the integrated path) more work than one sweep may take.
+
+    Examples
+    --------
+    >>> from kapitza.sweeps import SweepSpec
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("tilt", "linear"), periods=10, chunk=2)
+    >>> spec.x, spec.y
+    ((0.3, 0.5, 0.7000..., 0.9), (0.2, 0.3000..., 0.4))
+    >>> spec.dims, spec.shape, spec.chunk_shape
+    (('mu', 'eps'), (3, 4), (2, 2))
+    >>> spec.variables
+    ('max_safe_tilt', 'stable', 'zone', 'growth', 'margin')
+    >>> spec.exact, spec.integrated_work()
+    (True, 0.0)
+    >>> SweepSpec.window((0.3, 0.9), (0.2, 0.4), 4, quantities=("speed",))
+    Traceback (most recent call last):
+        ...
+    kapitza._validate.KapitzaValueError: quantities must be among 'tilt', 'radius', 'basin', 'linear'; got 'speed'
     """
 
     plane: str

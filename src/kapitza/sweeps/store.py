@@ -168,7 +168,35 @@ def create_store(path, spec: SweepSpec):
 
 
 def open_store(path):
-    """The store's Zarr group, open for writing (consolidated metadata when it is there)."""
+    """The store's Zarr group, open for writing (consolidated metadata when it is there).
+
+    Parameters
+    ----------
+    path : path
+        The sweep's Zarr store.
+
+    Returns
+    -------
+    zarr.Group
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist (a folder that is not a Zarr store raises zarr's own error;
+        :func:`open_sweep` checks a store first).
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> from kapitza.sweeps import SweepSpec, done_chunks, open_store, sweep
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("linear",), chunk=2)
+    >>> folder = tempfile.mkdtemp()
+    >>> run = sweep(spec, os.path.join(folder, "map.zarr"), serial=True, progress=False)
+    >>> done_chunks(open_store(run.store))
+    array([[ True,  True],
+           [ True,  True]])
+    >>> shutil.rmtree(folder)
+    """
     import zarr
 
     with warnings.catch_warnings():
@@ -213,7 +241,28 @@ def write_chunk(grp, spec: SweepSpec, iy, ix, values: dict):
 
 def done_chunks(grp) -> np.ndarray:
     """Boolean ``(chunk_y, chunk_x)`` array of the chunks flagged finished (flags only: resuming
-    checks each one's data, :func:`verified_chunks`)."""
+    checks each one's data, :func:`verified_chunks`).
+
+    Parameters
+    ----------
+    grp : zarr.Group
+        The store (:func:`open_store`).
+
+    Returns
+    -------
+    ndarray of bool
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> from kapitza.sweeps import SweepSpec, done_chunks, open_store, sweep
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("linear",), chunk=2)
+    >>> folder = tempfile.mkdtemp()
+    >>> run = sweep(spec, os.path.join(folder, "map.zarr"), serial=True, progress=False)
+    >>> done_chunks(open_store(run.store)).shape
+    (2, 2)
+    >>> shutil.rmtree(folder)
+    """
     return np.asarray(grp["chunk_done"][...]) == 1
 
 
@@ -308,7 +357,38 @@ def open_sweep(path):
     """The sweep as an :class:`xarray.Dataset` (lazy, backed by the Zarr store).
 
     Values are as stored (no masking): a point not computed holds its variable's ``_FillValue``
-    (NaN, or -2 for ``zone``, -1 for ``stable``), so the integer variables keep their dtype."""
+    (NaN, or -2 for ``zone``, -1 for ``stable``), so the integer variables keep their dtype.
+
+    Parameters
+    ----------
+    path : path
+        The sweep's Zarr store.
+
+    Returns
+    -------
+    xarray.Dataset
+
+    Raises
+    ------
+    ValueError
+        If ``path`` is not a sweep's store.
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> from kapitza.sweeps import SweepSpec, open_sweep, sweep
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("linear",))
+    >>> folder = tempfile.mkdtemp()
+    >>> run = sweep(spec, os.path.join(folder, "map.zarr"), serial=True, progress=False)
+    >>> ds = open_sweep(run.store)
+    >>> ds.stable.dims, ds.stable.values
+    (('mu', 'eps'), array([[1, 1, 0, 0],
+           [0, 1, 1, 0],
+           [0, 1, 1, 0]], dtype=int8))
+    >>> round(float(ds.margin.sel(eps=0.5, mu=0.3, method="nearest")), 4)
+    0.2617
+    >>> shutil.rmtree(folder)
+    """
     import xarray as xr
 
     path = Path(path)
@@ -321,7 +401,36 @@ def open_sweep(path):
 
 
 def to_netcdf(ds, path):
-    """Write the Dataset as NetCDF (classic 64-bit format via scipy, no extra library), atomically."""
+    """Write the Dataset as NetCDF (classic 64-bit format via scipy, no extra library), atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep (:func:`open_sweep`).
+    path : path
+        The ``.nc`` file to write.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import os, shutil, tempfile
+    >>> import xarray as xr
+    >>> from kapitza.sweeps import SweepSpec, open_sweep, sweep, to_netcdf
+    >>> spec = SweepSpec.window((0.3, 0.9), (0.2, 0.4), (4, 3), quantities=("linear",))
+    >>> folder = tempfile.mkdtemp()
+    >>> run = sweep(spec, os.path.join(folder, "map.zarr"), serial=True, progress=False)
+    >>> path = to_netcdf(open_sweep(run.store), os.path.join(folder, "map.nc"))
+    >>> path.name
+    'map.nc'
+    >>> with xr.open_dataset(path) as nc:
+    ...     print(nc.growth.dims, nc.attrs["plane"])
+    ('mu', 'eps') arnold
+    >>> shutil.rmtree(folder)
+    """
     with atomic_path(path, suffix=".nc") as tmp:
         ds.load().to_netcdf(tmp, engine="scipy")
     return Path(path)

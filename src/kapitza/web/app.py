@@ -181,7 +181,30 @@ class _BoundedRequests:
 def create_app(hosts=None) -> FastAPI:
     """The explorer: the page at ``/``, the JSON API under ``/api``, its schema at ``/openapi.json``.
 
-    ``hosts``: the names it answers to (default :func:`allowed_hosts`: loopback and ``HOSTS_ENV``)."""
+    ``hosts``: the names it answers to (default :func:`allowed_hosts`: loopback and ``HOSTS_ENV``).
+
+    Parameters
+    ----------
+    hosts : sequence of str, optional
+
+    Returns
+    -------
+    fastapi.FastAPI
+
+    Examples
+    --------
+    >>> from kapitza.web import create_app
+    >>> app = create_app()
+    >>> for path in sorted({route.path for route in app.routes if route.path.startswith("/api/")}):
+    ...     print(path)
+    /api/chart
+    /api/export/chart.{fmt}
+    /api/export/motion.{fmt}
+    /api/motion
+    /api/point
+    /api/safe_tilt
+    /api/verdict
+    """
     @contextlib.asynccontextmanager
     async def lifespan(app):
         # The routes compute with numpy: more threads than CPUs only take turns at the GIL, and

@@ -39,7 +39,31 @@ def is_loopback(host: str) -> bool:
 
 
 def bind(host: str = "127.0.0.1", port: int = 0) -> socket.socket:
-    """A listening socket on ``host:port`` (``port=0``: a free port chosen by the system)."""
+    """A listening socket on ``host:port`` (``port=0``: a free port chosen by the system).
+
+    Parameters
+    ----------
+    host : str
+    port : int
+
+    Returns
+    -------
+    socket.socket
+
+    Raises
+    ------
+    OSError
+        If the address is taken or cannot be bound.
+
+    Examples
+    --------
+    >>> from kapitza.web.server import bind
+    >>> sock = bind()
+    >>> host, port = sock.getsockname()[:2]
+    >>> host, port > 0
+    ('127.0.0.1', True)
+    >>> sock.close()
+    """
     family = socket.AF_INET6 if ":" in host else socket.AF_INET
     # IPPROTO_TCP, not 0: accepted connections inherit it, and asyncio sets TCP_NODELAY only on
     # sockets that say they are TCP. Without it a small answer (a point's report) waits ~40 ms
@@ -78,7 +102,27 @@ def serve(sock: socket.socket, log_level: str = "warning", workers: int = 1, hos
     """Serve the explorer on ``sock`` until interrupted, in ``workers`` processes sharing it.
 
     ``host``: the name (or address) given to ``kapitza serve --host``; requests naming it are
-    answered besides those naming the loopback (the ``Host`` check of :mod:`kapitza.web.app`)."""
+    answered besides those naming the loopback (the ``Host`` check of :mod:`kapitza.web.app`).
+
+    Parameters
+    ----------
+    sock : socket.socket
+        From :func:`bind`.
+    log_level : str
+    workers : int
+    host : str, optional
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    Blocks until interrupted (``kapitza serve`` does this):
+
+    >>> from kapitza.web.server import bind, serve
+    >>> serve(bind(port=8000))  # doctest: +SKIP
+    """
     import uvicorn
 
     if host:
