@@ -561,12 +561,15 @@ def _exact_tau(eps, mu):
 
     q = 16.0 * float(eps) ** 2 / math.pi**2
     G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2))
-    P = 96 + int(2.0 * G / math.log(2.0))
+    growth = int(2.0 * G / math.log(2.0)) + 1
+    P = 96 + growth
     for _ in range(8):
         wI, dwI, wII, dwII = _exact_half_period(eps, mu, P)
         num = 2 * wI * dwII - (1 << 2 * P)  # tau * 2^(2P)
         gap = abs(abs(num) - (1 << 2 * P))  # | |tau| - 1 | * 2^(2P)
-        if gap > (1 << (2 * P - 48)) or P > 1500:  # beyond 2^-3000 the count decides
+        # each truncation costs at most 2^-P; a few thousand of them per step (steps x terms^2), grown
+        # by at most e^(2G) in the products: tau is known to 2^-(P - growth - 32), num to 2^(P + growth + 32)
+        if gap > (1 << (P + growth + 32)) or P > 1500:  # beyond 2^-3000 the count decides
             break
         P *= 2
     with mpmath.workprec(64):
