@@ -478,3 +478,26 @@ def test_chart_command_of_many_zones_at_20000_points_fits_in_memory(tmp_path):
                           "--out", str(tmp_path / "c")], capture_output=True, text=True, timeout=3600)
     assert res.returncode == 0, res.stderr[-2000:]
     assert (tmp_path / "c.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("call, words", [
+    (lambda: __import__("kapitza.curves").curves.drive_curves("sine", [0.3], 4.0, -1.0), ["zeta", "-1"]),
+    (lambda: __import__("kapitza.curves").curves.drive_curves("sine", [1.5], 4.0), ["mu", "1.5"]),
+    (lambda: __import__("kapitza.curves").curves.drive_curves("sine", [0.3], 2.0, 0.0, 3.0), ["eps", "(3, 2)"]),
+    (lambda: __import__("kapitza.rig_plane").rig_plane.rig_zone_curves(around=(-1, 0.1)), ["around", "-1"]),
+    (lambda: __import__("kapitza.rig_plane").rig_plane.rig_window(l=-1), ["l", "-1"]),
+])
+def test_public_helpers_name_the_bad_argument(call, words):
+    with pytest.raises(ValueError) as info:
+        call()
+    for w in words:
+        assert w in str(info.value)
+
+
+def test_a_folder_that_is_not_a_sweep_store_is_named(tmp_path):
+    from kapitza.sweeps import open_store
+
+    with pytest.raises(ValueError, match="not one"):
+        open_store(tmp_path)
+    with pytest.raises(FileNotFoundError):
+        open_store(tmp_path / "missing")

@@ -509,8 +509,8 @@ def drive_curves(drive, mu, eps_max, zeta=0.0, eps_min=0.0):
     Raises
     ------
     ValueError
-        If ``drive`` names no drive. The other arguments are not checked: :func:`window_curves`
-        checks a window before it calls this.
+        If ``drive`` names no drive, ``mu`` is not in ``(0, mu_top)`` (:func:`mu_top`), the
+        window is not ``0 <= eps_min < eps_max < inf`` or ``zeta`` is negative.
 
     Examples
     --------
@@ -524,7 +524,12 @@ def drive_curves(drive, mu, eps_max, zeta=0.0, eps_min=0.0):
     array([0.1570..., 0.4712..., 0.7853...])
     """
     d = as_drive(drive)
-    mu = np.asarray(mu, float)
+    zeta = _v.one("zeta", _v.damping_ratio(zeta))
+    top = mu_top(d)
+    mu = np.atleast_1d(_v.in_range("mu", mu, 0.0, top, hi_open=True)).astype(float)
+    if mu.ndim != 1:
+        raise _v.KapitzaValueError(f"mu must be one row of values; got shape {mu.shape}")
+    eps_min, eps_max = window_range((eps_min, eps_max), (0.0, top), top)
     rows, zone, lo_f, hi_f = _api.window_edges(d, mu, float(eps_min), float(eps_max), np.full(mu.size, float(zeta)))
     ok = np.isfinite(lo_f) & (lo_f < eps_max) & ~(hi_f < eps_min)
     zones = np.unique(zone[ok])

@@ -77,7 +77,8 @@ def rig_window(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, around
     Returns
     -------
     ((float, float), (float, float))
-        Not checked: :func:`rig_zone_curves` checks the window.
+        Not checked: :func:`rig_zone_curves` checks the window (``l``, ``g`` and ``around`` are
+        checked here).
 
     Examples
     --------
@@ -89,8 +90,16 @@ def rig_window(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, around
     """
     f0, f1 = (None, None) if frequency_range is None else frequency_range
     s0, s1 = (None, None) if stroke_range is None else stroke_range
+    l = _v.one("l", _v.positive("l", l))
+    g = _v.one("g", _v.positive("g", g))
     if around is not None:
-        fa, sa = (float(v) for v in around)
+        try:
+            fa, sa = (float(v) for v in around)
+        except (TypeError, ValueError):
+            raise _v.KapitzaValueError(f"around must be a rig's (frequency, stroke); got {around!r}") from None
+        if not (0.0 < fa < np.inf and 0.0 < sa < np.inf):
+            raise _v.KapitzaValueError(f"around must be a rig's (frequency, stroke) with 0 < frequency < inf and "
+                                       f"0 < stroke < inf; got ({fa!r}, {sa!r})")
         df, ds = (fa / 4.0, fa * 4.0), (sa / 40.0, sa * 40.0)
     else:
         fn = float(np.sqrt(g / l) / (2.0 * np.pi))

@@ -182,8 +182,9 @@ def open_store(path):
     Raises
     ------
     FileNotFoundError
-        If ``path`` does not exist (a folder that is not a Zarr store raises zarr's own error;
-        :func:`open_sweep` checks a store first).
+        If ``path`` does not exist.
+    ValueError
+        If ``path`` is not a Zarr group.
 
     Examples
     --------
@@ -201,7 +202,13 @@ def open_store(path):
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return zarr.open_group(str(path), mode="r+", use_consolidated=(Path(path) / ".zmetadata").exists())
+        if not Path(path).exists():
+            raise FileNotFoundError(f"no sweep store at {str(path)!r}")
+        try:
+            return zarr.open_group(str(path), mode="r+", use_consolidated=(Path(path) / ".zmetadata").exists())
+        except Exception as exc:  # zarr's own "no group here" (its class moved between versions)
+            raise _v.KapitzaValueError(f"store must be a kapitza sweep store (a Zarr group); {str(path)!r} is not "
+                                       f"one ({type(exc).__name__})") from None
 
 
 def _incomplete(path, why):
