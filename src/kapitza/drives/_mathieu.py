@@ -711,8 +711,10 @@ def sine_grid(eps, mu, out):
         return out
     W = eps.size
     m = mu[ok]
-    q1, a1 = _qa(np.full(m.size, float(eps[-1])), m)
-    K = _count(np.arange(4)[:, None], q1[None, :], a1[None, :]).reshape(-1)  # crossings up to eps[-1]
+    # crossings up to just past eps[-1]: one within the rounding band above the last pixel is in view
+    # (the pixel beside it is then decided point by point, below)
+    q1, a1 = _qa(float(eps[-1]) * (1.0 + 4.0 * _band(m)), m)
+    K = _count(np.arange(4)[:, None], q1[None, :], a1[None, :]).reshape(-1)
     r = np.repeat(np.tile(np.arange(m.size), 4), K)
     fam = np.repeat(np.repeat(np.arange(4), m.size), K)
     k = np.arange(r.size) - np.repeat(np.cumsum(K) - K, K)
