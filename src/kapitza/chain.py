@@ -69,7 +69,7 @@ def _positive_list(name, value, bounds):
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise _v.KapitzaValueError(f"{name} must lie in [{lo:g}, {hi:g}] ({lo:g} <= {name}[i] <= {hi:g}); "
-                                   f"got {name}[{i}] = {arr[i]!r}")
+                                   f"got {name}[{i}] = {float(arr[i])!r}")
     return tuple(float(x) for x in arr)
 
 
