@@ -44,6 +44,42 @@ def exact_half_trace(eps, mu):
     return tau, log_tau, stable, angle
 
 
+def _half_trace_mp(E8, MM, levels, durations, prec):
+    """``tr M / 2`` (a raw mpmath number) of the segment product with ``k_i = E8 (MM + s_i)``, each
+    operation correctly rounded to ``prec`` bits (``E8 = 8 eps^2``, ``MM = mu^2``, raw numbers)."""
+    from mpmath import libmp as L
+
+    one, zero = L.fone, L.fzero
+    a, b, c, d = one, zero, zero, one
+    for s, h in zip(levels, durations):
+        k = L.mpf_mul(E8, L.mpf_add(MM, L.from_float(float(s)), prec), prec)
+        H = L.from_float(float(h))
+        sign = L.mpf_sign(k)
+        if sign == 0:
+            sa, sb, sc, sd = one, H, zero, one
+        else:
+            w = L.mpf_sqrt(L.mpf_abs(k), prec)
+            x = L.mpf_mul(w, H, prec)
+            if sign > 0:
+                ch, sh = L.mpf_cosh_sinh(x, prec)
+                sa, sb, sc, sd = ch, L.mpf_div(sh, w, prec), L.mpf_mul(w, sh, prec), ch
+            else:
+                co, si = L.mpf_cos_sin(x, prec)
+                sa, sb, sc, sd = co, L.mpf_div(si, w, prec), L.mpf_neg(L.mpf_mul(w, si, prec)), co
+        a, b, c, d = (L.mpf_add(L.mpf_mul(sa, a, prec), L.mpf_mul(sb, c, prec), prec),
+                      L.mpf_add(L.mpf_mul(sa, b, prec), L.mpf_mul(sb, d, prec), prec),
+                      L.mpf_add(L.mpf_mul(sc, a, prec), L.mpf_mul(sd, c, prec), prec),
+                      L.mpf_add(L.mpf_mul(sc, b, prec), L.mpf_mul(sd, d, prec), prec))
+    return L.mpf_shift(L.mpf_add(a, d, prec), -1)
+
+
+def _dps(e, m2, levels, durations):
+    """Digits that cover the cancellation of ``e^{sum r}`` terms (and, near ``eps -> 0``, the
+    ``O(rsum^4)`` size of ``tr M/2 - 1``)."""
+    rsum = sum(np.sqrt(8.0 * e * e * abs(m2 + s)) * h for s, h in zip(levels, durations))
+    return 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
+
+
 def tau_mp(eps, mu, levels, durations):
     """``tr M / 2`` in mpmath, at a precision that covers the cancellation of ``e^{sum r}`` terms:
     ``[(tau, log|tau|, stable, angle)]`` per point (``angle`` as in :func:`exact_half_trace`).
@@ -56,33 +92,10 @@ def tau_mp(eps, mu, levels, durations):
     one, zero = L.fone, L.fzero
     out = []
     for e, m in zip(eps.tolist(), mu.tolist()):
-        rsum = sum(np.sqrt(8.0 * e * e * abs(m * m + s)) * h for s, h in zip(levels, durations))
-        # e^rsum-sized terms cancel far out; near eps -> 0, tr M/2 - 1 = O(rsum^4) is what decides
-        dps = 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
-        prec = L.dps_to_prec(dps)
+        prec = L.dps_to_prec(_dps(e, m * m, levels, durations))
         E8 = L.mpf_mul(L.from_int(8), L.mpf_mul(L.from_float(e), L.from_float(e), prec), prec)
         MM = L.mpf_mul(L.from_float(m), L.from_float(m), prec)
-        a, b, c, d = one, zero, zero, one
-        for s, h in zip(levels, durations):
-            k = L.mpf_mul(E8, L.mpf_add(MM, L.from_float(float(s)), prec), prec)
-            H = L.from_float(float(h))
-            sign = L.mpf_sign(k)
-            if sign == 0:
-                sa, sb, sc, sd = one, H, zero, one
-            else:
-                w = L.mpf_sqrt(L.mpf_abs(k), prec)
-                x = L.mpf_mul(w, H, prec)
-                if sign > 0:
-                    ch, sh = L.mpf_cosh_sinh(x, prec)
-                    sa, sb, sc, sd = ch, L.mpf_div(sh, w, prec), L.mpf_mul(w, sh, prec), ch
-                else:
-                    co, si = L.mpf_cos_sin(x, prec)
-                    sa, sb, sc, sd = co, L.mpf_div(si, w, prec), L.mpf_neg(L.mpf_mul(w, si, prec)), co
-            a, b, c, d = (L.mpf_add(L.mpf_mul(sa, a, prec), L.mpf_mul(sb, c, prec), prec),
-                          L.mpf_add(L.mpf_mul(sa, b, prec), L.mpf_mul(sb, d, prec), prec),
-                          L.mpf_add(L.mpf_mul(sc, a, prec), L.mpf_mul(sd, c, prec), prec),
-                          L.mpf_add(L.mpf_mul(sc, b, prec), L.mpf_mul(sd, d, prec), prec))
-        t = L.mpf_shift(L.mpf_add(a, d, prec), -1)
+        t = _half_trace_mp(E8, MM, levels, durations, prec)
         # the verdict |t| < 1 is decided here, in extended precision; the float of t may
         # round to +-1 on either side
         at = L.mpf_abs(t)
@@ -95,4 +108,35 @@ def tau_mp(eps, mu, levels, durations):
         near = L.round_nearest
         out.append((L.to_float(t, rnd=near), L.to_float(L.mpf_log(at, prec, near), rnd=near) if t != zero else -np.inf,
                     bool(st), angle))
+    return out
+
+
+def damped_mp(eps, mu, zeta, levels, durations):
+    """The damped verdict at the exact doubles ``eps, mu, zeta`` of a piecewise-constant drive:
+    ``[(stable, growth)]`` per point, ``stable`` iff ``|tr M_phi| / 2 < cosh(kappa)`` decided in
+    extended precision (``M_phi`` the monodromy of ``phi = e^{ct/2} theta`` at ``mu^2 (1 + zeta^2)``,
+    ``kappa = 2 sqrt 8 zeta mu eps = c T``), ``growth = log max|lambda|`` of the damped system
+    (``acosh|tr M_phi / 2| - kappa`` off the phi-zones, ``-kappa`` on them). The precision doubles
+    until the difference is resolved (up to 3,000 digits; beyond, the last answer stands)."""
+    import mpmath
+    from mpmath import libmp as L
+
+    out = []
+    for e, m, z in zip(eps.tolist(), mu.tolist(), zeta.tolist()):
+        dps = _dps(e, m * m * (1.0 + z * z), levels, durations)
+        while True:
+            prec = L.dps_to_prec(dps)
+            with mpmath.workprec(prec):
+                E, M, Z = mpmath.mpf(e), mpmath.mpf(m), mpmath.mpf(z)
+                E8 = (8 * E * E)._mpf_
+                MM = (M * M * (1 + Z * Z))._mpf_
+                t = mpmath.mpf(_half_trace_mp(E8, MM, levels, durations, prec))
+                kappa = 2 * mpmath.sqrt(8) * Z * M * E
+                diff = abs(t) - mpmath.cosh(kappa)
+                resolved = diff != 0 and abs(diff) > mpmath.mpf(2) ** (-(prec - 64)) * mpmath.cosh(kappa)
+                if resolved or dps > 3000:
+                    growth = (mpmath.acosh(abs(t)) if abs(t) > 1 else mpmath.mpf(0)) - kappa
+                    out.append((bool(diff < 0), float(growth)))
+                    break
+            dps *= 2
     return out

@@ -57,6 +57,29 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
         G = _damped_excess(drive, eps, mu_c, kappa, f.log_tau, f.zone < 0).reshape(eps.shape)
         stable = (f.zone >= 0) | (G < 0)
     growth = f.growth - kappa
+    steps = drive._steps() if certify else None
+    if steps is not None:
+        # where rounding may decide, the exact doubles decide in extended precision
+        # (kapitza._certify.damped_mp): G near 0 by less than it moves over 32 ulp of eps (its own
+        # rounding, and that of mu_c, move it by the like of a few ulp of eps)
+        Gf = G.reshape(-1)
+        cand = np.flatnonzero(np.abs(Gf) < 1e-4)
+        unsure = cand[:0]
+        if cand.size:
+            e, m, z = eps.reshape(-1)[cand], mu.reshape(-1)[cand], zeta.reshape(-1)[cand]
+            h = 16.0 * np.finfo(float).eps * e
+            with np.errstate(invalid="ignore"):
+                swing = np.abs(_excess(drive, e + h, m, z) - _excess(drive, e - h, m, z))
+            unsure = cand[~(np.abs(Gf[cand]) > swing + 1e-13)]
+        if unsure.size:
+            from .._certify import damped_mp
+
+            levels, fractions = steps
+            res = damped_mp(eps.reshape(-1)[unsure], mu.reshape(-1)[unsure], zeta.reshape(-1)[unsure],
+                            levels, tuple(2.0 * f_ for f_ in fractions))
+            stable, growth = np.array(stable, bool, copy=True), np.array(growth, float, copy=True)
+            stable.reshape(-1)[unsure] = [r[0] for r in res]
+            growth.reshape(-1)[unsure] = [r[1] for r in res]
     zone = np.where(f.zone >= 0, f.zone, -1)
     gap = stable & (f.zone < 0)
     if np.any(gap):
