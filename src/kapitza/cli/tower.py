@@ -359,3 +359,52 @@ def cmd_tower(args):
     elif written:
         print("wrote " + ", ".join(str(p) for p in written))
     return 0
+
+
+# ------------------------------------------------------------------ kapitza chart --chain
+#: the single pendulum's options of ``chart`` (flag, dest, default), refused with --chain
+CHART_PENDULUM_OPTIONS = (("--l", "l", 1.0), ("--rod", "rod", None), ("--zeta", "zeta", 0.0),
+                          ("--damping", "damping", None), ("--mark-eps", "mark_eps", None),
+                          ("--mark-mu", "mark_mu", None))
+
+
+def chart_tower(args):
+    """``kapitza chart --chain ...``: the tower's band on the rig plane, in the chart's formats."""
+    if args.plane not in (None, "rig"):
+        raise CLIError(f"--chain draws the tower's band on the rig plane (drive frequency against stroke): give "
+                       f"--plane rig or leave --plane out; got --plane {args.plane}")
+    refuse_pendulum_options(args, CHART_PENDULUM_OPTIONS)
+    chain = chain_from(args)
+    drive = drive_from(args)
+    point = None
+    if args.rpm is not None:
+        if args.frequency is not None:
+            raise CLIError("give --frequency or --rpm, not both")
+        if not args.rpm > 0:
+            raise CLIError(f"--rpm must be > 0; got {args.rpm!r}")
+        args.frequency = args.rpm / 60.0
+    if args.frequency is not None or args.stroke is not None or args.amplitude is not None:
+        if args.frequency is None or (args.stroke is None) == (args.amplitude is None):
+            raise CLIError("mark a point by --frequency (or --rpm) with one of --stroke, --amplitude")
+        if args.mark_T is not None or args.mark_A is not None:
+            raise CLIError("give the mark by --frequency with --stroke/--amplitude, or by --mark-T/--mark-A, not both")
+        point = dict(frequency=args.frequency, stroke=args.stroke, amplitude=args.amplitude)
+    elif args.mark_T is not None or args.mark_A is not None:
+        if args.mark_T is None or args.mark_A is None:
+            raise CLIError("--mark-T and --mark-A must be given together")
+        point = dict(T=args.mark_T, A=args.mark_A)
+    report = None if point is None else chain.analyze(g=args.g, drive=drive, **point)
+    fig, curves = band_chart(chain, drive, args.g, only=args.only, amplitude=args.amplitude_axis,
+                             frequency_range=(args.frequency_min, args.frequency_max),
+                             stroke_range=(args.stroke_min, args.stroke_max), points=args.points, grid=args.grid,
+                             mark=None if report is None else (report.frequency, report.stroke), title=args.title)
+    out = _header(chain, drive, args.g)
+    if report is not None:
+        out["report"] = report.as_dict()
+    written = write_band(fig, curves, out_stem(args.out), out, command="kapitza chart",
+                         formats=("png", "svg", "pdf") if args.pdf else ("png", "svg"))
+    print(f"tower: {chain.describe()}")
+    if report is not None:
+        print(f"the point ({report.frequency:.6g} Hz, stroke {1e3 * report.stroke:.6g} mm): {report.verdict}")
+    print("wrote " + ", ".join(str(p) for p in written))
+    return 0
