@@ -408,3 +408,140 @@ def chart_tower(args):
         print(f"the point ({report.frequency:.6g} Hz, stroke {1e3 * report.stroke:.6g} mm): {report.verdict}")
     print("wrote " + ", ".join(str(p) for p in written))
     return 0
+
+
+# ------------------------------------------------------------------ kapitza simulate/animate --chain
+#: the single pendulum's options of ``simulate`` and ``animate`` (flag, dest, default), refused with --chain
+MOTION_PENDULUM_OPTIONS = (("--l", "l", None), ("--rod", "rod", None), ("--damping", "damping", 0.0),
+                           ("--zeta", "zeta", None), ("--orbits", "orbits", 12), ("--strobe-periods", "strobe_periods", 300),
+                           ("--compare-linear", "compare_linear", False))
+
+
+def _motion_point(args):
+    """``(chain, drive, report, T, A, g)`` of simulate/animate --chain, from the single pendulum's point
+    options (--frequency or --rpm with --stroke, --amplitude or --A; --T with --A; --drive...)."""
+    from ._common import parameters_from
+
+    if args.eps is not None or args.mu is not None:
+        raise CLIError("--eps and --mu are the single pendulum's (each mode of a tower has its own eps): with --chain "
+                       "give --frequency with --stroke or --amplitude, or --T and --A")
+    refuse_pendulum_options(args, MOTION_PENDULUM_OPTIONS)
+    if args.model == "linear":
+        raise CLIError("--chain follows the full (nonlinear) motion only; the tower's linear motion is its modes "
+                       "(kapitza tower --chain ... for their verdicts)")
+    if args.method == "exact":
+        raise CLIError("--method exact is the single pendulum's (elliptic functions); the tower is integrated by "
+                       "DOP853 (--rtol, --atol)")
+    chain = chain_from(args)
+    given = [args.T, args.A, args.frequency, args.rpm, args.stroke, args.amplitude]
+    if all(v is None for v in given) and args.drive_file is None:
+        raise CLIError("with --chain give the point: --frequency with --stroke or --amplitude, or --T with --A")
+    kw = parameters_from(args)
+    report = chain.analyze(T=kw["T"], A=kw["A"], g=kw["g"], drive=kw["drive"])
+    return chain, kw["drive"], report
+
+
+def _motion_of(args, chain, drive, report):
+    if args.periods is not None and not args.periods > 0:
+        raise CLIError(f"--periods must be > 0; got {args.periods!r}")
+    return tower_motion(chain, drive, report, args.g, theta0=args.theta0, dtheta0=args.dtheta0,
+                        along_mode=args.along_mode, periods=args.periods,
+                        points_per_period=getattr(args, "points_per_period", None), tol=args.tol,
+                        rtol=args.rtol, atol=args.atol)
+
+
+def _motion_json(args, chain, drive, report, motion):
+    import numpy as np
+
+    out = _header(chain, drive, args.g)
+    out["parameters"] = {"T": report.T, "A": report.A, "frequency": report.frequency, "stroke": report.stroke,
+                         "given": args.given}
+    out["report"] = report.as_dict()
+    th0 = start_tilt(chain, args.theta0, args.along_mode)
+    out["start"] = {"theta0": th0.tolist(), "dtheta0": np.full(chain.n, args.dtheta0).tolist(),
+                    "along_mode": bool(args.along_mode)}
+    out["motion"] = motion_summary(motion)
+    if args.rig_note:
+        out["note"] = args.rig_note
+    return out
+
+
+def _motion_lines(args, chain, report, motion):
+    rig = ""
+    if args.given in ("stroke", "amplitude"):
+        rig = f"{report.frequency:.6g} Hz, {args.given} {1e3 * getattr(args, args.given):.6g} mm; "
+    start = "every link" if not args.along_mode else "along mode 1, " + ", ".join(
+        f"{x:+.4g}" for x in start_tilt(chain, args.theta0, True))
+    return [f"tower        {chain.describe()}",
+            f"parameters   {rig}T = {report.T:.6g} s, A = {report.A:.6g} m/s^2 ({report.A / args.g:.4g} g), "
+            f"g = {args.g:g} m/s^2",
+            f"drive        {report.drive}",
+            f"upright      {report.verdict}",
+            f"start        theta0 = {args.theta0:g} rad ({start}), dtheta0 = {args.dtheta0:g} rad/s",
+            "outcome      " + motion_outcome(motion, args.theta0, args.along_mode).split(": ", 1)[1]
+            + f"; largest tilt {float(abs(motion.theta).max()):.4g} rad"]
+
+
+def simulate_tower(args):
+    """``kapitza simulate --chain ...``: the tower's full motion as data, a figure and a summary."""
+    chain, drive, report = _motion_point(args)
+    motion = _motion_of(args, chain, drive, report)
+    summary = _motion_json(args, chain, drive, report, motion)
+    files = []
+    if args.out:
+        stem = out_stem(args.out)
+        files.append(write_motion_csv(stem.with_suffix(".csv"), motion, chain, report, "kapitza simulate"))
+        if args.figures:
+            import matplotlib.pyplot as plt
+
+            from ..figures._style import save
+            from ..figures.tower import tower_motion_figure
+
+            fig, _ = tower_motion_figure(motion, title=f"{chain.n}-link tower, " + motion_title(report, motion))
+            try:
+                files += save(fig, stem.parent / (stem.name + "-series"))
+            finally:
+                plt.close(fig)
+        summary["files"] = [str(f) for f in files] + [str(stem.with_suffix(".json"))]
+        files.append(_io.write_json(stem.with_suffix(".json"), summary))
+    if args.json:
+        print_json(summary)
+        return 0
+    print("\n".join(_motion_lines(args, chain, report, motion)))
+    if files:
+        print("\nwrote " + ", ".join(str(f) for f in files))
+    return 0
+
+
+def animate_tower_motion(args):
+    """``kapitza animate --chain ...``: the tower standing or toppling, as GIF (MP4 with ffmpeg)."""
+    import sys
+    from pathlib import Path
+
+    from ..figures.animation import ProgressBar
+    from ..figures.tower import animate_tower
+
+    chain, drive, report = _motion_point(args)
+    if Path(args.out).suffix.lower() not in (".gif", ".mp4"):
+        raise CLIError(f"--out must end in .gif or .mp4; got {args.out!r}")
+    motion = _motion_of(args, chain, drive, report)
+    slowdown = 1.0 if args.slowdown is None else args.slowdown
+    progress = None if args.quiet else ProgressBar(f"rendering {Path(args.out).name}")
+    # a tower that toppled is shown lying where it fell for a second more
+    shown = float(motion.t[-1]) + (1.0 if motion.toppled else 0.0)
+    path = animate_tower(motion, args.out, titles=[motion_title(report, motion)], fps=args.fps, slowdown=slowdown,
+                         dpi=args.dpi, progress=progress, duration=shown)
+    message = ""
+    if Path(args.out).suffix.lower() == ".mp4" and path.suffix.lower() != ".mp4":
+        message = f"ffmpeg was not found, so MP4 cannot be written; wrote the GIF {path} instead (install ffmpeg for MP4)"
+        print(f"kapitza animate: {message}", file=sys.stderr)
+    frames = int(shown * args.fps * slowdown) + 1
+    summary = _motion_json(args, chain, drive, report, motion) | {
+        "file": str(path), "format": path.suffix.lstrip(".").lower(), "frames": frames, "fps": args.fps,
+        "slowdown": slowdown, "message": message}
+    if args.json:
+        print_json(summary)
+    else:
+        print("\n".join(_motion_lines(args, chain, report, motion)))
+        print(f"wrote {path} ({frames} frames at {args.fps:g} fps, {slowdown:.3g} s of video per s of motion)")
+    return 0

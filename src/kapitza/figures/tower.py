@@ -209,43 +209,40 @@ def plot_tower_motion(motion, ax=None, legend=True):
         art["topple"] = ax.axvline(motion.t_topple, color="#c0392b", lw=1.0, ls="--",
                                    label=f"toppled, t = {motion.t_topple:.3g} s")
     ax.axhline(0.0, color="0.75", lw=0.6)
-    ax.set_xlim(0.0, max(float(motion.t[-1]), 1e-12))
+    ax.set_xlim(0.0, 1.03 * max(float(motion.t[-1]), 1e-12))  # room for the moment it toppled, at the end
     top = max(1.1 * float(np.max(np.abs(motion.theta))) if motion.theta.size else 0.0, 0.05)
     ax.set_ylim(-min(top, 1.15 * motion.tol), min(top, 1.15 * motion.tol))
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(r"angle from the upright $\theta_j$ [rad]")
     ax.grid(True, color="0.9", lw=0.6)
     if legend:
-        art["legend"] = ax.legend(loc="upper left", fontsize=7, ncol=min(motion.theta.shape[0] + 1, 5), framealpha=0.9)
+        art["legend"] = ax.legend(loc="best", fontsize=7, ncol=min(motion.theta.shape[0] + 1, 5), framealpha=0.9)
     return Drawn(ax, art, motion)
 
 
 def tower_motion_figure(motion, title=None):
-    """The tower's motion over time: the link angles above, the pivot's height below, with a caption.
+    """The tower's motion over time (:func:`plot_tower_motion`) with a title and a caption.
 
     Returns
     -------
     fig, Drawn
     """
-    fig = new_figure(width=7.0, height=4.6)
-    ax, bx = fig.subplots(2, 1, sharex=True, height_ratios=(3, 1))
+    fig = new_figure(width=7.0, height=3.8)
+    ax = fig.add_subplot()
     drawn = plot_tower_motion(motion, ax=ax)
-    ax.set_xlabel("")
-    bx.plot(motion.t, 1e3 * motion.pivot, color="0.35", lw=0.6)
-    bx.set_xlabel("time t [s]")
-    bx.set_ylabel("pivot [mm]")
-    bx.grid(True, color="0.9", lw=0.6)
     n = motion.theta.shape[0]
     ax.set_title(title or f"{n}-link tower, T = {motion.T:.4g} s ({0.5 / motion.T:.4g} Hz), "
                           f"A = {motion.A:.4g} m/s$^2$", fontsize=10)
-    end = (f"a link passed {motion.tol:.3g} rad at t = {motion.t_topple:.3g} s: the tower toppled" if motion.toppled
-           else f"every link stayed within {motion.tol:.3g} rad: the tower stands")
+    end = (f"A link passed {motion.tol:.3g} rad at t = {motion.t_topple:.3g} s: the tower toppled." if motion.toppled
+           else f"Every link stayed within {motion.tol:.3g} rad: the tower stands.")
+    shown = ax.get_ylim()[1] >= motion.tol
+    window = (f" Dotted: {chr(177)}{motion.tol:.3g} rad, beyond which a link has fallen." if shown else "")
     dt = float(np.median(np.diff(motion.t))) if motion.t.size > 1 else 0.0
     alias = (f" Sampled every {dt:.3g} s against a drive period of {2 * motion.T:.3g} s: the fast shaking is "
-             "aliased, the slow swaying is not." if dt > 0.1 * motion.T else "")
-    caption(fig, f"The full (nonlinear) motion of the tower ({motion.drive}): each link's angle from the upright, "
-                 f"the pivot's height below; dotted, the window beyond which a link counts as fallen. "
-                 f"{end[0].upper()}{end[1:]}.{alias}")
+             "aliased, the slow swaying is not." if dt > 0.5 * motion.T else "")
+    caption(fig, f"The full (nonlinear) motion of the tower on its shaken pivot ({motion.drive}): each link's angle "
+                 f"from the upright (link 1 at the pivot). The small fast wiggles are the drive's shaking, the slow "
+                 f"swaying the tower's own motion.{window} {end}{alias}")
     return fig, drawn
 
 
@@ -313,7 +310,7 @@ def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80,
         path = path.with_suffix("." + fmt)
     times = np.arange(n_frames) / (fps * slowdown)
     k = len(motions)
-    fig, axes = plt.subplots(1, k, figsize=(3.2 * k, 2.6), squeeze=False)
+    fig, axes = plt.subplots(1, k, figsize=(3.6 * k, 3.0), squeeze=False)
     axes = axes.ravel()
     artists = []
     for i, (ax, m) in enumerate(zip(axes, motions)):
