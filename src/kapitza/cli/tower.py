@@ -87,12 +87,12 @@ def chain_from(args):
 
 
 def refuse_pendulum_options(args, options):
-    """A one-line error for each single pendulum's option (``(flag, dest, default)``) given with --chain."""
-    for flag, dest, default in options:
+    """A one-line error for a single pendulum's option (``(flag, dest, default, what to give instead)``)
+    given with --chain."""
+    for flag, dest, default, instead in options:
         v = getattr(args, dest, default)
         if v is not None and v is not False and v != default:
-            raise CLIError(f"{flag} is the single pendulum's; with --chain the tower is given by --chain, --masses, "
-                           "--links and --joint-damping")
+            raise CLIError(f"{flag} is the single pendulum's, not the tower's: {instead}")
 
 
 def add_band_options(group):
@@ -363,9 +363,12 @@ def cmd_tower(args):
 
 # ------------------------------------------------------------------ kapitza chart --chain
 #: the single pendulum's options of ``chart`` (flag, dest, default), refused with --chain
-CHART_PENDULUM_OPTIONS = (("--l", "l", 1.0), ("--rod", "rod", None), ("--zeta", "zeta", 0.0),
-                          ("--damping", "damping", None), ("--mark-eps", "mark_eps", None),
-                          ("--mark-mu", "mark_mu", None))
+_LINKS = "with --chain the links are given by --chain, --masses and --links"
+_FRICTION = "with --chain the friction is --joint-damping C (N m s/rad, at every joint)"
+_MARK = "mark the tower's point by --frequency with --stroke or --amplitude, or by --mark-T and --mark-A"
+CHART_PENDULUM_OPTIONS = (("--l", "l", 1.0, _LINKS), ("--rod", "rod", None, _LINKS), ("--zeta", "zeta", 0.0, _FRICTION),
+                          ("--damping", "damping", None, _FRICTION), ("--mark-eps", "mark_eps", None, _MARK),
+                          ("--mark-mu", "mark_mu", None, _MARK))
 
 
 def chart_tower(args):
@@ -412,9 +415,12 @@ def chart_tower(args):
 
 # ------------------------------------------------------------------ kapitza simulate/animate --chain
 #: the single pendulum's options of ``simulate`` and ``animate`` (flag, dest, default), refused with --chain
-MOTION_PENDULUM_OPTIONS = (("--l", "l", None), ("--rod", "rod", None), ("--damping", "damping", 0.0),
-                           ("--zeta", "zeta", None), ("--orbits", "orbits", 12), ("--strobe-periods", "strobe_periods", 300),
-                           ("--compare-linear", "compare_linear", False))
+_ENSEMBLE = "the tower's motion is one start, without a stroboscopic ensemble"
+MOTION_PENDULUM_OPTIONS = (("--l", "l", None, _LINKS), ("--rod", "rod", None, _LINKS), ("--damping", "damping", 0.0, _FRICTION),
+                           ("--zeta", "zeta", None, _FRICTION), ("--orbits", "orbits", 12, _ENSEMBLE),
+                           ("--strobe-periods", "strobe_periods", 300, _ENSEMBLE),
+                           ("--compare-linear", "compare_linear", False,
+                            "the tower's linear motion is its modes ('kapitza tower' gives their verdicts)"))
 
 
 def _motion_point(args):
