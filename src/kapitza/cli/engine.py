@@ -80,7 +80,11 @@ def register(sub):
         "so thin tongues stay visible at any zoom); 2T-periodic edges (T_n) solid, 4T-periodic edges\n"
         "(T~_n) dashed. Zones too thin to see in the window (n = 1-3) are also drawn magnified in panels\n"
         "below (--no-magnify: not). Any window is recomputed exactly: --eps-min .. --mu-max zoom in.\n"
-        "Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.",
+        "Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.\n\n"
+        "With --chain L1,L2,...: the stable band of a tower of linked pendulums on one shaken pivot, on the\n"
+        "rig plane (drive frequency against stroke, log axes), each mode's zone-0 edges drawn and labelled,\n"
+        "for the towers of its first 1, 2, ..., N links side by side (--only: the whole tower alone); the\n"
+        "curves as OUT.csv and everything (with the verdict at a marked point) as OUT.json.",
         epilog="examples:\n  kapitza chart --out chart\n"
         "  kapitza chart --eps-min 1.65 --eps-max 1.8 --mu-min 0 --mu-max 0.35 --out zoom   # zone 1 up close\n"
         "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set\n"
@@ -134,8 +138,7 @@ def register(sub):
     r.add_argument("--stroke-max", type=finite_float, metavar="M")
     from .tower import add_band_options, add_chain_options
 
-    t = p.add_argument_group("a tower of linked pendulums (--chain: its band on the rig plane, each mode's edges; "
-                             "writes OUT.json too)")
+    t = p.add_argument_group("a tower of linked pendulums (--chain; the rig plane)")
     add_chain_options(t)
     add_band_options(t)
     p.set_defaults(func=cmd_chart)

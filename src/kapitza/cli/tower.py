@@ -51,8 +51,8 @@ def add_chain_options(group, default=None):
     """--chain, --masses, --links, --joint-damping (read by :func:`chain_from`). ``default``: the
     lengths without --chain (the ``tower`` command's); None: no tower unless --chain is given."""
     group.add_argument("--chain", default=default, metavar="L1,L2,...",
-                       help="a tower of linked pendulums: link lengths in m from the pivot up"
-                            + (f" (default {default})" if default else ", e.g. 0.2,0.2,0.2"))
+                       help="link lengths in m from the pivot up"
+                            + (f" (default {default})" if default else ", e.g. 0.2,0.2,0.2: a tower of three links"))
     group.add_argument("--masses", metavar="M1,M2,...", help="link masses in kg (default: equal)")
     group.add_argument("--links", choices=("rod", "point"), default=None,
                        help="rod: uniform rods (default); point: point masses on massless rods")
@@ -100,7 +100,7 @@ def add_band_options(group):
     group.add_argument("--only", action="store_true", help="draw the whole tower alone, not its 1..N-link prefixes")
     group.add_argument("--amplitude-axis", action="store_true",
                        help="vertical axis in displacement amplitude, not stroke")
-    group.add_argument("--grid", type=int, default=None,
+    group.add_argument("--grid", type=int, default=None, metavar="N",
                        help="grid points per axis of the band (default 200, at most 2000)")
 
 
