@@ -173,10 +173,11 @@ def tower_chart_figure(chains, drive=None, g=9.81, frequency_range=None, stroke_
     kind = "uniform rods" if c0.links == "rod" else "point masses on massless rods"
     friction = (f" Joint friction c = {c0.joint_damping:.3g} N m s/rad couples the modes: the shading is the full "
                 f"2N monodromy's verdict.") if c0.joint_damping > 0 and c0.n > 1 else ""
+    more = " More links: a narrower band." if n > 1 else ""
     caption(fig, f"Shaded: the upright tower is stable ({d.describe()}, {kind}, g = {g:g} m/s$^2$). Each mode k of "
                  f"equivalent length $l_k$ is a single pendulum: solid, its lower edge of zone 0 (below it, too slow, "
                  f"the mode falls: the longest mode sets it); dashed, its upper edge (beyond it, too large a stroke, "
-                 f"the mode doubles its period: the shortest mode sets it). More links: a narrower band.{friction}"
+                 f"the mode doubles its period: the shortest mode sets it).{more}{friction}"
                  + (" Star: the point asked about." if mark is not None else ""))
     return fig, drawn
 
