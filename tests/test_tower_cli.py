@@ -2,7 +2,6 @@
 files and data) and ``kapitza simulate/animate --chain`` (the full motion), through the real CLI."""
 import csv
 import json
-import math
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -67,8 +66,8 @@ def test_chart_chain_writes_every_format_and_its_data_agree_with_tower_curves(tm
 def test_chart_chain_marks_a_point_with_the_towers_verdict(tmp_path, capsys):
     stem = tmp_path / "double"
     code, out, err = run(["chart", "--chain", "0.2,0.2", "--links", "point", "--masses", "1,0.5", "--only",
-                          "--frequency", "60", "--stroke", "0.02", "--points", "30", "--grid", "16", "--out", str(stem)],
-                         capsys)
+                          "--frequency", "60", "--stroke", "0.02", "--points", "30", "--grid", "16",
+                          "--out", str(stem)], capsys)
     assert code == 0, err
     ch = Chain([0.2, 0.2], [1, 0.5], links="point")
     rep = ch.analyze(frequency=60, stroke=0.02)

@@ -195,12 +195,10 @@ def start_tilt(chain, theta0, along_mode):
     return theta0 * v / np.max(np.abs(v))
 
 
-def tower_motion(chain, drive, report, g, *, theta0, dtheta0=0.0, along_mode=False, periods=None, points_per_period=None,
-                 tol=None, rtol=1e-10, atol=1e-12):
+def tower_motion(chain, drive, report, g, *, theta0, dtheta0=0.0, along_mode=False, periods=None,
+                 points_per_period=None, tol=None, rtol=1e-10, atol=1e-12):
     """:func:`kapitza.chain_motion` at the report's point; ``periods`` by default fill
     :data:`DEFAULT_DURATION` seconds, sampled at about 2000 times."""
-    import math as _m
-
     from ..motion.chain import chain_motion
 
     if periods is None:
@@ -208,7 +206,7 @@ def tower_motion(chain, drive, report, g, *, theta0, dtheta0=0.0, along_mode=Fal
     if points_per_period is None:
         points_per_period = max(8, min(200, int(2000 / periods) + 1))
     return chain_motion(chain, start_tilt(chain, theta0, along_mode), dtheta0, T=report.T, A=report.A, g=g, drive=drive,
-                        periods=periods, points_per_period=points_per_period, tol=_m.pi / 2 if tol is None else tol,
+                        periods=periods, points_per_period=points_per_period, tol=math.pi / 2 if tol is None else tol,
                         rtol=rtol, atol=atol)
 
 
@@ -232,7 +230,8 @@ def motion_outcome(motion, theta0, along_mode):
 def write_motion_csv(path, motion, chain, report, command):
     """The motion as CSV: t, the pivot's height, every link's angle and rate."""
     n = chain.n
-    return _io.write_csv(path, ["t", "pivot", *[f"theta{j + 1}" for j in range(n)], *[f"dtheta{j + 1}" for j in range(n)]],
+    header = ["t", "pivot", *[f"theta{j + 1}" for j in range(n)], *[f"dtheta{j + 1}" for j in range(n)]]
+    return _io.write_csv(path, header,
                          columns=[motion.t, motion.pivot, *motion.theta, *motion.dtheta],
                          comments=[f"full motion of the tower ({command}): {chain.describe()}; {report.drive}; "
                                    f"T = {report.T!r} s, A = {report.A!r} m/s^2",
@@ -273,7 +272,8 @@ def register(sub):
     q = p.add_argument_group("a point (optional): --frequency with --stroke or --amplitude, or --T with --A")
     q.add_argument("--frequency", type=positive_float, metavar="HZ", help="drive frequency 1/(2T)")
     q.add_argument("--stroke", type=positive_float, metavar="M", help="pivot travel, peak to peak")
-    q.add_argument("--amplitude", type=positive_float, metavar="M", help="pivot displacement amplitude (half the stroke)")
+    q.add_argument("--amplitude", type=positive_float, metavar="M",
+                   help="pivot displacement amplitude (half the stroke)")
     q.add_argument("--T", type=positive_float, metavar="S", help="half-period of the drive")
     q.add_argument("--A", type=positive_float, metavar="M/S^2", help="acceleration scale of the drive")
     c = p.add_argument_group("the chart")
@@ -288,7 +288,8 @@ def register(sub):
     add_tower_start(m)
     m.add_argument("--duration", type=positive_float, default=DEFAULT_DURATION, metavar="S",
                    help=f"seconds of motion (default {DEFAULT_DURATION:g})")
-    m.add_argument("--simulate", metavar="STEM", help="write the motion as STEM.csv (t, pivot height, link angles and rates)")
+    m.add_argument("--simulate", metavar="STEM",
+                   help="write the motion as STEM.csv (t, pivot height, link angles and rates)")
     m.add_argument("--animate", metavar="FILE.gif", help="write an animation of the tower at the point")
     m.add_argument("--safe-tilt", action="store_true",
                    help="the largest starting tilts the tower survives for 50 periods (together; along mode 1)")
@@ -362,7 +363,7 @@ def cmd_tower(args):
 
 
 # ------------------------------------------------------------------ kapitza chart --chain
-#: the single pendulum's options of ``chart`` (flag, dest, default), refused with --chain
+#: the single pendulum's options of ``chart`` (flag, dest, default, what to give instead), refused with --chain
 _LINKS = "with --chain the links are given by --chain, --masses and --links"
 _FRICTION = "with --chain the friction is --joint-damping C (N m s/rad, at every joint)"
 _MARK = "mark the tower's point by --frequency with --stroke or --amplitude, or by --mark-T and --mark-A"
@@ -414,10 +415,12 @@ def chart_tower(args):
 
 
 # ------------------------------------------------------------------ kapitza simulate/animate --chain
-#: the single pendulum's options of ``simulate`` and ``animate`` (flag, dest, default), refused with --chain
+#: the single pendulum's options of ``simulate`` and ``animate`` (flag, dest, default, what to give instead),
+#: refused with --chain
 _ENSEMBLE = "the tower's motion is one start, without a stroboscopic ensemble"
-MOTION_PENDULUM_OPTIONS = (("--l", "l", None, _LINKS), ("--rod", "rod", None, _LINKS), ("--damping", "damping", 0.0, _FRICTION),
-                           ("--zeta", "zeta", None, _FRICTION), ("--orbits", "orbits", 12, _ENSEMBLE),
+MOTION_PENDULUM_OPTIONS = (("--l", "l", None, _LINKS), ("--rod", "rod", None, _LINKS),
+                           ("--damping", "damping", 0.0, _FRICTION), ("--zeta", "zeta", None, _FRICTION),
+                           ("--orbits", "orbits", 12, _ENSEMBLE),
                            ("--strobe-periods", "strobe_periods", 300, _ENSEMBLE),
                            ("--compare-linear", "compare_linear", False,
                             "the tower's linear motion is its modes ('kapitza tower' gives their verdicts)"))
@@ -539,7 +542,8 @@ def animate_tower_motion(args):
                          dpi=args.dpi, progress=progress, duration=shown)
     message = ""
     if Path(args.out).suffix.lower() == ".mp4" and path.suffix.lower() != ".mp4":
-        message = f"ffmpeg was not found, so MP4 cannot be written; wrote the GIF {path} instead (install ffmpeg for MP4)"
+        message = (f"ffmpeg was not found, so MP4 cannot be written; wrote the GIF {path} instead "
+                   "(install ffmpeg for MP4)")
         print(f"kapitza animate: {message}", file=sys.stderr)
     frames = int(shown * args.fps * slowdown) + 1
     summary = _motion_json(args, chain, drive, report, motion) | {
