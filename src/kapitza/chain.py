@@ -1087,7 +1087,23 @@ def _mode_edges(drive, l, g, mu, n=0):
     """Zone ``n``'s edges of a pendulum ``l`` as (frequency, stroke) curves along ``mu``."""
     from . import zone_edges
 
-    lo, hi = zone_edges(mu, n, drive=drive)
+    try:
+        lo, hi = zone_edges(mu, n, drive=drive)
+    except _v.KapitzaValueError:
+        # a drive's solver refuses the edges nearest mu = 1 (the sine beyond q = 1e8), far below
+        # any window's frequencies: keep the longest prefix of the increasing mu it takes, NaN beyond
+        good, bad = 0, mu.size
+        while bad - good > 1:
+            mid = (good + bad) // 2
+            try:
+                zone_edges(mu[mid], n, drive=drive)
+                good = mid
+            except _v.KapitzaValueError:
+                bad = mid
+        if bad == 0 or mu.size < 2:
+            raise
+        lo, hi = np.full(mu.size, np.nan), np.full(mu.size, np.nan)
+        lo[:bad], hi[:bad] = (np.asarray(a, float) for a in zone_edges(mu[:bad], n, drive=drive))
     A = g / mu**2
     out = []
     for eps in (lo, hi):

@@ -38,6 +38,10 @@ examples:
   kapitza nonlinear --eps 0.5 --mu 0.3                       # the real pendulum: Lyapunov stable? (twist)
   kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --out map.zarr   # nonlinear map over the chart (Dask, --resume)
 
+  kapitza tower --chain 0.2,0.2,0.2 --frequency 200 --stroke 0.005   # a tower of three rods: verdict and band
+  kapitza chart --chain 0.2,0.2,0.2 --out tower                      # the tower's band (PNG, SVG, CSV, JSON)
+  kapitza animate --chain 0.2,0.2,0.2 --frequency 150 --stroke 0.008 --out tower.gif   # the tower stands
+
   kapitza paper --out out/paper               # every figure and numbered claim of the paper, with a report
   kapitza serve                               # the explorer in a web browser (needs the 'web' extra)
 

@@ -80,17 +80,24 @@ def register(sub):
         "so thin tongues stay visible at any zoom); 2T-periodic edges (T_n) solid, 4T-periodic edges\n"
         "(T~_n) dashed. Zones too thin to see in the window (n = 1-3) are also drawn magnified in panels\n"
         "below (--no-magnify: not). Any window is recomputed exactly: --eps-min .. --mu-max zoom in.\n"
-        "Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.",
+        "Writes OUT.png and OUT.svg (and OUT.pdf with --pdf) plus the curves as OUT.csv.\n\n"
+        "With --chain L1,L2,...: the stable band of a tower of linked pendulums on one shaken pivot, on the\n"
+        "rig plane (drive frequency against stroke, log axes), each mode's zone-0 edges drawn and labelled,\n"
+        "for the towers of its first 1, 2, ..., N links side by side (--only: the whole tower alone); the\n"
+        "curves as OUT.csv and everything (with the verdict at a marked point) as OUT.json.",
         epilog="examples:\n  kapitza chart --out chart\n"
         "  kapitza chart --eps-min 1.65 --eps-max 1.8 --mu-min 0 --mu-max 0.35 --out zoom   # zone 1 up close\n"
         "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set\n"
         "  kapitza chart --plane physical --l 0.5 --mark-T 0.1 --mark-A 150 --out rod\n"
-        "  kapitza chart --plane rig --drive sine --rod 0.25 --frequency 50 --amplitude 0.003 --out shaker",
+        "  kapitza chart --plane rig --drive sine --rod 0.25 --frequency 50 --amplitude 0.003 --out shaker\n"
+        "  kapitza chart --chain 0.2,0.2,0.2 --plane rig --out tower   # the bands of 1, 2, 3 linked rods (and OUT.json)\n"
+        "  kapitza chart --chain 0.3,0.2 --links point --frequency 60 --stroke 0.02 --only --out double",
     )
     p.add_argument("--out", default="kapitza-chart", metavar="STEM", help="output path without suffix (default kapitza-chart)")
-    p.add_argument("--plane", choices=("arnold", "physical", "rig"), default="arnold",
+    p.add_argument("--plane", choices=("arnold", "physical", "rig"), default=None,
                    help="arnold: eps-mu plane (default); physical: half-period T vs amplitude A for the rod --l under --g; "
-                        "rig: drive frequency vs stroke (log axes, the window around --frequency/--stroke when given)")
+                        "rig: drive frequency vs stroke (log axes, the window around --frequency/--stroke when given; "
+                        "the default and the only plane with --chain)")
     p.add_argument("--eps-min", type=finite_float, default=0.0, help="arnold plane window (default 0..4)")
     p.add_argument("--eps-max", type=finite_float, default=4.0)
     p.add_argument("--mu-min", type=finite_float, default=0.0,
@@ -129,6 +136,11 @@ def register(sub):
     r.add_argument("--frequency-max", type=finite_float, metavar="HZ")
     r.add_argument("--stroke-min", type=finite_float, metavar="M", help="rig plane window in metres")
     r.add_argument("--stroke-max", type=finite_float, metavar="M")
+    from .tower import add_band_options, add_chain_options
+
+    t = p.add_argument_group("a tower of linked pendulums (--chain; the rig plane)")
+    add_chain_options(t)
+    add_band_options(t)
     p.set_defaults(func=cmd_chart)
 
 
@@ -271,6 +283,12 @@ def cmd_chart(args):
     from ..figures._style import save
     from ..curves import mu_top, mu_top_note
     from ..figures.chart import chart_figure
+    from .tower import chart_tower, refuse_tower_options
+
+    if args.chain is not None:
+        return chart_tower(args)
+    refuse_tower_options(args)
+    args.plane = args.plane or "arnold"
 
     count("--points", args.points, 200_000, minimum=2)
     _chart_rig_options(args)

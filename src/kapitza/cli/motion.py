@@ -21,19 +21,29 @@ def register(sub):
         "hyperbolic phase, a = +A). The undamped nonlinear motion is exact (Jacobi elliptic functions in each\n"
         "phase); the linear one is the exact solution of (2.3); damping --damping C uses DOP853 phase by phase.\n"
         "With --out STEM writes STEM.csv (the motion), STEM-strobe.csv (an ensemble's stroboscopic map),\n"
-        "STEM.json (summary) and the figures STEM-series, STEM-phase, STEM-strobe (.png and .svg).",
+        "STEM.json (summary) and the figures STEM-series, STEM-phase, STEM-strobe (.png and .svg).\n\n"
+        "With --chain L1,L2,...: a tower of linked pendulums on the pivot instead, its full motion by DOP853\n"
+        "(every link tilted by --theta0, or along the longest mode with --along-mode) until a link passes\n"
+        "--tol (pi/2 by default); --out STEM writes STEM.csv (t, pivot, angles, rates), STEM-series\n"
+        "(.png, .svg: the angles over time) and STEM.json (the tower's verdict at the point and the outcome).",
         epilog="examples:\n  kapitza simulate --T 0.15 --A 100 --theta0 0.1\n"
         "  kapitza simulate --T 0.3 --A 100 --theta0 0.05 --periods 30 --out fall\n"
-        "  kapitza simulate --eps 0.53 --mu 0.31 --theta0 0.2 --damping 0.5 --json",
+        "  kapitza simulate --eps 0.53 --mu 0.31 --theta0 0.2 --damping 0.5 --json\n"
+        "  kapitza simulate --chain 0.2,0.2,0.2 --frequency 150 --stroke 0.008 --theta0 0.1 --out tower  # stands\n"
+        "  kapitza simulate --chain 0.2,0.2 --frequency 20 --stroke 0.02 --along-mode --json             # falls",
     )
     add_parameters(p, rig=True)
     _add_start(p)
-    p.add_argument("--periods", type=finite_float, default=20.0, help="duration in drive periods 2T (default 20)")
-    p.add_argument("--points-per-period", type=int, default=200, help="samples per period (default 200)")
+    _add_chain(p)
+    p.add_argument("--periods", type=finite_float, default=None,
+                   help="duration in drive periods 2T (default 20; with --chain as many as fill 3 s)")
+    p.add_argument("--points-per-period", type=int, default=None,
+                   help="samples per period (default 200; with --chain about 2000 samples in all)")
     p.add_argument("--model", choices=["nonlinear", "linear", "both"], default="both",
                    help="equation of motion; 'both': nonlinear, with the linear one for comparison (default)")
     _add_solver(p)
-    p.add_argument("--tol", type=positive_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
+    p.add_argument("--tol", type=positive_float, default=None, metavar="RAD",
+                   help="draw the window |theta| <= RAD (with --chain: a link beyond it has fallen, default pi/2)")
     p.add_argument("--orbits", type=int, default=12, help="initial states in the stroboscopic-map ensemble (default 12)")
     p.add_argument("--strobe-periods", type=int, default=300, help="periods each orbit of the map is followed (default 300)")
     p.add_argument("--out", metavar="STEM", help="write data and figures under this stem")
@@ -46,21 +56,27 @@ def register(sub):
         help="animate the pendulum on its vibrating pivot (GIF; MP4 when ffmpeg is present)",
         description="Render the motion as an animation: the pendulum on its moving pivot beside theta(t).\n"
         "Each frame is the exact state at its time. MP4 needs ffmpeg; without it a GIF is written and a\n"
-        "message says so. A progress bar is shown on standard error (--quiet hides it).",
+        "message says so. A progress bar is shown on standard error (--quiet hides it).\n\n"
+        "With --chain L1,L2,...: a tower of linked pendulums on the pivot, standing or toppling, in real\n"
+        "time by default (--slowdown 1: the fast shaking is aliased, the tower's slow swaying is not).",
         epilog="examples:\n  kapitza animate --T 0.15 --A 100 --theta0 0.1 --out upright.gif   # stays up (zone 0)\n"
         "  kapitza animate --T 0.3 --A 100 --theta0 0.1 --out falls.gif      # falls\n"
-        "  kapitza animate --T 0.15 --A 100 --theta0 0.1 --out upright.mp4 --fps 30",
+        "  kapitza animate --T 0.15 --A 100 --theta0 0.1 --out upright.mp4 --fps 30\n"
+        "  kapitza animate --chain 0.2,0.2,0.2 --frequency 150 --stroke 0.008 --out tower.gif   # the tower stands\n"
+        "  kapitza animate --chain 0.2,0.2,0.2 --frequency 60 --stroke 0.008 --out topple.gif  # too slow: it falls",
     )
     add_parameters(p, rig=True)
     _add_start(p)
-    p.add_argument("--periods", type=finite_float, default=10.0, help="duration in drive periods 2T (default 10)")
+    _add_chain(p)
+    p.add_argument("--periods", type=finite_float, default=None,
+                   help="duration in drive periods 2T (default 10; with --chain as many as fill 3 s)")
     p.add_argument("--model", choices=["nonlinear", "linear"], default="nonlinear")
     p.add_argument("--compare-linear", action="store_true", help="also draw the linear theta(t) in the time panel")
     _add_solver(p)
     p.add_argument("--tol", type=positive_float, default=None, metavar="RAD", help="draw the window |theta| <= RAD")
     p.add_argument("--fps", type=finite_float, default=25.0, help="playback frames per second (default 25)")
     p.add_argument("--slowdown", type=finite_float, default=None,
-                   help="playback seconds per second of motion (default: 24 frames per drive period)")
+                   help="playback seconds per second of motion (default: 24 frames per drive period; with --chain 1)")
     p.add_argument("--dpi", type=int, default=100, help="resolution (default 100: 900 x 460 pixels)")
     p.add_argument("--out", default="kapitza-motion.gif", metavar="FILE", help="FILE.gif or FILE.mp4 (default kapitza-motion.gif)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -98,6 +114,24 @@ def _add_start(p):
     g.add_argument("--theta0", type=finite_float, default=0.1, metavar="RAD",
                    help="angle from the upright, counter-clockwise (default 0.1)")
     g.add_argument("--dtheta0", type=finite_float, default=0.0, metavar="RAD/S", help="angular velocity (default 0)")
+
+
+def _add_chain(p):
+    from .tower import add_chain_options, add_tower_start
+
+    g = p.add_argument_group("a tower of linked pendulums instead (--chain; the point as above, not --eps/--mu)")
+    add_chain_options(g)
+    add_tower_start(g)
+
+
+def _tower(args, command):
+    """The tower's command for --chain (None without it: then no tower option may be given)."""
+    from . import tower
+
+    if args.chain is not None:
+        return getattr(tower, command)
+    tower.refuse_tower_options(args)
+    return None
 
 
 def _add_solver(p):
@@ -148,6 +182,11 @@ def _noted(summary, args):
 # ------------------------------------------------------------------ simulate
 def cmd_simulate(args):
     from ..motion import motion_pair, stroboscopic_map
+
+    if (tower := _tower(args, "simulate_tower")) is not None:
+        return tower(args)
+    args.periods = 20.0 if args.periods is None else args.periods
+    args.points_per_period = 200 if args.points_per_period is None else args.points_per_period
 
     T, A, l, g, rep = _physical_from(args)
     count("--orbits", args.orbits, 1000)
@@ -225,6 +264,10 @@ def _simulate_figures(stem, traj, linear, orbits, tol):
 def cmd_animate(args):
     from ..figures.animation import animate
     from ..motion import simulate
+
+    if (tower := _tower(args, "animate_tower_motion")) is not None:
+        return tower(args)
+    args.periods = 10.0 if args.periods is None else args.periods
 
     T, A, l, g, rep = _physical_from(args)
     common = dict(periods=args.periods, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,

@@ -8,7 +8,8 @@ import numpy as np
 from ..chain import Chain, TowerCurves, tower_curves
 from ._style import ZONE_FILL, Drawn, caption, new_figure
 
-__all__ = ["plot_tower_chart", "tower_chart_figure", "tower_family", "animate_tower"]
+__all__ = ["plot_tower_chart", "tower_chart_figure", "tower_family", "plot_tower_motion", "tower_motion_figure",
+           "animate_tower"]
 
 #: one colour per mode, longest (mode 1) first
 MODE_COLOURS = ("#1f4e9c", "#2e8b57", "#d48a00", "#8e44ad", "#c0392b", "#555555")
@@ -171,10 +172,11 @@ def _edge_labels(ax, curves, k, colour, mm, fr, sr):
 
 
 def tower_chart_figure(chains, drive=None, g=9.81, frequency_range=None, stroke_range=None, amplitude=False,
-                       mark=None, curves=None):
+                       mark=None, curves=None, title=None):
     """One panel per tower (e.g. :func:`tower_family`), sharing the window, with a caption.
 
-    ``curves``: the towers' :class:`~kapitza.chain.TowerCurves`, when computed already.
+    ``curves``: the towers' :class:`~kapitza.chain.TowerCurves`, when computed already;
+    ``title``: a title over the panels.
 
     Parameters
     ----------
@@ -182,6 +184,7 @@ def tower_chart_figure(chains, drive=None, g=9.81, frequency_range=None, stroke_
     drive, g, frequency_range, stroke_range, amplitude, mark :
         As in :func:`plot_tower_chart`; the window defaults to one holding every tower's band.
     curves : sequence of TowerCurves, optional
+    title : str, optional
 
     Returns
     -------
@@ -228,39 +231,122 @@ def tower_chart_figure(chains, drive=None, g=9.81, frequency_range=None, stroke_
             ax.set_xlabel("")
         if not ax.get_subplotspec().is_first_col():
             ax.set_ylabel("")
+    if title:
+        fig.suptitle(title, fontsize=11)
     c0 = chains[-1]
     kind = "uniform rods" if c0.links == "rod" else "point masses on massless rods"
     friction = (f" Joint friction c = {c0.joint_damping:.3g} N m s/rad couples the modes: the shading is the full "
                 f"2N monodromy's verdict.") if c0.joint_damping > 0 and c0.n > 1 else ""
+    more = " More links: a narrower band." if n > 1 else ""
     caption(fig, f"Shaded: the upright tower is stable ({d.describe()}, {kind}, g = {g:g} m/s$^2$). Each mode k of "
                  f"equivalent length $l_k$ is a single pendulum: solid, its lower edge of zone 0 (below it, too slow, "
                  f"the mode falls: the longest mode sets it); dashed, its upper edge (beyond it, too large a stroke, "
-                 f"the mode doubles its period: the shortest mode sets it). More links: a narrower band.{friction}"
+                 f"the mode doubles its period: the shortest mode sets it).{more}{friction}"
                  + (" Star: the point asked about." if mark is not None else ""))
     return fig, drawn
 
 
-def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80, duration=None):
-    """Animate one or more tower motions side by side (:func:`kapitza.motion.chain.chain_motion`) as a GIF.
+def plot_tower_motion(motion, ax=None, legend=True):
+    """Draw each link's angle against time, the toppling window ``|theta| = tol`` and the moment
+    the tower toppled.
+
+    Parameters
+    ----------
+    motion : ChainMotion
+        From :func:`kapitza.chain_motion`.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    Drawn
+        ``"links"`` (one line per link), ``"window"``, ``"topple"`` (when it toppled).
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        ax = plt.figure(figsize=(7.0, 3.6), layout="constrained").add_subplot()
+    art = {"links": []}
+    for j, th in enumerate(motion.theta):
+        (ln,) = ax.plot(motion.t, th, color=_colour(j), lw=1.0, label=f"link {j + 1}")
+        art["links"].append(ln)
+    art["window"] = [ax.axhline(s * motion.tol, color="0.5", lw=0.8, ls=":") for s in (-1, 1)]
+    if motion.toppled:
+        art["topple"] = ax.axvline(motion.t_topple, color="#c0392b", lw=1.0, ls="--",
+                                   label=f"toppled, t = {motion.t_topple:.3g} s")
+    ax.axhline(0.0, color="0.75", lw=0.6)
+    ax.set_xlim(0.0, 1.03 * max(float(motion.t[-1]), 1e-12))  # room for the moment it toppled, at the end
+    top = max(1.1 * float(np.max(np.abs(motion.theta))) if motion.theta.size else 0.0, 0.05)
+    ax.set_ylim(-min(top, 1.15 * motion.tol), min(top, 1.15 * motion.tol))
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel(r"angle from the upright $\theta_j$ [rad]")
+    ax.grid(True, color="0.9", lw=0.6)
+    if legend:
+        art["legend"] = ax.legend(loc="best", fontsize=7, ncol=min(motion.theta.shape[0] + 1, 5), framealpha=0.9)
+    return Drawn(ax, art, motion)
+
+
+def tower_motion_figure(motion, title=None):
+    """The tower's motion over time (:func:`plot_tower_motion`) with a title and a caption.
+
+    Returns
+    -------
+    fig, Drawn
+    """
+    fig = new_figure(width=7.0, height=3.8)
+    ax = fig.add_subplot()
+    drawn = plot_tower_motion(motion, ax=ax)
+    n = motion.theta.shape[0]
+    ax.set_title(title or f"{n}-link tower, T = {motion.T:.4g} s ({0.5 / motion.T:.4g} Hz), "
+                          f"A = {motion.A:.4g} m/s$^2$", fontsize=10)
+    end = (f"A link passed {motion.tol:.3g} rad at t = {motion.t_topple:.3g} s: the tower toppled." if motion.toppled
+           else f"Every link stayed within {motion.tol:.3g} rad: the tower stands.")
+    shown = ax.get_ylim()[1] >= motion.tol
+    window = (f" Dotted: {chr(177)}{motion.tol:.3g} rad, beyond which a link has fallen." if shown else "")
+    dt = float(np.median(np.diff(motion.t))) if motion.t.size > 1 else 0.0
+    alias = (f" Sampled every {dt:.3g} s against a drive period of {2 * motion.T:.3g} s: the fast shaking is "
+             "aliased, the slow swaying is not." if dt > 0.5 * motion.T else "")
+    caption(fig, f"The full (nonlinear) motion of the tower on its shaken pivot ({motion.drive}): each link's angle "
+                 f"from the upright (link 1 at the pivot). The small fast wiggles are the drive's shaking, the slow "
+                 f"swaying the tower's own motion.{window} {end}{alias}")
+    return fig, drawn
+
+
+def _fresh(path):
+    """``path``, or the first of ``stem-2.ext``, ``stem-3.ext``... that does not exist."""
+    cand, k = path, 2
+    while cand.exists():
+        cand = path.with_name(f"{path.stem}-{k}{path.suffix}")
+        k += 1
+    return cand
+
+
+def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80, duration=None, progress=None):
+    """Animate one or more tower motions side by side (:func:`kapitza.motion.chain.chain_motion`).
 
     Parameters
     ----------
     motions : ChainMotion or list of ChainMotion
     path : str or Path
-        The ``.gif`` written (atomically).
+        The ``.gif`` or ``.mp4`` written (atomically). MP4 needs ffmpeg: without it a GIF is
+        written beside, under a fresh name if that GIF exists (the path returned says which).
     titles : list of str, optional
         One per panel.
     fps : float
         Frames per second of playback (1 .. 60).
     slowdown : float
-        Playback seconds per second of motion (> 0).
+        Playback seconds per second of motion (> 0; 1: real time, the drive's shaking aliased,
+        the tower's slow motion as it is).
     dpi : int
     duration : float, optional
         Seconds of motion shown; the longest motion by default (a toppled tower stays fallen).
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each frame (e.g. a
+        :class:`kapitza.figures.animation.ProgressBar`).
 
     Returns
     -------
     pathlib.Path
+        The file written.
 
     Raises
     ------
@@ -284,21 +370,31 @@ def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80,
     from pathlib import Path
 
     import matplotlib.pyplot as plt
-    from matplotlib.animation import FuncAnimation, PillowWriter
+    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
 
     from .. import _validate as _v
     from .._io import atomic_path
+    from .animation import ffmpeg_available
 
     if not isinstance(motions, (list, tuple)):
         motions = [motions]
+    path = Path(path)
+    fmt = path.suffix.lower().lstrip(".") or "gif"
+    if fmt not in ("gif", "mp4"):
+        raise _v.KapitzaValueError(f"animation format must be .gif or .mp4; got {path.suffix or 'no suffix'!r}")
     fps = _v.one("fps", _v.in_range("fps", fps, 1.0, 60.0, lo_open=False, hi_open=False))
     slowdown = _v.one("slowdown", _v.positive("slowdown", slowdown))
+    dpi = _v.bounded_count("dpi", dpi, 600, minimum=20)
     t_end = max(float(m.t[-1]) for m in motions) if duration is None else _v.one("duration", _v.positive("duration", duration))
     n_frames = int(t_end * fps * slowdown) + 1
     _v.bounded_work("the frames, duration * fps * slowdown", n_frames, 2000, what="a GIF of a few minutes' render")
+    if fmt == "mp4" and not ffmpeg_available():
+        fmt, path = "gif", _fresh(path.with_suffix(".gif"))
+    elif path.suffix.lower() != "." + fmt:
+        path = path.with_suffix("." + fmt)
     times = np.arange(n_frames) / (fps * slowdown)
     k = len(motions)
-    fig, axes = plt.subplots(1, k, figsize=(3.2 * k, 2.6), squeeze=False)
+    fig, axes = plt.subplots(1, k, figsize=(3.6 * k, 3.0), squeeze=False)
     axes = axes.ravel()
     artists = []
     for i, (ax, m) in enumerate(zip(axes, motions)):
@@ -334,10 +430,11 @@ def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80,
         return out
 
     anim = FuncAnimation(fig, frame, frames=n_frames, blit=False)
-    path = Path(path)
+    writer = PillowWriter(fps=fps) if fmt == "gif" else FFMpegWriter(fps=fps)
     try:
-        with atomic_path(path, suffix=".gif") as tmp:
-            anim.save(tmp, writer=PillowWriter(fps=fps), dpi=dpi)
+        with atomic_path(path, suffix="." + fmt) as tmp:
+            anim.save(tmp, writer=writer, dpi=dpi,
+                      progress_callback=None if progress is None else (lambda i, n: progress(i + 1, n)))
     finally:  # an unwritable path must not leave the figure open
         plt.close(fig)
     return path
