@@ -40,7 +40,7 @@ from ..drives._api import damping_of
 from ..parameters import G_EARTH, to_physical
 
 __all__ = ["create_app", "LIMITS", "chart_answer", "point_answer", "verdict_answer", "safe_tilt_answer",
-           "motion_answer", "error_detail"]
+           "motion_answer", "error_detail", "json_bytes"]
 
 STATIC = Path(__file__).with_name("static")
 
@@ -75,6 +75,11 @@ def _json_bytes(obj) -> bytes:
         return orjson.dumps(obj, default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
     except TypeError:  # an integer beyond 64 bits (the turns of a run-away linear motion)
         return json.dumps(_io.to_jsonable(obj), default=_default, separators=(",", ":")).encode()
+
+
+def json_bytes(obj) -> bytes:
+    """The JSON text the routes send for ``obj`` (numpy arrays included, NaN as null)."""
+    return _json_bytes(obj)
 
 
 def _default(o):
