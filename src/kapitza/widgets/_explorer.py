@@ -156,7 +156,7 @@ class Explorer(anywidget.AnyWidget):
     """
 
     _esm = traitlets.Unicode(_esm()).tag(sync=True)
-    point = traitlets.Dict().tag(sync=True)
+    point = traitlets.Any().tag(sync=True)  # a dict; any other value gets the explorer's message
     drive = traitlets.Unicode("square").tag(sync=True)
     zeta = traitlets.Float(0.0).tag(sync=True)
     l = traitlets.Float(1.0).tag(sync=True)

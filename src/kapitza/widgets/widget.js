@@ -44,6 +44,7 @@ function render({ model, el }) {
     for (const k of TRAITS) o[k] = model.get(k);
     return o;
   };
+  quiet = true;  // the first point is Python's own
   const ctl = mount(shadow, {
     getJSON, url: false, box, state: state(),
     onPoint(p) { if (quiet) return; model.set("point", p); model.save_changes(); },
@@ -54,6 +55,7 @@ function render({ model, el }) {
       if (changed) model.save_changes();
     },
   });
+  quiet = false;
   const fromPython = () => { quiet = true; try { ctl.set(state()); } finally { quiet = false; } };
   const events = ["change:point", ...TRAITS.map((k) => `change:${k}`)];
   for (const e of events) model.on(e, fromPython);
