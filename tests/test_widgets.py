@@ -89,7 +89,8 @@ def test_bad_input_gives_the_web_apis_one_line_message(web, url):
 def test_what_only_the_kernel_is_asked():
     assert answer("/api/export/chart.png")["detail"].startswith("the explorer answers /api/chart")
     assert answer("/api/verdict?eps=abc&mu=0.3") == {"ok": False, "detail": "eps must be a number; got 'abc'"}
-    assert answer("/api/point?eps=0.5&mu=0.3&safe_tilt=maybe")["detail"] == "safe_tilt must be true or false; got 'maybe'"
+    got = answer("/api/point?eps=0.5&mu=0.3&safe_tilt=maybe")
+    assert got["detail"] == "safe_tilt must be true or false; got 'maybe'"
     # a name the route does not take is ignored, as the web API ignores it
     assert answer("/api/verdict?eps=0.5&mu=0.3&colour=red")["ok"]
 
@@ -200,9 +201,11 @@ def test_a_notebook_creates_the_explorer_and_sets_and_reads_the_point(tmp_path, 
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]))
     cells = [
         "from kapitza.widgets import Explorer\nw = Explorer(drive='square')\nw",
-        "w.point = dict(eps=0.5, mu=0.3)\nprint('verdict:', w.verdict['verdict'])\nprint('point:', w.point['eps'], w.point['mu'])",
+        "w.point = dict(eps=0.5, mu=0.3)\nprint('verdict:', w.verdict['verdict'])\n"
+        "print('point:', w.point['eps'], w.point['mu'])",
         "w.point = dict(eps=2.9, mu=0.3)\nprint('verdict:', w.verdict['verdict'])",
-        "try:\n    w.point = dict(eps=-1, mu=0.3)\nexcept ValueError as e:\n    print('refused:', e)\nprint('kept:', w.point['eps'])",
+        "try:\n    w.point = dict(eps=-1, mu=0.3)\nexcept ValueError as e:\n    print('refused:', e)\n"
+        "print('kept:', w.point['eps'])",
     ]
     book = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in cells])
     nbclient.NotebookClient(book, timeout=600, kernel_name="python3",

@@ -9,6 +9,7 @@ import logging
 import re
 import threading
 from pathlib import Path
+from typing import Callable
 from urllib.parse import parse_qsl, urlsplit
 
 import anywidget
@@ -25,7 +26,7 @@ _STATIC = _app.STATIC
 _LOG = logging.getLogger(__name__)
 
 #: The routes of ``/api`` the explorer asks, and the functions that answer them.
-ROUTES = {
+ROUTES: dict[str, Callable] = {
     "chart": _app.chart_answer,
     "verdict": _app.verdict_answer,
     "point": _app.point_answer,
@@ -43,7 +44,7 @@ def _parse(route: str, query) -> dict:
     """The keyword arguments of ``ROUTES[route]`` from a query's strings, typed as the route types
     them (by each parameter's default); unknown names are ignored, as the web API ignores them."""
     params = inspect.signature(ROUTES[route]).parameters
-    kwargs = {}
+    kwargs: dict[str, object] = {}
     for name, text in query:
         if name not in params or name == "check":
             continue
@@ -80,7 +81,7 @@ def answer(url: str, check=None) -> dict:
     >>> answer("/api/verdict?eps=0.5&mu=0.3")["ok"]
     True
     >>> answer("/api/verdict?eps=-1&mu=0.3")["detail"]
-    'eps must be > 0; got -1.0'
+    'eps must be finite and > 0 (0 < eps < inf); got -1.0'
     """
     parts = urlsplit(url)
     route = parts.path.rsplit("/", 1)[-1]
@@ -208,7 +209,8 @@ class Explorer(anywidget.AnyWidget):
     def _valid_zeta(self, proposal):
         zeta = _v.one("zeta", _v.nonnegative("zeta", proposal["value"]))
         if zeta > _app.LIMITS["zeta"]:
-            raise _v.KapitzaValueError(f"zeta must satisfy zeta <= {_app.LIMITS['zeta']:g} in the explorer; got {zeta!r}")
+            hi = _app.LIMITS["zeta"]
+            raise _v.KapitzaValueError(f"zeta must satisfy zeta <= {hi:g} in the explorer; got {zeta!r}")
         return zeta
 
     @traitlets.validate("l", "g")

@@ -1191,8 +1191,13 @@ export function mount(root, host = {}) {
   if (S.point) choosePoint(S.point);
   const onResize = () => { drawChart(); anim.prepare(); };
   window.addEventListener("resize", onResize);
-  // An embedded explorer changes size with its container (a notebook cell), not the window.
-  const sized = host.box && typeof ResizeObserver !== "undefined" ? new ResizeObserver(onResize) : null;
+  // An embedded explorer changes width with its container (a notebook cell), not with the window
+  // (its height follows its own text: no redraw for that).
+  let width = null;
+  const sized = host.box && typeof ResizeObserver !== "undefined" ? new ResizeObserver((seen) => {
+    const w = seen[seen.length - 1].contentRect.width;
+    if (w !== width) { width = w; onResize(); }
+  }) : null;
   if (sized) sized.observe(host.box);
   requestAnimationFrame(frame);
   function destroy() {
