@@ -222,7 +222,7 @@ def test_a_notebook_creates_the_explorer_and_sets_and_reads_the_point(tmp_path, 
 
 # ------------------------------------------------------------------ in a browser
 _PAGE = """<!doctype html><html><head><meta charset="utf-8"><title>kapitza widget</title></head>
-<body style="margin:0;background:#fff;font-family:sans-serif"><div id="cell" style="width:1400px"></div>
+<body style="margin:0;background:#fff;font-family:sans-serif"><div id="cell" style="width:1000px"></div>
 <script type="module">
 // A stand-in for the notebook's widget manager: a model holding the traits, its messages to the
 // kernel answered by kapitza.widgets.answer (exposed by the test as window.kernelAnswer).
@@ -270,7 +270,7 @@ def test_the_widget_draws_in_chromium_from_its_own_module(tmp_path):
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=args)
         try:
-            page = browser.new_page(viewport={"width": 1420, "height": 1000})
+            page = browser.new_page(viewport={"width": 1020, "height": 1700})
             errors, asked = [], []
             page.on("pageerror", lambda e: errors.append(str(e)))
 

@@ -3,10 +3,16 @@
 // instead of a server, and linked to the widget's traits: point, drive, zeta, l, g, plane, theta0.
 
 // Page-only parts hidden: the link to share (an address bar) and the exports (files of the server).
+// The page's layout follows the window; a cell's follows the cell: one column in a narrow one.
 const CELL_STYLE = `
-.kapitza-explorer { background: var(--bg); border-radius: 8px; overflow: hidden; }
+.kapitza-explorer { background: var(--bg); border-radius: 8px; overflow: hidden; container-type: inline-size; }
 #share, .exports { display: none !important; }
 header { flex-wrap: wrap; }
+@container (max-width: 1100px) {
+  main { grid-template-columns: minmax(0, 1fr); }
+  #chart-wrap { height: 460px; }
+  #stage-wrap { height: 280px; }
+}
 `;
 const TRAITS = ["l", "g", "drive", "zeta", "plane", "theta0"];
 
@@ -59,6 +65,7 @@ function render({ model, el }) {
   const fromPython = () => { quiet = true; try { ctl.set(state()); } finally { quiet = false; } };
   const events = ["change:point", ...TRAITS.map((k) => `change:${k}`)];
   for (const e of events) model.on(e, fromPython);
+  shadow.getElementById("report-box").open = false;  // a compact cell: the report on a click (or w.report())
   el.kapitza = ctl;  // for tests and the browser's console
   return () => {
     for (const e of events) model.off(e, fromPython);
