@@ -78,6 +78,7 @@ _LAZY = {
     "figures": ("kapitza.figures", None),
     "chain_motion": ("kapitza.motion.chain", "chain_motion"),
     "tower_safe_tilt": ("kapitza.motion.chain", "tower_safe_tilt"),
+    "widgets": ("kapitza.widgets", None),  # the explorer in a notebook (the widgets extra)
 }
 
 

@@ -39,7 +39,8 @@ from ..drives import parse_drive
 from ..drives._api import damping_of
 from ..parameters import G_EARTH, to_physical
 
-__all__ = ["create_app", "LIMITS"]
+__all__ = ["create_app", "LIMITS", "chart_answer", "point_answer", "verdict_answer", "safe_tilt_answer",
+           "motion_answer", "error_detail", "json_bytes"]
 
 STATIC = Path(__file__).with_name("static")
 
@@ -74,6 +75,11 @@ def _json_bytes(obj) -> bytes:
         return orjson.dumps(obj, default=_default, option=orjson.OPT_SERIALIZE_NUMPY)
     except TypeError:  # an integer beyond 64 bits (the turns of a run-away linear motion)
         return json.dumps(_io.to_jsonable(obj), default=_default, separators=(",", ":")).encode()
+
+
+def json_bytes(obj) -> bytes:
+    """The JSON text the routes send for ``obj`` (numpy arrays included, NaN as null)."""
+    return _json_bytes(obj)
 
 
 def _default(o):
@@ -177,6 +183,85 @@ class _BoundedRequests:
         return await self.app(scope, receive, send)
 
 
+# ------------------------------------------------------------------ the answers
+# What the routes answer, as plain functions of the same parameters (no request): the notebook
+# explorer (kapitza.widgets) calls them for the same JSON without a server.
+def chart_answer(plane="arnold", eps_min=0.0, eps_max=4.0, mu_min=0.0, mu_max=1.0, T_min=0.0, T_max=None, A_min=None,
+                 A_max=None, l=1.0, g=G_EARTH, drive="square", zeta=0.0, samples=None, f_min=None, f_max=None,
+                 stroke_min=None, stroke_max=None, check=None) -> bytes:
+    """The JSON body of ``/api/chart`` (bytes)."""
+    if plane == "rig":
+        return _rig_chart_json(f_min, f_max, stroke_min, stroke_max, l, g, drive, zeta, samples)
+    if plane not in ("arnold", "physical"):
+        raise _v.KapitzaValueError(f"plane must be one of 'arnold', 'physical', 'rig'; got {plane!r}")
+    return _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_max, l, g, drive, zeta, samples,
+                       check)
+
+
+def point_answer(eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive="square", zeta=0.0, frequency=None,
+                 stroke=None, amplitude=None, rod=None, damping=None, safe_tilt=False, periods=50) -> dict:
+    """What ``/api/point`` answers: the report as ``kapitza stability --json`` prints it, with ``lines``."""
+    rep, d = _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+    if safe_tilt:
+        from ..motion.basins import exact_path
+        from ..safety import with_safe_tilt
+
+        rep = with_safe_tilt(rep, d, _safe_periods(periods, exact_path(d, rep.zeta)))
+    return _io.to_jsonable({**rep.as_dict(), "lines": rep.lines()})
+
+
+def verdict_answer(eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive="square", zeta=0.0, frequency=None,
+                   stroke=None, amplitude=None, rod=None, damping=None) -> dict:
+    """What ``/api/verdict`` answers: stable or not, the zone and the kind of instability."""
+    from ..propagation import floquet
+
+    P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+    f = floquet(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"])
+    stable = bool(f.stable)
+    if stable:
+        kind, text = "stable", f"stable (zone {int(f.zone)})" + (", motions decay" if P["zeta"] > 0 else "")
+    elif P["mu"] >= P["drive"].mu_max:
+        kind, text = "weak", "always unstable: the pivot never accelerates down faster than g"
+    elif float(f.trace) < 0:
+        kind, text = "4T", "unstable: parametric resonance, 4T-type, period doubling"
+    else:
+        kind, text = "2T", "unstable: it falls (multipliers real, positive)"
+    return dict(eps=P["eps"], mu=P["mu"], T=P["T"], A=P["A"], zeta=P["zeta"], stable=stable,
+                zone=int(f.zone) if stable else -1, kind=kind, verdict=text, growth=float(f.growth),
+                trace=float(f.trace), given=P["given"])
+
+
+def safe_tilt_answer(eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive="square", zeta=0.0, frequency=None,
+                     stroke=None, amplitude=None, rod=None, damping=None, periods=50) -> dict:
+    """What ``/api/safe_tilt`` answers: the safe tilt with its verdict and sentence."""
+    from ..motion.basins import exact_path
+    from ..safety import safe_tilt, safe_tilt_sentence
+    from ..zones import is_stable
+
+    P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+    n = _safe_periods(periods, exact_path(P["drive"], P["zeta"]))
+    d = P["drive"]
+    stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
+    theta = float(safe_tilt(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"], periods=n)) if stable else 0.0
+    return dict(safe_tilt=theta, periods=n, stable=stable, eps=P["eps"], mu=P["mu"],
+                text=safe_tilt_sentence(theta, n, stable))
+
+
+def motion_answer(T=None, A=None, eps=None, mu=None, l=1.0, g=G_EARTH, drive="square", zeta=0.0, theta0=0.1,
+                  dtheta0=0.0, periods=20.0, points_per_period=60) -> dict:
+    """What ``/api/motion`` answers: the motion pair, sampled for animation."""
+    return _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_per_period)[0].as_dict()
+
+
+def error_detail(exc: BaseException) -> str | None:
+    """The one-line ``detail`` of a 422 for a user's error (None: not a user's error)."""
+    if isinstance(exc, _v.KapitzaValueError):
+        return str(exc).splitlines()[0]
+    if isinstance(exc, OverflowError):
+        return f"the result exceeds a double: {exc}"
+    return None
+
+
 # ------------------------------------------------------------------ the app
 def create_app(hosts=None) -> FastAPI:
     """The explorer: the page at ``/``, the JSON API under ``/api``, its schema at ``/openapi.json``.
@@ -221,7 +306,7 @@ def create_app(hosts=None) -> FastAPI:
 
     @app.exception_handler(_v.KapitzaValueError)
     async def _value_error(request: Request, exc: _v.KapitzaValueError):
-        return _JSON(status_code=422, content={"detail": str(exc).splitlines()[0]})
+        return _JSON(status_code=422, content={"detail": error_detail(exc)})
 
     @app.exception_handler(_Cancelled)
     async def _gone(request: Request, exc: _Cancelled):
@@ -229,7 +314,7 @@ def create_app(hosts=None) -> FastAPI:
 
     @app.exception_handler(OverflowError)
     async def _overflow(request: Request, exc: OverflowError):
-        return _JSON(status_code=422, content={"detail": f"the result exceeds a double: {exc}"})
+        return _JSON(status_code=422, content={"detail": error_detail(exc)})
 
     @app.exception_handler(RequestValidationError)
     async def _bad_query(request: Request, exc: RequestValidationError):
@@ -307,13 +392,8 @@ def create_app(hosts=None) -> FastAPI:
                              damping, safe_tilt, periods)
 
     def _point(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping, safe_tilt, periods, check):
-        rep, d = _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
-        if safe_tilt:
-            from ..motion.basins import exact_path
-            from ..safety import with_safe_tilt
-
-            rep = with_safe_tilt(rep, d, _safe_periods(periods, exact_path(d, rep.zeta)))
-        return _JSON(_io.to_jsonable({**rep.as_dict(), "lines": rep.lines()}))
+        return _JSON(point_answer(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping,
+                                  safe_tilt, periods))
 
     @app.get("/api/verdict", response_class=_JSON, summary="the verdict alone, at once (no margins)")
     async def verdict(eps: float | None = None, mu: float | None = None, T: float | None = None, A: float | None = None,
@@ -326,22 +406,7 @@ def create_app(hosts=None) -> FastAPI:
         ``2T`` (multipliers real and positive), ``4T`` (period doubling) or ``weak`` (the pivot never
         accelerates down faster than g). A few milliseconds: answered on the event loop itself, never
         queued behind the slower routes' worker threads."""
-        from ..propagation import floquet
-
-        P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
-        f = floquet(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"])
-        stable = bool(f.stable)
-        if stable:
-            kind, text = "stable", f"stable (zone {int(f.zone)})" + (", motions decay" if P["zeta"] > 0 else "")
-        elif P["mu"] >= P["drive"].mu_max:
-            kind, text = "weak", "always unstable: the pivot never accelerates down faster than g"
-        elif float(f.trace) < 0:
-            kind, text = "4T", "unstable: parametric resonance, 4T-type, period doubling"
-        else:
-            kind, text = "2T", "unstable: it falls (multipliers real, positive)"
-        return _JSON(dict(eps=P["eps"], mu=P["mu"], T=P["T"], A=P["A"], zeta=P["zeta"], stable=stable,
-                          zone=int(f.zone) if stable else -1, kind=kind, verdict=text, growth=float(f.growth),
-                          trace=float(f.trace), given=P["given"]))
+        return _JSON(verdict_answer(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping))
 
     @app.get("/api/safe_tilt", response_class=_JSON, summary="the largest starting tilt the real pendulum survives")
     def safe_tilt_route(eps: float | None = None, mu: float | None = None, T: float | None = None,
@@ -352,18 +417,8 @@ def create_app(hosts=None) -> FastAPI:
         """``safe_tilt`` [rad]: the largest starting tilt from rest whose motion stays above the horizontal
         for ``periods`` periods 2T (``kapitza.safe_tilt``; 0 where the upright is not stable), with the
         verdict it goes with and ``text``, the report's sentence."""
-        from ..safety import safe_tilt, safe_tilt_sentence
-        from ..zones import is_stable
-
-        from ..motion.basins import exact_path
-
-        P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
-        n = _safe_periods(periods, exact_path(P["drive"], P["zeta"]))
-        d = P["drive"]
-        stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
-        theta = float(safe_tilt(P["eps"], P["mu"], drive=P["drive"], zeta=P["zeta"], periods=n)) if stable else 0.0
-        return _JSON(dict(safe_tilt=theta, periods=n, stable=stable, eps=P["eps"], mu=P["mu"],
-                          text=safe_tilt_sentence(theta, n, stable)))
+        return _JSON(safe_tilt_answer(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping,
+                                      periods))
 
     # -------------------------------------------------------------- motion
     @app.get("/api/motion", response_class=_JSON, summary="linear and nonlinear motion, sampled for animation")
@@ -373,8 +428,8 @@ def create_app(hosts=None) -> FastAPI:
                      points_per_period: int = 60):
         """The motion from ``(theta0, dtheta0)`` at ``t = 0``, nonlinear and linear (the library's
         :func:`kapitza.simulate`), the pivot's height, and the stroboscopic points at ``t = 2kT``."""
-        return await _worker(request, lambda check: _JSON(_motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0,
-                                                                  periods, points_per_period)[0].as_dict()))
+        return await _worker(request, lambda check: _JSON(motion_answer(T, A, eps, mu, l, g, drive, zeta, theta0,
+                                                                        dtheta0, periods, points_per_period)))
 
     # -------------------------------------------------------------- exports
     @app.get("/api/export/chart.{fmt}", summary="the chart as kapitza chart writes it: PNG, SVG or its CSV",
