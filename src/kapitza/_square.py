@@ -423,7 +423,7 @@ def grid(eps, mu, out):
         base = rows[r_idx[keep]] * W
         for a, b in zip((base + i0[keep]).tolist(), (base + i1[keep]).tolist()):
             flat[a:b] = True
-        from .drives._api import settle_near_edges
+        from ._paint import settle_near_edges
 
         settle_near_edges(eps, out, rows[r_idx], lo, hi, i0, i1, lambda e, r: _verdict(e, mu[r], want_n=False)[0])
     return out
