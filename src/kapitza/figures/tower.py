@@ -157,7 +157,10 @@ def _edge_labels(ax, curves, k, colour, mm, fr, sr):
     out = []
     for F, S, text, where in ((curves.frequency_lo[k], curves.stroke_lo[k], f"{k + 1} falls", 0.25),
                               (curves.frequency_hi[k], curves.stroke_hi[k], f"{k + 1} doubles", 0.75)):
-        inside = np.isfinite(F) & np.isfinite(S) & (F > fr[0] * 1.15) & (F < fr[1] / 1.6) & (S > sr[0] * 1.3) & (S < sr[1] / 1.3)
+        # room for the text: above a dashed edge, below a solid one, and right of the left axis
+        room_lo, room_hi = (2.0, 1.3) if text.endswith("falls") else (1.3, 2.0)
+        inside = (np.isfinite(F) & np.isfinite(S) & (F > fr[0] * 1.5) & (F < fr[1] / 1.6) & (S > sr[0] * room_lo)
+                  & (S < sr[1] / room_hi))
         idx = np.flatnonzero(inside)
         if idx.size == 0:
             continue
