@@ -501,3 +501,17 @@ def test_a_folder_that_is_not_a_sweep_store_is_named(tmp_path):
         open_store(tmp_path)
     with pytest.raises(FileNotFoundError):
         open_store(tmp_path / "missing")
+
+
+def test_linear_motion_under_overwhelming_damping_decays_without_a_warning():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        th, dth = K.linear_motion(0.5, 0.1, 0.0, T=0.15, A=100.0, zeta=748)
+    assert isinstance(th, np.float64) and 0.0 < th < 0.11 and np.isfinite(dth)
+
+
+def test_linear_motion_of_any_drive_gives_scalars_for_scalars():
+    th, dth = K.linear_motion(0.5, 0.1, 0.0, T=0.15, A=100.0, zeta=0.1, drive="sine")
+    assert isinstance(th, np.float64) and isinstance(dth, np.float64)

@@ -377,4 +377,5 @@ def linear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, drive=No
     _v.finite_rate(A, l, g)
     c, _ = _v.damping(damping, zeta, l, g)
     _v.phase_resolved(t, T)
-    return as_drive(drive).linear_motion(t, theta0, dtheta0, T, A, l, g, c)
+    th, dth = as_drive(drive).linear_motion(t, theta0, dtheta0, T, A, l, g, c)
+    return _v.scalars(np.asarray(th), np.asarray(dth))
