@@ -245,7 +245,7 @@ def damping(damping, zeta, l, g):
     ratio of the hanging pendulum (``docs/drives.md`` section 3), bounded by :data:`ZETA_MAX`.
     """
     if zeta is not None:
-        if damping is not None and np.any(np.asarray(damping) != 0):
+        if damping is not None and np.any(nonnegative("damping", damping) != 0):
             raise KapitzaValueError("give the damping as damping = c [1/s] or as zeta = c / (2 sqrt(g/l)), not both")
         z = damping_ratio(zeta)
         if not np.any(z > 0):
