@@ -97,18 +97,18 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
     d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
     arnold = _v.parameter_set(eps, mu, T, A) == "arnold"
     if arnold:
-        if np.any(np.asarray(damping) != 0):
+        if np.any(_v.nonnegative("damping", damping) != 0):
             raise _v.KapitzaValueError("with eps and mu give the damping as zeta = c / (2 sqrt(g/l)), not damping")
-        e, m = np.broadcast_arrays(_v.positive("eps", eps), _v.positive("mu", mu))
+        e, m = _v.broadcast(eps=_v.positive("eps", eps), mu=_v.positive("mu", mu))
         z = _v.one("zeta", _v.nonnegative("zeta", 0.0 if zeta is None else zeta))
         l_, g_ = 1.0, G_EARTH
         Tv, Av = to_physical(e, m, l_, g_)
         c = 2.0 * z * np.sqrt(g_ / l_)
     else:
-        if zeta is not None and np.any(np.asarray(zeta) != 0):
+        if zeta is not None and np.any(_v.nonnegative("zeta", zeta) != 0):
             raise _v.KapitzaValueError("with T and A give the damping as damping = c [1/s], not zeta")
-        Tv, Av, l_, g_ = np.broadcast_arrays(_v.positive("T", T), _v.positive("A", A), _v.positive("l", l),
-                                              _v.positive("g", g))
+        Tv, Av, l_, g_ = _v.broadcast(T=_v.positive("T", T), A=_v.positive("A", A), l=_v.positive("l", l),
+                                       g=_v.positive("g", g))
         if np.ndim(l) or np.ndim(g):
             # one length and gravity per point: scale to Arnold's parameters (the answer depends on nothing else)
             e, m = to_arnold(Tv, Av, l_, g_)
