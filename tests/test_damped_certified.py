@@ -52,3 +52,17 @@ def test_the_two_points_that_rounding_decided_wrongly():
     assert not K.is_stable(2.741587136542942, 0.9, zeta=0.3)
     assert K.is_stable(0.06123746457153446, 0.05, zeta=0.05)
     assert K.growth_rate(2.741587136542942, 0.9, zeta=0.3) > 0 > K.growth_rate(0.06123746457153446, 0.05, zeta=0.05)
+
+
+@pytest.mark.parametrize("drive, mu, zeta", CASES, ids=lambda v: v.text() if hasattr(v, "text") else repr(v))
+def test_each_damped_edge_is_the_unstable_double_beside_the_zone(drive, mu, zeta):
+    lo, hi = (np.asarray(x, float) for x in K.zone_edges(mu, np.arange(3), drive=drive, zeta=zeta))
+    # zones the damping has joined touch or overlap: their shared edges are no edges of stability
+    meet = hi[:-1] >= lo[1:]
+    joined = set(hi[:-1][meet].tolist()) | set(lo[1:][meet].tolist())
+    for n in (0, 1):
+        for edge, inward in ((float(lo[n]), np.inf), (float(hi[n]), -np.inf)):
+            if not (np.isfinite(edge) and edge > 0) or edge in joined:
+                continue
+            assert not K.is_stable(edge, mu, drive=drive, zeta=zeta)
+            assert K.is_stable(np.nextafter(edge, inward), mu, drive=drive, zeta=zeta)

@@ -245,3 +245,19 @@ def test_damped_edges(mu, n, zeta):
                 if abs(b - a) < mp.mpf(10) ** -25 * abs(b):
                     break
         assert abs(got - b) <= 4e-15 * b, (mu, n, zeta, got, float(b))
+
+
+@pytest.mark.parametrize("mu, n, zeta", [(0.6, 0, 1.0), (0.6, 1, 1.0), (0.3, 1, 0.5)])
+def test_damped_verdicts_beside_the_edges_follow_the_exact_monodromy(mu, n, zeta):
+    """At the doubles beside each damped edge ``is_stable`` is ``|tr M| < 1 + det M`` of the oracle,
+    and the reported edge is the unstable double next to the zone."""
+    lo, hi = (float(x) for x in K.zone_edges(mu, n, drive="sine", zeta=zeta))
+    for edge, inward in ((lo, 1), (hi, -1)):
+        eps = (np.array([edge]).view(np.int64) + np.arange(-2, 3)).view(np.float64)
+        got = K.is_stable(eps, mu, drive="sine", zeta=zeta)
+        want = []
+        for e in eps:
+            tr, det = oracle_monodromy(float(e), mu, zeta)
+            want.append(bool(abs(tr) < 1 + det))
+        assert got.tolist() == want, (mu, n, zeta, edge)
+        assert not got[2] and got[2 + inward]

@@ -57,8 +57,7 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
         G = _damped_excess(drive, eps, mu_c, kappa, f.log_tau, f.zone < 0).reshape(eps.shape)
         stable = (f.zone >= 0) | (G < 0)
     growth = f.growth - kappa
-    steps = drive._steps() if certify else None
-    if steps is not None:
+    if certify and drive._damped_certified:
         # where rounding may decide, the exact doubles decide in extended precision
         # (kapitza._certify.damped_mp): G near 0 by less than it moves over 32 ulp of eps (its own
         # rounding, and that of mu_c, move it by the like of a few ulp of eps)
@@ -71,12 +70,9 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
             with np.errstate(invalid="ignore"):
                 swing = np.abs(_excess(drive, e + h, m, z) - _excess(drive, e - h, m, z))
             unsure = cand[~(np.abs(Gf[cand]) > swing + 1e-13)]
-        if unsure.size:
-            from .._certify import damped_mp
-
-            levels, fractions = steps
-            res = damped_mp(eps.reshape(-1)[unsure], mu.reshape(-1)[unsure], zeta.reshape(-1)[unsure],
-                            levels, tuple(2.0 * f_ for f_ in fractions))
+        res = drive._damped_exact(eps.reshape(-1)[unsure], mu.reshape(-1)[unsure],
+                                  zeta.reshape(-1)[unsure]) if unsure.size else None
+        if res is not None:
             stable, growth = np.array(stable, bool, copy=True), np.array(growth, float, copy=True)
             stable.reshape(-1)[unsure] = [r[0] for r in res]
             growth.reshape(-1)[unsure] = [r[1] for r in res]
@@ -295,7 +291,7 @@ def window_edges(drive, mu, e0, e1, zeta):
     return r_idx, z_idx, lo, hi
 
 
-def certified_sides(drive, mu, lo, hi):
+def certified_sides(drive, mu, lo, hi, zeta=None):
     """The edges moved to the doubles the certified verdict puts them at: ``lo`` the last unstable
     double below the zone (the next one up is stable), ``hi`` the first unstable one above it (the
     one below is stable), so that zone ``n`` is ``lo < eps < hi`` as :func:`kapitza.is_stable` says
@@ -311,8 +307,12 @@ def certified_sides(drive, mu, lo, hi):
     L, H = lo[live].view(np.int64), hi[live].view(np.int64)
     half = np.maximum((H - L) // 2, 1)
 
+    z = None if zeta is None else np.broadcast_to(np.asarray(zeta, float), mu.shape)[live]
+
     def stable(bits, rows):
-        return drive._floquet0(bits.view(np.float64), m[rows], certify=True).zone >= 0
+        if z is None:
+            return drive._floquet0(bits.view(np.float64), m[rows], certify=True).zone >= 0
+        return np.asarray(drive._floquet(bits.view(np.float64), m[rows], z[rows], True)[3], bool)
 
     for edge, inside in ((L, 1), (H, -1)):
         # out: a double outside the zone (unstable), inn: one inside (stable), widened in turns

@@ -444,6 +444,23 @@ class Drive:
         """``(levels, fractions)`` of a piecewise-constant drive (exact segment products), else None."""
         return None
 
+    @property
+    def _damped_certified(self) -> bool:
+        """Whether :meth:`_damped_exact` decides damped verdicts in extended precision."""
+        return self._steps() is not None
+
+    def _damped_exact(self, eps, mu, zeta):
+        """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points
+        where rounding may decide), decided in extended precision; None where the drive has no
+        exact monodromy (a drive given by its shape: its damped verdicts are the engine's)."""
+        steps = self._steps()
+        if steps is None:
+            return None
+        from .._certify import damped_mp
+
+        levels, fractions = steps
+        return damped_mp(eps, mu, zeta, levels, tuple(2.0 * f for f in fractions))
+
     def _floquet(self, eps, mu, zeta, certify=True):
         """Floquet data with damping ratio ``zeta``: ``(tau, growth, theta, stable, zone, kappa)``
         (:func:`kapitza.drives._api.damped_floquet`; ``certify`` as in :meth:`_floquet0`)."""
@@ -482,10 +499,12 @@ class Drive:
         last unstable double below the zone, the first above it: :func:`kapitza.is_stable` agrees at
         every double); a chart that needs the curves to a pixel passes False."""
         lo, hi = self._edges(mu, n, zeta)
-        if certify and self._edges_need_sides and not np.any(np.asarray(zeta) > 0):
+        damped = np.any(np.asarray(zeta) > 0)
+        if certify and (self._damped_certified if damped else self._edges_need_sides):
             shape = np.shape(lo)
             m = np.broadcast_to(np.asarray(mu, float), shape).ravel()
-            lo, hi = _api.certified_sides(self, m, np.asarray(lo, float).ravel(), np.asarray(hi, float).ravel())
+            z = np.broadcast_to(np.asarray(zeta, float), shape).ravel() if damped else None
+            lo, hi = _api.certified_sides(self, m, np.asarray(lo, float).ravel(), np.asarray(hi, float).ravel(), z)
             lo, hi = lo.reshape(shape), hi.reshape(shape)
         return lo, hi
 

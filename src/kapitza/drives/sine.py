@@ -84,6 +84,15 @@ class SineWave(Drive):
         rows, zone, lo, hi = sine_window(mu[ok], e_b[ok])
         return ok[rows], zone, lo, hi
 
+    @property
+    def _damped_certified(self) -> bool:
+        return True
+
+    def _damped_exact(self, eps, mu, zeta):
+        from ._mathieu import sine_damped_exact
+
+        return sine_damped_exact(eps, mu, zeta)
+
     def paint(self, eps, mu, zeta, out):
         if zeta > 0:
             return super().paint(eps, mu, zeta, out)
