@@ -109,6 +109,17 @@ def test_three_link_tower_stands_in_its_band(site):
     page.wait_for_timeout(200)
     page.screenshot(path=str(SCREENS / "tower-02-stands.png"))
 
+    # -- the address bar holds the tower, its view and the point: a shared link shows the same
+    shared = page.url
+    assert "links=3" in shared and "chain=0.2%2C0.2%2C0.2" in shared
+    other = context.new_page()
+    other.goto(shared)
+    other.wait_for_function("document.getElementById('chart').dataset.tower === '3'", timeout=90000)
+    other.wait_for_function("(document.getElementById('verdict').dataset.verdict || '').startsWith('stable')",
+                            timeout=90000)
+    assert other.evaluate("kapitza.S.views.tower.x0") == pytest.approx(band["view"]["f_min"], rel=1e-12)
+    other.close()
+
     # -- far below the band in frequency the tower falls
     lo_f = band["view"]["f_min"] * 1.3
     p = page.evaluate(f"kapitza.pixel({lo_f!r}, {s!r})")
