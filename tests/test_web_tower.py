@@ -101,3 +101,14 @@ def test_tower_bad_input_is_a_422_naming_the_parameter(server, route, params, na
     assert r.status_code == 422, r.text
     detail = r.json()["detail"]
     assert name in detail and "\n" not in detail and "Traceback" not in detail
+
+
+def test_tower_band_of_the_sine_drive(server):
+    q = dict(chain="0.2,0.2", drive="sine", grid=16, points=30, f_min=10, f_max=1000, stroke_min=1e-3, stroke_max=0.1)
+    d = server.get("/api/tower/chart", params=q).json()
+    ref = kapitza.tower_curves(kapitza.Chain([0.2, 0.2]), drive="sine", frequency_range=(10, 1000),
+                               stroke_range=(1e-3, 0.1), points=30, grid=16)
+    np.testing.assert_array_equal(np.array(d["band"]["stable"], dtype=bool), ref.stable)
+    assert d["stroke_coefficient"] == pytest.approx(2 / np.pi ** 2, rel=1e-15)
+    r = server.get("/api/tower/chart", params=dict(q, grid=100))
+    assert r.status_code == 422 and "grid" in r.json()["detail"] and "80" in r.json()["detail"]

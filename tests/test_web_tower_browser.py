@@ -89,6 +89,9 @@ def test_three_link_tower_stands_in_its_band(site):
     r, g, b = _chart_rgb(page, p["x"], p["y"])
     assert b > r + 30 and g > r + 20                                    # drawn: the band's blue shade
     page.screenshot(path=str(SCREENS / "tower-01-band.png"))
+    page.locator("#tower-fields").scroll_into_view_if_needed()
+    page.locator(".controls").screenshot(path=str(SCREENS / "tower-00-links.png"))
+    assert not page.is_visible("#zeta") and not page.is_visible("#rig-rod")  # the single pendulum's only
 
     # -- a click inside the band: the tower stands, and its motion plays
     page.mouse.click(p["x"], p["y"])
@@ -143,5 +146,5 @@ def test_three_link_tower_stands_in_its_band(site):
     page.select_option("#links", "1")
     page.wait_for_function("kapitza.chart.data && kapitza.chart.data.zones.length > 0", timeout=90000)
     page.wait_for_function("/^The pendulum/.test(document.getElementById('verdict').innerText)", timeout=90000)
-    assert not page.is_disabled("#plane-arnold")
+    assert not page.is_disabled("#plane-arnold") and page.is_visible("#zeta")
     assert errors == []

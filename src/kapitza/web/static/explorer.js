@@ -770,6 +770,11 @@ export function mount(root, host = {}) {
       if (!(id in titles)) titles[id] = $(id).title;
       $(id).disabled = on; $(id).title = on ? "the tower is shown on the frequency–stroke plane (1 link: the single pendulum)" : titles[id];
     }
+    // the single pendulum's own length and damping mean nothing to the tower: out of sight
+    for (const id of ["l", "l-s", "zeta", "rig-rod", "rig-kind", "damp"]) {
+      const el = $(id), box = el.closest("label") || el;
+      box.style.display = on ? "none" : "";
+    }
     $("tower-note").textContent = on ? "the chart shows the tower's band; the motion is the full (nonlinear) tower's" : "";
     const tc = [`angle of the top link θ${"₁₂₃₄"[S.links - 1]}(t), full motion`, `phase portrait of the top link`, `stroboscopic map of the top link at t = 2kT`];
     root.querySelectorAll(".plots figcaption").forEach((c, i) => { c.textContent = on ? tc[i] : captions[i]; });
