@@ -40,7 +40,8 @@ from ..drives._api import damping_of
 from ..parameters import G_EARTH, to_physical
 
 __all__ = ["create_app", "LIMITS", "chart_answer", "point_answer", "verdict_answer", "safe_tilt_answer",
-           "motion_answer", "error_detail", "json_bytes"]
+           "motion_answer", "tower_chart_answer", "tower_point_answer", "tower_motion_answer", "error_detail",
+           "json_bytes"]
 
 STATIC = Path(__file__).with_name("static")
 
@@ -61,6 +62,16 @@ LIMITS = dict(
     drive_text=200,        # characters of a drive's text form
     url=4096,              # characters of a request's path and query
     safe_tilt_integrated_periods=60,  # periods of a safe tilt followed by DOP853 (sine drive or damping)
+    chain_links=4,         # links of a tower
+    chain_length=(0.01, 10.0),  # [m] each link's length
+    chain_mass=(0.001, 1000.0),  # [kg] each link's mass
+    tower_grid=200,        # grid points per axis of a tower's band (square and rectangular waves)
+    tower_general_grid=80,  # ... with another drive (each grid point an eigenproblem per mode)
+    tower_points=600,      # samples per mode edge of a tower's band
+    tower_general_points=200,
+    tower_frequency=(1e-3, 1e6),  # [Hz] the rig plane's frequency window
+    tower_stroke=(1e-6, 100.0),   # [m] ... and its stroke window
+    tower_periods=600.0,   # drive periods 2T of a tower's motion (DOP853 with N links)
 )
 
 Plane = Literal["arnold", "physical", "rig"]
@@ -288,6 +299,9 @@ def create_app(hosts=None) -> FastAPI:
     /api/motion
     /api/point
     /api/safe_tilt
+    /api/tower/chart
+    /api/tower/motion
+    /api/tower/point
     /api/verdict
     """
     @contextlib.asynccontextmanager
@@ -430,6 +444,62 @@ def create_app(hosts=None) -> FastAPI:
         :func:`kapitza.simulate`), the pivot's height, and the stroboscopic points at ``t = 2kT``."""
         return await _worker(request, lambda check: _JSON(motion_answer(T, A, eps, mu, l, g, drive, zeta, theta0,
                                                                         dtheta0, periods, points_per_period)))
+
+    # -------------------------------------------------------------- the tower
+    chain_q = Query("0.2,0.2,0.2", description="link lengths [m] from the pivot up, comma-separated: 1 to 4 links, "
+                                              "each 0.01 .. 10 m")
+    masses_q = Query(None, description="link masses [kg], comma-separated, one per link (default: equal)")
+    links_q = Query("rod", description="rod: uniform rods; point: point masses on massless rods")
+
+    @app.get("/api/tower/chart", response_class=_JSON, summary="the tower's stable band on the rig plane")
+    async def tower_chart(request: Request, chain: str = chain_q, masses: str | None = masses_q,
+                          links: Literal["rod", "point"] = links_q, drive: str = "square", g: float = G_EARTH,
+                          f_min: float | None = Query(None, description="lowest frequency [Hz] (default: the tower's "
+                                                                        "whole band)"),
+                          f_max: float | None = None,
+                          stroke_min: float | None = Query(None, description="smallest stroke, peak to peak [m]"),
+                          stroke_max: float | None = None,
+                          grid: int | None = Query(None, description="grid points per axis of the band (default 120, "
+                                                                     "at most 200; sine: 50, at most 80)"),
+                          points: int | None = Query(None, description="samples per mode edge (default 300, at most "
+                                                                       "600; sine: 120, at most 200)")):
+        """The tower of linked pendulums (``kapitza.tower_curves``): each mode ``k`` (equivalent length
+        ``l``) has a lower edge of zone 0 (below it in frequency the mode falls) and an upper one (beyond
+        it the mode doubles its period), as ``frequency`` and ``stroke`` along the edge; ``band`` is the
+        tower's verdict on a grid (``stable[i][j]`` at ``stroke[i]``, ``frequency[j]``; 1: every mode
+        stable). Without a window, the tower's whole band."""
+        return Response(await _worker(request, lambda *a: _tower_chart_json(*a[:-1]), chain, masses, links, drive, g,
+                                      f_min, f_max, stroke_min, stroke_max, grid, points),
+                        media_type="application/json")
+
+    @app.get("/api/tower/point", response_class=_JSON, summary="the tower's verdict and report at one point")
+    async def tower_point(request: Request, chain: str = chain_q, masses: str | None = masses_q,
+                          links: Literal["rod", "point"] = links_q, drive: str = "square", g: float = G_EARTH,
+                          T: float | None = None, A: float | None = None,
+                          frequency: float | None = Query(None, description="drive frequency [Hz], with stroke or "
+                                                                            "amplitude"),
+                          stroke: float | None = Query(None, description="peak-to-peak travel of the pivot [m]"),
+                          amplitude: float | None = Query(None, description="displacement amplitude [m]")):
+        """What ``kapitza tower --json`` gives as ``report`` (``kapitza.analyze_chain``): ``stable``, the
+        ``verdict`` (which mode fails first and how), the modal lengths, each mode's zone and margin,
+        the band through the point; with ``lines``, the rows of its table."""
+        return await _worker(request, lambda check: _JSON(tower_point_answer(chain, masses, links, drive, g, T, A,
+                                                                             frequency, stroke, amplitude)))
+
+    @app.get("/api/tower/motion", response_class=_JSON, summary="the tower's full motion, sampled for animation")
+    async def tower_motion(request: Request, chain: str = chain_q, masses: str | None = masses_q,
+                           links: Literal["rod", "point"] = links_q, drive: str = "square", g: float = G_EARTH,
+                           T: float | None = None, A: float | None = None, frequency: float | None = None,
+                           stroke: float | None = None, amplitude: float | None = None,
+                           theta0: float = Query(0.1, description="starting tilt of every link, at rest [rad]"),
+                           periods: float | None = Query(None, description="drive periods 2T (default: about 1.5 s, "
+                                                                           "at most 600)"),
+                           points_per_period: int | None = None):
+        """The nonlinear motion of the tower (``kapitza.chain_motion``) from every link tilted by
+        ``theta0``: ``theta[k]`` the angle of link ``k+1`` from the upright [rad] at the times ``t``,
+        ``pivot`` the pivot's height [m]; ``toppled`` and ``t_topple`` when a link passed pi/2."""
+        return await _worker(request, lambda check: _JSON(tower_motion_answer(
+            chain, masses, links, drive, g, T, A, frequency, stroke, amplitude, theta0, periods, points_per_period)))
 
     # -------------------------------------------------------------- exports
     @app.get("/api/export/chart.{fmt}", summary="the chart as kapitza chart writes it: PNG, SVG or its CSV",
@@ -861,3 +931,155 @@ def _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_p
     c = _damping(zeta, l, g)
     pair = motion_pair(theta0, dtheta0, T, A, l, g, periods=periods, points_per_period=points_per_period, c=c, drive=d)
     return pair, d
+
+
+# ------------------------------------------------------------------ the tower (linked pendulums)
+def _numbers(name, text):
+    """Comma-separated numbers (``chain``, ``masses``), their count bounded by ``LIMITS['chain_links']``."""
+    if not isinstance(text, str):
+        text = ",".join(str(x) for x in np.atleast_1d(text))
+    if len(text) > LIMITS["drive_text"]:
+        raise _v.KapitzaValueError(f"{name} must be at most {LIMITS['drive_text']} characters; got {len(text)}")
+    try:
+        vals = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise _v.KapitzaValueError(f"{name} must be comma-separated numbers, one per link from the pivot up "
+                                   f"(e.g. 0.2,0.2); got {text!r}") from None
+    n = LIMITS["chain_links"]
+    if not 1 <= len(vals) <= n:
+        raise _v.KapitzaValueError(f"{name} must hold 1 to {n} links in the explorer (1 <= N <= {n}); "
+                                   f"got {len(vals)}")
+    return vals
+
+
+def _chain(chain, masses=None, links="rod"):
+    """The :class:`kapitza.Chain` of the explorer's ``chain`` (lengths [m]), ``masses`` [kg] and
+    ``links``, each length and mass within the explorer's ranges."""
+    from ..chain import Chain
+
+    lengths = _numbers("chain", chain)
+    for name, vals, (lo, hi), unit in (("chain", lengths, LIMITS["chain_length"], "m"),
+                                       ("masses", None if masses is None or masses == "" else _numbers("masses", masses),
+                                        LIMITS["chain_mass"], "kg")):
+        if vals is None:
+            continue
+        for i, v in enumerate(vals):
+            if not (np.isfinite(v) and lo <= v <= hi):
+                raise _v.KapitzaValueError(f"{name} must lie within {lo:g} .. {hi:g} {unit} per link in the explorer "
+                                           f"({lo:g} <= {name}[i] <= {hi:g}); got {name}[{i}] = {v:g}")
+        if name == "masses":
+            masses = vals
+    if links not in ("rod", "point"):
+        raise _v.KapitzaValueError(f"links must be one of 'rod', 'point'; got {links!r}")
+    return Chain(lengths, None if masses in (None, "") else masses, links=links)
+
+
+def _tower_T_A(d, T, A, frequency, stroke, amplitude):
+    """``(T, A)`` of a point given as ``T, A`` or as a rig's frequency with stroke or amplitude."""
+    if frequency is not None or stroke is not None or amplitude is not None:
+        if T is not None:
+            raise _v.KapitzaValueError("give a rig's frequency with stroke or amplitude (or A), without T")
+        if frequency is None:
+            raise _v.KapitzaValueError("stroke and amplitude go with frequency")
+        if stroke is not None and amplitude is not None:
+            raise _v.KapitzaValueError("give stroke or amplitude, not both")
+        T, A = (float(v) for v in d.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
+    if T is None or A is None:
+        raise _v.KapitzaValueError("give the point: T and A, or a rig's frequency with stroke or amplitude")
+    return float(_v.one("T", _v.positive("T", T))), float(_v.one("A", _v.positive("A", A)))
+
+
+def _tower_window(chain, d, g, f_min, f_max, stroke_min, stroke_max):
+    """The rig-plane window (the tower's default window where an end is not given), bounded."""
+    from ..chain import default_window
+
+    (F0, F1), (S0, S1) = default_window(chain, d, g)
+    f0, f1 = (F0 if f_min is None else f_min), (F1 if f_max is None else f_max)
+    s0, s1 = (S0 if stroke_min is None else stroke_min), (S1 if stroke_max is None else stroke_max)
+    for name, v, (lo, hi) in (("f_min", f0, LIMITS["tower_frequency"]), ("f_max", f1, LIMITS["tower_frequency"]),
+                              ("stroke_min", s0, LIMITS["tower_stroke"]), ("stroke_max", s1, LIMITS["tower_stroke"])):
+        _bounded(name, v, hi, lo)
+    if not f0 < f1:
+        raise _v.KapitzaValueError(f"f_min must be below f_max; got f_min = {f0:g}, f_max = {f1:g}")
+    if not s0 < s1:
+        raise _v.KapitzaValueError(f"stroke_min must be below stroke_max; got stroke_min = {s0:g}, "
+                                   f"stroke_max = {s1:g}")
+    return (float(f0), float(f1)), (float(s0), float(s1))
+
+
+def tower_chart_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="square", g=G_EARTH, f_min=None,
+                       f_max=None, stroke_min=None, stroke_max=None, grid=None, points=None) -> bytes:
+    """The JSON body of ``/api/tower/chart`` (bytes): the tower's band on the rig plane."""
+    return _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, stroke_max, grid, points)
+
+
+@functools.lru_cache(maxsize=32)
+def _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, stroke_max, grid, points):
+    from ..chain import tower_curves
+
+    c = _chain(chain, masses, links)
+    d = _drive(drive)
+    g = float(_v.one("g", _v.in_range("g", g, 1e-3, 1e3, lo_open=False, hi_open=False)))
+    closed = d.closed_form(0.0)
+    grid = (120 if closed else 50) if grid is None else grid
+    points = (300 if closed else 120) if points is None else points
+    _bounded("grid", grid, LIMITS["tower_grid" if closed else "tower_general_grid"], 2)
+    _bounded("points", points, LIMITS["tower_points" if closed else "tower_general_points"], 2)
+    fr, sr = _tower_window(c, d, g, f_min, f_max, stroke_min, stroke_max)
+    b = tower_curves(c, drive=d, g=g, frequency_range=fr, stroke_range=sr, points=int(points), grid=int(grid))
+    from ..rig_plane import stroke_coefficient
+
+    def curve(F, S):
+        return dict(frequency=_beyond(F), stroke=_beyond(S))
+
+    modes = [dict(mode=k + 1, l=l, lower=curve(b.frequency_lo[k], b.stroke_lo[k]),
+                  upper=curve(b.frequency_hi[k], b.stroke_hi[k])) for k, l in enumerate(b.modal_lengths)]
+    return _json_bytes(dict(plane="rig", x="frequency", y="stroke", chain=c.describe(), lengths=list(c.lengths),
+                            masses=list(c.masses), links=c.links, n_links=c.n, modal_lengths=list(b.modal_lengths),
+                            drive=d.describe(), mu_max=d.mu_max, g=g, stroke_coefficient=stroke_coefficient(d),
+                            view=dict(f_min=fr[0], f_max=fr[1], stroke_min=sr[0], stroke_max=sr[1]), modes=modes,
+                            band=dict(frequency=b.frequency, stroke=b.stroke,
+                                      stable=b.stable.astype(np.uint8))))
+
+
+def tower_point_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="square", g=G_EARTH, T=None, A=None,
+                       frequency=None, stroke=None, amplitude=None) -> dict:
+    """What ``/api/tower/point`` answers: the tower's report (``kapitza tower --json``'s ``report``)
+    with ``lines``, the rows of its table."""
+    c = _chain(chain, masses, links)
+    d = _drive(drive)
+    g = float(_v.one("g", _v.positive("g", g)))
+    T, A = _tower_T_A(d, T, A, frequency, stroke, amplitude)
+    rep = c.analyze(T=T, A=A, g=g, drive=d)
+    return _io.to_jsonable({**rep.as_dict(), "lines": rep.lines(), "n_links": c.n, "lengths": list(c.lengths),
+                            "links": c.links})
+
+
+def tower_motion_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="square", g=G_EARTH, T=None, A=None,
+                        frequency=None, stroke=None, amplitude=None, theta0=0.1, periods=None,
+                        points_per_period=None) -> dict:
+    """What ``/api/tower/motion`` answers: the tower's full (nonlinear) motion from every link tilted
+    by ``theta0`` at rest, sampled for animation (``kapitza.chain_motion``)."""
+    from ..motion.chain import chain_motion
+
+    c = _chain(chain, masses, links)
+    d = _drive(drive)
+    g = float(_v.one("g", _v.positive("g", g)))
+    T, A = _tower_T_A(d, T, A, frequency, stroke, amplitude)
+    theta0 = float(_v.one("theta0", _v.finite("theta0", theta0)))
+    _bounded("|theta0|", abs(theta0), LIMITS["theta0"])
+    if periods is None:
+        periods = max(10.0, min(LIMITS["tower_periods"], 1.5 / (2.0 * T)))
+    if points_per_period is None:
+        points_per_period = max(4, min(60, int(LIMITS["motion_samples"] / 4 / periods)))
+    _bounded("periods", periods, LIMITS["tower_periods"], 1)
+    _bounded("points_per_period", points_per_period, LIMITS["points_per_period"], 4)
+    _bounded("periods * points_per_period", periods * points_per_period, LIMITS["motion_samples"])
+    m = chain_motion(c, theta0, 0.0, T=T, A=A, g=g, drive=d, periods=float(periods),
+                     points_per_period=int(points_per_period))
+    rep = c.analyze(T=T, A=A, g=g, drive=d)
+    return _io.to_jsonable(dict(t=m.t, pivot=m.pivot, theta=m.theta, dtheta=m.dtheta, lengths=list(c.lengths),
+                                links=c.links, n_links=c.n, T=T, A=A, g=g, frequency=0.5 / T, theta0=theta0,
+                                periods=float(periods), points_per_period=int(points_per_period),
+                                toppled=bool(m.toppled), t_topple=m.t_topple, tol=m.tol, stable=bool(rep.stable),
+                                verdict=rep.verdict, chain=c.describe(), drive=d.describe()))

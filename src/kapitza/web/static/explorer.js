@@ -49,7 +49,13 @@ export function mount(root, host = {}) {
     plane: "arnold", l: 1, g: 9.81, drive: "square", duty: 0.3, zeta: 0, overlay: "",
     point: null, theta0: 0.1, speed: 0.25, views: DEFAULT_VIEWS(1, 9.81),
     rig: false, rod: 1.5, rodKind: "rod", given: "amplitude", dampUnit: "zeta", k: null,
+    // the tower: from 2 links on the chart is its band on the rig plane (views.tower: null = its whole band)
+    links: 1, chain: [0.2, 0.2, 0.2, 0.2], masses: [1, 1, 1, 1], linkKind: "rod", towerNew: false,
   };
+  // The tower's routes (/api/tower/...) are the web API's; a host answering requests itself says it knows them.
+  const towerOK = !host.getJSON || !!host.tower;
+  const isTower = () => towerOK && S.links > 1;
+  const towerHeight = () => S.chain.slice(0, S.links).reduce((a, b) => a + b, 0);
   // stroke = k A T^2 (peak-to-peak travel of the pivot): 1/4 for the square wave, 2/pi^2 for the sine,
   // the server's value (from the last chart) for another drive.
   function strokeCoef() {
@@ -61,7 +67,14 @@ export function mount(root, host = {}) {
   const toArnold = (T, A, l, g) => ({ eps: T * Math.sqrt(A / (8 * l)), mu: Math.sqrt(g / A) });
   const toPhysical = (eps, mu, l, g) => { const A = g / (mu * mu); return { T: eps * Math.sqrt(8 * l / A), A }; };
   const driveText = () => (S.drive === "rectangular" ? `rectangular:${S.duty}` : S.drive);
-  const view = () => S.views[S.plane];
+  const view = () => {
+    if (!isTower()) return S.views[S.plane];
+    if (!S.views.tower) S.views.tower = { ...rigView(towerHeight(), S.g, null), auto: true };  // until the band's own window comes
+    return S.views.tower;
+  };
+  // What the tower's routes are told: the links, their masses and kind, the drive and g.
+  const towerBase = () => ({ chain: S.chain.slice(0, S.links).join(","), masses: S.masses.slice(0, S.links).join(","),
+    links: S.linkKind, drive: driveText(), g: S.g });
 
   function qs(obj) {
     const p = new URLSearchParams();
@@ -80,6 +93,7 @@ export function mount(root, host = {}) {
       overlay: S.overlay, theta0: S.theta0, speed: S.speed };
     if (S.rig) { o.rig = 1; o.rod = S.rod; o.rod_kind = S.rodKind; o.given = S.given; o.damp_unit = S.dampUnit; }
     if (S.drive === "rectangular") o.duty = S.duty;
+    if (S.links > 1) { o.links = S.links; o.chain = S.chain.slice(0, S.links).join(","); o.masses = S.masses.slice(0, S.links).join(","); o.link_kind = S.linkKind; }
     if (S.point) { o.T = S.point.T; o.A = S.point.A; }
     history.replaceState(null, "", "?" + qs(o));
   }
@@ -105,6 +119,14 @@ export function mount(root, host = {}) {
     if (v.every((x) => x !== null) && v[0] < v[1] && v[2] < v[3]) S.views[S.plane] = { x0: v[0], x1: v[1], y0: v[2], y1: v[3] };
     if (num("T") > 0 && num("A") > 0) S.point = { T: num("T"), A: num("A") };
     if (!v.every((x) => x !== null) && S.plane === "rig") S.views.rig = rigView(S.l, S.g, S.point);
+    const n = parseInt(p.get("links"), 10), list = (k) => (p.get(k) || "").split(",").map(parseFloat);
+    if (towerOK && n >= 2 && n <= 4) {
+      S.links = n; S.plane = "rig"; S.rig = true; S.towerNew = true;
+      list("chain").forEach((x, i) => { if (i < 4 && x > 0) S.chain[i] = x; });
+      list("masses").forEach((x, i) => { if (i < 4 && x > 0) S.masses[i] = x; });
+      if (["rod", "point"].includes(p.get("link_kind"))) S.linkKind = p.get("link_kind");
+      S.views.tower = v.every((x) => x !== null) && v[0] > 0 && v[2] > 0 ? { x0: v[0], x1: v[1], y0: v[2], y1: v[3] } : null;
+    }
   }
 
   // ------------------------------------------------------------------ canvas helpers
@@ -269,9 +291,11 @@ export function mount(root, host = {}) {
     for (const t of xt.ticks) { ctx.beginPath(); ctx.moveTo(ax.X(t), ax.top); ctx.lineTo(ax.X(t), ax.bottom); ctx.stroke(); }
     for (const t of yt.ticks) { ctx.beginPath(); ctx.moveTo(ax.left, ax.Y(t)); ctx.lineTo(ax.right, ax.Y(t)); ctx.stroke(); }
     if (chart.data) drawZones(ctx, ax, chart.data, { fill: "rgba(158,202,225,0.85)" });
+    if (isTower() && chart.tower) drawBand(ctx, ax, chart.tower);
     if (chart.overlay) drawZones(ctx, ax, chart.overlay, { fill: "rgba(213,94,0,0.13)", color: COLORS.overlay, width: 2.2 });
     chart.legendBox = legendBox(ctx, ax);
     if (chart.data) zoneLabels(ctx, ax, chart.data);
+    if (isTower() && chart.tower) modeLabels(ctx, ax, chart.tower);
     if (S.plane === "arnold" && edge > ax.top + 14) label(ctx, `μ ≥ ${fmt(mMax, 4)} (${weak}): always unstable`, ax.left + 8, Math.max(ax.top + 12, edge - 12));
     if (S.plane === "physical" && edge < ax.bottom - 14) label(ctx, `${weak}: always unstable`, ax.left + 8, Math.min(ax.bottom - 12, edge + 14));
     if (S.plane === "rig") label(ctx, `grey: ${weak}, always falls`, ax.left + 8, ax.bottom - 12);
@@ -321,7 +345,75 @@ export function mount(root, host = {}) {
     }
     ctx.closePath(); ctx.fillStyle = COLORS.point; ctx.fill(); ctx.strokeStyle = "#000"; ctx.lineWidth = 1.3; ctx.stroke();
   }
+  // The tower's band: its verdict on a grid (log-spaced, so an image on log axes), and each mode's
+  // edges of zone 0 on top: solid, the lower edge (below it in frequency that mode falls), dashed,
+  // the upper edge (beyond it that mode doubles its period). Mode 1 is the longest, drawn widest.
+  function drawBand(ctx, ax, d) {
+    const b = d.band, nf = b.frequency.length, ns = b.stroke.length;
+    if (nf >= 2 && ns >= 2) {
+      const img = document.createElement("canvas"); img.width = nf; img.height = ns;
+      const g = img.getContext("2d"), data = g.createImageData(nf, ns);
+      for (let i = 0; i < ns; i++) for (let j = 0; j < nf; j++) {
+        const o = 4 * ((ns - 1 - i) * nf + j), on = b.stable[i][j];
+        data.data[o] = 158; data.data[o + 1] = 202; data.data[o + 2] = 225; data.data[o + 3] = on ? 220 : 0;
+      }
+      g.putImageData(data, 0, 0);
+      // cell j spans half a grid step either side of frequency[j] (in log)
+      const hf = Math.sqrt(b.frequency[1] / b.frequency[0]), hs = Math.sqrt(b.stroke[1] / b.stroke[0]);
+      const X0 = ax.X(b.frequency[0] / hf), X1 = ax.X(b.frequency[nf - 1] * hf), Y0 = ax.Y(b.stroke[ns - 1] * hs), Y1 = ax.Y(b.stroke[0] / hs);
+      ctx.save(); ctx.imageSmoothingEnabled = true; ctx.drawImage(img, X0, Y0, X1 - X0, Y1 - Y0); ctx.restore();
+    }
+    const v = view();
+    d.modes.forEach((m, k) => {
+      for (const [edge, dash, col] of [["lower", [], COLORS.edge2], ["upper", [7, 4], COLORS.edge4]]) {
+        const F = m[edge].frequency, St = m[edge].stroke;
+        ctx.beginPath(); let on = false;
+        for (let j = 0; j < F.length; j++) {
+          const f = F[j], st = St[j];
+          if (f === null || st === null || !(f > v.x0 / 10 && f < v.x1 * 10 && st > v.y0 / 10 && st < v.y1 * 10)) { on = false; continue; }
+          const X = clampPx(ax.X(f)), Y = clampPx(ax.Y(st));
+          on ? ctx.lineTo(X, Y) : ctx.moveTo(X, Y); on = true;
+        }
+        ctx.strokeStyle = col; ctx.setLineDash(dash); ctx.lineWidth = k === 0 ? 2.4 : 1.6; ctx.stroke();
+      }
+    });
+    ctx.setLineDash([]);
+  }
+  // "mode k falls" on each lower edge, "mode k doubles" on each upper edge, where there is room.
+  function modeLabels(ctx, ax, d) {
+    ctx.font = "600 12.5px DejaVu Sans, sans-serif"; ctx.textBaseline = "middle";
+    const L = chart.legendBox, taken = [];
+    const free = (x, y, w) => !(L && x + w > L.x && x < L.x + L.w && y + 9 > L.y && y - 9 < L.y + L.h) &&
+      taken.every(([a, b, c]) => x + w < a || x > a + c || Math.abs(y - b) > 18);
+    d.modes.forEach((m, k) => {
+      for (const [edge, text, frac] of [["lower", `mode ${m.mode} falls`, 0.35 + 0.1 * k], ["upper", `mode ${m.mode} doubles`, 0.75 - 0.05 * k]]) {
+        const F = m[edge].frequency, St = m[edge].stroke, tw = ctx.measureText(text).width, vis = [];
+        for (let j = 0; j < F.length; j++) {
+          if (F[j] === null || St[j] === null) continue;
+          const X = ax.X(F[j]), Y = ax.Y(St[j]);
+          if (X > ax.left + 4 && X < ax.right - tw - 12 && Y > ax.top + 12 && Y < ax.bottom - 26) vis.push([X, Y]);
+        }
+        if (!vis.length) continue;
+        vis.sort((a, b) => a[0] - b[0]);
+        for (let t = 0; t < vis.length; t++) {
+          const q = vis[Math.floor(((frac * vis.length) + t) % vis.length)], x = q[0] + 6, y = q[1] - (edge === "upper" ? 10 : 0);
+          if (!free(x, y, tw)) continue;
+          taken.push([x, y, tw]);
+          ctx.fillStyle = "rgba(255,255,255,0.85)"; ctx.fillRect(x - 3, y - 9, tw + 6, 18);
+          ctx.fillStyle = edge === "lower" ? COLORS.edge2 : COLORS.edge4; ctx.fillText(text, x, y);
+          break;
+        }
+      }
+    });
+  }
   function legendRows() {
+    if (isTower()) {
+      const d = chart.tower, rows = [["fill", COLORS.fill, `shaded: the ${S.links}-link tower stands (every mode stable)`],
+        ["blank", "#fff", "white: it falls"],
+        ["line", COLORS.edge2, "mode k falls below this edge (2T)"], ["dash", COLORS.edge4, "mode k doubles its period beyond (4T)"]];
+      if (S.point) rows.push(["star", COLORS.point, "chosen point"]);
+      return rows;
+    }
     const rows = [["fill", COLORS.fill, `shaded: stays up (stable zone n${chart.data ? `, ${shortDrive(chart.data.drive)}${S.zeta > 0 ? `, ζ = ${S.zeta}` : ""}` : ""})`],
       ["blank", "#fff", "white: falls"],
       ["line", COLORS.edge2, "edge: 2T-periodic motion (Tₙ)"], ["dash", COLORS.edge4, "edge: period doubling, 4T (T̃ₙ)"]];
@@ -354,6 +446,10 @@ export function mount(root, host = {}) {
     // The square wave's edges are closed forms (1000 samples in milliseconds); another drive or
     // damping solves an eigenproblem per edge and sample, so fewer samples keep the view quick.
     // null: the view lies where this drive cannot hold the rod up (nothing to ask for).
+    if (isTower()) {  // the tower's band: its whole window until the user moves it
+      const v = view();
+      return v.auto ? towerBase() : { ...towerBase(), f_min: v.x0, f_max: v.x1, stroke_min: v.y0, stroke_max: v.y1 };
+    }
     const samples = drive === "square" && !(S.zeta > 0) ? 1000 : 300;
     const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples }, top = muTop(drive);
     if (v.x1 <= 0) return null;
@@ -373,6 +469,16 @@ export function mount(root, host = {}) {
     const seq = ++chartSeq, signal = chartAbort.signal;
     $("busy").hidden = false;
     try {
+      if (isTower()) {
+        const a = await getJSON("/api/tower/chart?" + qs(chartParams(driveText())), signal);
+        if (seq !== chartSeq) return;
+        chart.tower = a; chart.data = null; chart.overlay = null; chart.error = null;
+        if (view().auto) S.views.tower = { x0: a.view.f_min, x1: a.view.f_max, y0: a.view.stroke_min, y1: a.view.stroke_max };
+        if (a.stroke_coefficient) { const k = S.k; S.k = a.stroke_coefficient; if (k !== S.k) setPointInputs(); }
+        if (S.towerNew) { S.towerNew = false; towerStart(a); }
+        return;
+      }
+      chart.tower = null;
       const p = chartParams(driveText()), po = S.overlay && S.overlay !== driveText() ? chartParams(S.overlay) : null;
       const main = p ? getJSON("/api/chart?" + qs(p), signal) : null;
       const over = po ? getJSON("/api/chart?" + qs(po), signal) : null;
@@ -384,11 +490,12 @@ export function mount(root, host = {}) {
       if (e.name === "AbortError") return;
       chart.error = String(e.message || e);
     } finally {
-      if (seq === chartSeq) { $("busy").hidden = true; chart.canvas.dataset.fetches = String(seq); }
+      if (seq === chartSeq) {
+        $("busy").hidden = true; chart.canvas.dataset.fetches = String(seq);
+        chart.canvas.dataset.tower = chart.tower && isTower() ? String(chart.tower.n_links) : "";
+        drawChart(); updateCaption(); updateExports(); saveURL();
+      }
     }
-    drawChart();
-    updateCaption();
-    updateExports();
   }
   async function getJSON(url, signal) {
     if (host.getJSON) return host.getJSON(url, signal);  // the notebook: the kernel answers
@@ -398,6 +505,15 @@ export function mount(root, host = {}) {
     return body;
   }
   function updateCaption() {
+    if (isTower()) {
+      const d = chart.tower;
+      $("caption").textContent = !d ? "" : `Shaded: the tower of ${d.chain} stands upright (${d.drive}, g = ${d.g} m/s²); white: it falls. ` +
+        `Without friction it moves as ${d.n_links} single pendulums, its modes, of equivalent lengths ` +
+        `${d.modal_lengths.map((x) => fmt(x, 4)).join(", ")} m; it stands where every mode does. ` +
+        "Solid blue: a mode's lower edge (at lower frequency it falls; mode 1, the longest, sets the tower's); " +
+        "dashed red: its upper edge (at larger stroke it doubles its period; the shortest mode's comes first). Click a point: the tower's verdict and its motion.";
+      return;
+    }
     const d = chart.data;
     if (!d) { $("caption").textContent = ""; return; }
     const zones = d.zones.map((z) => z.n);
@@ -500,12 +616,14 @@ export function mount(root, host = {}) {
     const digits = Math.min(16, Math.max(6, Math.ceil(Math.log10(Math.max(Math.abs(x), 1e-300) / dx)) + 1));
     box.hidden = false;
     const rig = S.plane === "rig" || S.rig ? `${fmt(1 / (2 * T), 5)} Hz, stroke ${fmt(1e3 * strokeCoef() * A * T * T, 4)} mm (${fmt(A / S.g, 4)} g)<br>` : "";
-    box.innerHTML = rig + `(ε, μ) = (${fmt(eps, digits)}, ${fmt(mu, 6)})<br>(T, A) = (${fmt(T, digits)} s, ${fmt(A, 6)} m/s²)<br>` +
+    box.innerHTML = rig + (isTower() ? `(T, A) = (${fmt(T, digits)} s, ${fmt(A, 6)} m/s²)<br>`
+      : `(ε, μ) = (${fmt(eps, digits)}, ${fmt(mu, 6)})<br>(T, A) = (${fmt(T, digits)} s, ${fmt(A, 6)} m/s²)<br>`) +
       `<span id="hover-verdict">${box.dataset.verdict || "…"}</span>`;
     placeHover(px, py);
     if (!(eps > 0 && mu > 0)) return;
     hoverAt = [px, py];
-    hoverNext = S.plane === "arnold" ? { eps, mu, zeta: S.zeta } : { T, A, l: S.l, g: S.g, zeta: S.zeta };
+    hoverNext = isTower() ? { url: "/api/tower/point?" + qs({ ...towerBase(), T, A }) }
+      : S.plane === "arnold" ? { eps, mu, zeta: S.zeta } : { T, A, l: S.l, g: S.g, zeta: S.zeta };
     if (!hoverBusy) hoverVerdict();
   }
   // The readout beside the pointer, flipped to its left (or above) where it would leave the chart.
@@ -521,8 +639,8 @@ export function mount(root, host = {}) {
     if (!hoverNext) return;
     const q = hoverNext; hoverNext = null; hoverBusy = true;
     try {
-      const rep = await getJSON("/api/verdict?" + qs({ ...q, drive: driveText() }));
-      const text = `<b style="color:${rep.stable ? "#1a7f37" : "#b42318"}">${plain(rep).head}</b> · ${esc(plain(rep).tech)}`;
+      const rep = await getJSON(q.url || "/api/verdict?" + qs({ ...q, drive: driveText() })), w = q.url ? plainTower(rep) : plain(rep);
+      const text = `<b style="color:${rep.stable ? "#1a7f37" : "#b42318"}">${w.head}</b> · ${esc(w.tech)}`;
       $("hover").dataset.verdict = text;
       const hv = $("hover-verdict"); if (hv) { hv.innerHTML = text; const b = $("hover"); if (!b.hidden && hoverAt) placeHover(hoverAt[0], hoverAt[1]); }
     } catch (e) { $("hover").dataset.verdict = ""; }
@@ -530,7 +648,10 @@ export function mount(root, host = {}) {
     if (hoverNext) setTimeout(hoverVerdict, 30);
   }
 
-  $("reset-view").onclick = () => { S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()), S.point)[S.plane]; drawChart(); requestChart(0); saveURL(); };
+  $("reset-view").onclick = () => {
+    if (isTower()) { S.views.tower = null; drawChart(); requestChart(0); return; }
+    S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()), S.point)[S.plane]; drawChart(); requestChart(0); saveURL();
+  };
   $("zoom-point").onclick = () => {
     if (!S.point) return;
     const v = view(), q = toPlane(S.point), cx = q.x, cy = q.y;
@@ -631,7 +752,73 @@ export function mount(root, host = {}) {
     $("rig-mode").checked = S.rig; shell.classList.toggle("rig-on", S.rig);
     $("rig-rod").value = S.rod; $("rig-kind").value = S.rodKind; $("rig-given").value = S.given; $("damp-unit").value = S.dampUnit;
     setDampInput();
+    $("links").value = String(S.links); $("link-kind").value = S.linkKind;
+    for (let k = 1; k <= 4; k++) { $(`link-L${k}`).value = S.chain[k - 1]; $(`link-m${k}`).value = S.masses[k - 1]; }
+    syncTower();
     setPointInputs();
+  }
+  // ------------------------------------------------------------------ the tower
+  // From 2 links on, the chart is the tower's band on the rig plane (the other planes are the single
+  // pendulum's), the point's answers and motion are the tower's.
+  const captions = [...root.querySelectorAll(".plots figcaption")].map((c) => c.textContent), titles = {};
+  function syncTower() {
+    const on = isTower();
+    if (!towerOK) $("tower-fields").hidden = true;
+    shell.classList.toggle("tower-on", on);
+    root.querySelectorAll(".link-row").forEach((r) => { r.hidden = parseInt(r.dataset.k, 10) > S.links; });
+    for (const id of ["plane-arnold", "plane-physical", "rig-mode", "show-zone", "zone-n", "overlay"]) {
+      if (!(id in titles)) titles[id] = $(id).title;
+      $(id).disabled = on; $(id).title = on ? "the tower is shown on the frequency–stroke plane (1 link: the single pendulum)" : titles[id];
+    }
+    // the single pendulum's own length and damping mean nothing to the tower: out of sight
+    for (const id of ["l", "l-s", "zeta", "rig-rod", "rig-kind", "damp"]) {
+      const el = $(id), box = el.closest("label") || el;
+      box.style.display = on ? "none" : "";
+    }
+    $("tower-note").textContent = on ? "the chart shows the tower's band; the motion is the full (nonlinear) tower's" : "";
+    const tc = [`angle of the top link θ${"₁₂₃₄"[S.links - 1]}(t), full motion`, `phase portrait of the top link`, `stroboscopic map of the top link at t = 2kT`];
+    root.querySelectorAll(".plots figcaption").forEach((c, i) => { c.textContent = on ? tc[i] : captions[i]; });
+  }
+  function onTower() {
+    const was = isTower();
+    S.links = Math.max(1, Math.min(4, parseInt($("links").value, 10) || 1)); S.linkKind = $("link-kind").value;
+    for (let k = 1; k <= 4; k++) {
+      const L = parseFloat($(`link-L${k}`).value), mk = parseFloat($(`link-m${k}`).value);
+      if (L > 0) S.chain[k - 1] = L;
+      if (mk > 0) S.masses[k - 1] = mk;
+    }
+    if (isTower() && !was) {  // the tower stands on a shaker: the rig plane, in the rig's units
+      S.rig = true; $("rig-mode").checked = true; shell.classList.add("rig-on");
+      S.plane = "rig"; root.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x.dataset.plane === "rig"));
+    }
+    syncTower();
+    S.views.tower = null; S.towerNew = isTower();
+    chart.tower = null; chart.data = null; chart.overlay = null;
+    drawChart(); requestChart(0); saveURL(); updateExports();
+    if (!isTower() && was && S.point) {  // the single pendulum again, its point kept in view
+      const q = toPlane(S.point), v = S.views.rig;
+      if (!(q.x > v.x0 && q.x < v.x1 && q.y > v.y0 && q.y < v.y1)) S.views.rig = rigView(S.l, S.g, S.point);
+      choosePoint(S.point);
+    }
+  }
+  for (const id of ["links", "link-kind", "link-L1", "link-L2", "link-L3", "link-L4", "link-m1", "link-m2", "link-m3", "link-m4"]) {
+    $(id).addEventListener("change", onTower);
+  }
+  // A new tower's first band: keep the point where it lies in the band's window, else choose one in
+  // the middle of the band (where the tower stands), and ask its verdict and motion.
+  function towerStart(d) {
+    const v = view(), q = S.point ? toPlane(S.point) : null;
+    if (!(q && q.x > v.x0 && q.x < v.x1 && q.y > v.y0 && q.y < v.y1)) {
+      const b = d.band, cells = [];
+      b.stable.forEach((row, i) => row.forEach((on, j) => { if (on) cells.push([i, j]); }));
+      if (cells.length) {
+        const rows = cells.map((c) => c[0]).sort((a, c) => a - c), i = rows[Math.floor(rows.length * 0.4)];
+        const js = cells.filter((c) => c[0] === i).map((c) => c[1]), j = js[Math.floor(js.length * 0.3)];
+        const f = b.frequency[j], st = b.stroke[i], T = 1 / (2 * f);
+        S.point = { T, A: st / (strokeCoef() * T * T) };
+      }
+    }
+    if (S.point) choosePoint(S.point);
   }
   function setDampInput() {
     const c = 2 * S.zeta * Math.sqrt(S.g / S.l);
@@ -765,6 +952,7 @@ export function mount(root, host = {}) {
   let pointSeq = 0, pointAbort = null;
   const PANEL = { verdict: null, report: null, safe: null };
   function pointQuery() {
+    if (isTower()) return { ...towerBase(), frequency: 1 / (2 * S.point.T), stroke: strokeCoef() * S.point.A * S.point.T * S.point.T };
     const q = { T: S.point.T, A: S.point.A, l: S.l, g: S.g, drive: driveText(), zeta: S.zeta };
     if (S.rig) {  // the answers in the quantity the rig is set by (amplitude or stroke, frequency)
       const st = strokeCoef() * S.point.A * S.point.T * S.point.T;
@@ -785,7 +973,7 @@ export function mount(root, host = {}) {
     if (!S.point) return "";
     const f = 1 / (2 * S.point.T), st = strokeCoef() * S.point.A * S.point.T * S.point.T;
     const d = shortDrive(({ square: "square wave", sine: "sine", rectangular: `rectangular, duty ${S.duty}` })[S.drive] || S.drive);
-    return `${d} · ${fmt(f, 4)} Hz, ${S.given === "stroke" ? "stroke " + fmt(1e3 * st, 4) : "amplitude " + fmt(500 * st, 4)} mm` +
+    return `${isTower() ? `${S.links}-link tower · ` : ""}${d} · ${fmt(f, 4)} Hz, ${S.given === "stroke" ? "stroke " + fmt(1e3 * st, 4) : "amplitude " + fmt(500 * st, 4)} mm` +
       ` (A = ${fmt(S.point.A / S.g, 3)} g)${S.zeta > 0 ? ` · damping ζ = ${fmt(S.zeta, 3)}` : ""}`;
   }
   async function choosePoint(Pt, from) {
@@ -798,6 +986,14 @@ export function mount(root, host = {}) {
     markBusy();
     fetchMotion();
     const current = () => seq === pointSeq;
+    if (isTower()) {  // the tower: one answer (kapitza.analyze_chain), the verdict and the report together
+      try {
+        const r = await getJSON("/api/tower/point?" + qs(q), signal);
+        if (!current()) return;
+        PANEL.verdict = r; PANEL.report = r; PANEL.query = q; renderVerdict(); showReport(r);
+      } catch (e) { if (e.name !== "AbortError" && current()) showError(e); }
+      return;
+    }
     try {
       const v = await getJSON("/api/verdict?" + qs(q), signal);
       if (!current()) return;
@@ -825,9 +1021,29 @@ export function mount(root, host = {}) {
     if (/2T-type/.test(t)) return { head: "falls", tech: "resonance (2T-periodic, multipliers positive)" };
     return { head: "falls", tech: "unstable (multipliers real)" };
   }
+  // The tower's verdict in plain words: which mode fails first and how is the technical part.
+  function plainTower(v) {
+    return { head: v.stable ? "stands" : "falls", tech: v.verdict || "" };
+  }
+  function renderTower(el, v) {
+    const w = plainTower(v), info = [];
+    info.push(`modes (equivalent single pendulums): l = ${v.modal_lengths.map((x) => fmt(x, 4)).join(", ")} m`);
+    if (v.frequency_lo !== null && v.frequency_lo !== undefined) {
+      info.push(`stands at this stroke for ${fmt(v.frequency_lo, 4)} Hz < frequency < ${v.frequency_hi === null ? "∞" : fmt(v.frequency_hi, 4) + " Hz"}` +
+        (v.stroke_lo !== null && v.stroke_lo !== undefined ? `; at this frequency for ${fmt(1e3 * v.stroke_lo, 4)} mm < stroke < ${fmt(1e3 * v.stroke_hi, 4)} mm` : ""));
+    }
+    info.push(`<span class="nums">growth ${fmt(v.growth, 4)} per period 2T · margin ${fmt(100 * v.margin, 3)} %</span>`);
+    el.innerHTML = `<span class="head">The tower ${w.head}</span> <span class="tech">(${esc(w.tech)})</span><small>${info.join("<br>")}</small>`;
+  }
   function renderVerdict() {
     const el = $("verdict"), v = PANEL.report || PANEL.verdict;
     if (!v) return;
+    if (isTower() && v.modal_lengths) {
+      el.className = "verdict " + (v.stable ? "stable" : "unstable"); el.dataset.state = "report";
+      el.dataset.verdict = v.verdict; el.dataset.drive = PANEL.query ? PANEL.query.drive : "";
+      renderTower(el, v);
+      return;
+    }
     el.className = "verdict " + (v.stable ? "stable" : "unstable");
     el.dataset.state = PANEL.report ? "report" : "verdict";
     el.dataset.verdict = v.verdict; el.dataset.drive = PANEL.query ? PANEL.query.drive : "";
@@ -889,11 +1105,29 @@ export function mount(root, host = {}) {
     const seq = ++motionSeq;
     anim.clear("computing the motion …");
     try {
+      if (isTower()) {
+        const m = await getJSON("/api/tower/motion?" + qs({ ...towerBase(), T: S.point.T, A: S.point.A, theta0: S.theta0 }), motionAbort.signal);
+        if (seq !== motionSeq) return;
+        anim.load(towerMotion(m));
+        return;
+      }
       const m = await getJSON("/api/motion?" + qs(motionParams()), motionAbort.signal);
       if (seq !== motionSeq) return;
       anim.load(m);
     } catch (e) { if (e.name !== "AbortError" && seq === motionSeq) { anim.clear(String(e.message || e)); } }
     updateExports();
+  }
+
+  // The tower's motion as the plots read a motion: the top link's angle (every link's for the stage)
+  // and the stroboscopic points at t = 2kT.
+  function towerMotion(m) {
+    const top = m.n_links - 1, every = m.points_per_period;
+    m.tower = true; m.thetas = m.theta; m.theta = m.thetas[top]; m.dtheta = m.dtheta[top];
+    m.l = m.lengths.reduce((a, b) => a + b, 0);
+    const st = { t: [], theta: [], dtheta: [] };
+    for (let j = 0; j < m.t.length; j += every) { st.t.push(m.t[j]); st.theta.push(m.theta[j]); st.dtheta.push(m.dtheta[j]); }
+    m.strobe = st;
+    return m;
   }
 
   // ------------------------------------------------------------------ the animation
@@ -937,6 +1171,7 @@ export function mount(root, host = {}) {
       ctx.fillText(anim.note || "choose a point on the chart", w / 2, h / 2); return; }
     // A pivot travelling far more than the rod is long is drawn shortened (said under the picture),
     // so the rod stays large enough to see.
+    if (m.tower) { drawTower(ctx, w, h, m, t); return; }
     const kp = Math.min(1, (0.6 * m.l) / m.pmax), pmax = m.pmax * kp;
     const k = index(m, t), piv = lerp(m.pivot, k) * kp;
     const th = lerp(m.theta, k), thl = m.theta_linear ? lerp(m.theta_linear, k) : null;
@@ -985,6 +1220,42 @@ export function mount(root, host = {}) {
     scene(w * 0.27, thl, "small-angle (linear) model", COLORS.linear, m.summary && typeof m.summary.linear === "string" ? m.summary.linear : "", true);
     scene(w * 0.73, th, "the real pendulum", COLORS.nonlinear, "", false);
     ctx.strokeStyle = "#e4e8ee"; ctx.lineWidth = 1; ctx.beginPath(); ctx.moveTo(w / 2, 30); ctx.lineTo(w / 2, h - 26); ctx.stroke();
+  }
+
+  // The tower on its pivot: every link at its angle, one on another, as the full equations move it.
+  function drawTower(ctx, w, h, m, t) {
+    const solo = shell.classList.contains("projector"), k = index(m, t);
+    const kp = Math.min(1, (0.3 * m.l) / m.pmax), pmax = m.pmax * kp, piv = lerp(m.pivot, k) * kp;
+    const H = m.l, s = Math.min((solo ? 0.8 : 0.9) * w / (2.1 * H), (h - 70) / (1.1 * H + 2 * pmax + 0.05 * H));
+    const cx = w / 2, baseY = 34 + (1.08 * H + pmax) * s, py = baseY - piv * s;
+    ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 6; ctx.lineCap = "round";
+    ctx.beginPath(); ctx.moveTo(cx, baseY - pmax * s - 14); ctx.lineTo(cx, baseY + pmax * s + 14); ctx.stroke();
+    ctx.setLineDash([4, 4]); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1;
+    ctx.beginPath(); ctx.moveTo(cx, py); ctx.lineTo(cx, py - H * s * 1.05); ctx.stroke(); ctx.setLineDash([]);
+    const colors = ["#1f4e9c", "#2a7ab0", "#3d9a8b", "#7a9a3d"];
+    let x = cx, y = py;
+    m.thetas.forEach((th, j) => {
+      const a = lerp(th, k), L = m.lengths[j] * s, x2 = x + Math.sin(a) * L, y2 = y - Math.cos(a) * L;
+      ctx.strokeStyle = colors[j % 4]; ctx.lineWidth = m.links === "rod" ? Math.max(7, 0.06 * L) : 3;
+      ctx.beginPath(); ctx.moveTo(x, y); ctx.lineTo(x2, y2); ctx.stroke();
+      if (m.links === "point") { ctx.fillStyle = colors[j % 4]; ctx.beginPath(); ctx.arc(x2, y2, Math.max(6, 0.08 * L), 0, 2 * Math.PI); ctx.fill(); }
+      ctx.fillStyle = "#fff"; ctx.strokeStyle = "#16263d"; ctx.lineWidth = 1.5;
+      ctx.beginPath(); ctx.arc(x, y, 3.5, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+      x = x2; y = y2;
+    });
+    ctx.fillStyle = "#16263d"; ctx.fillRect(cx - 16, py - 6, 32, 12);
+    ctx.fillStyle = "#fff"; ctx.beginPath(); ctx.arc(cx, py, 3, 0, 2 * Math.PI); ctx.fill();
+    const fs = solo ? 22 : 14, end = m.t[m.n - 1], fell = m.toppled && t >= end - 1e-12;
+    ctx.fillStyle = "#16263d"; ctx.font = `600 ${fs}px DejaVu Sans, sans-serif`; ctx.textAlign = "center"; ctx.textBaseline = "top";
+    fitText(ctx, `the tower of ${m.n_links} links: full (nonlinear) motion from a tilt of ${fmt(m.theta0, 3)} rad`, cx, 6, w - 20);
+    ctx.font = `${solo ? 18 : 12.5}px DejaVu Sans, sans-serif`; ctx.textBaseline = "bottom";
+    const angles = m.thetas.map((th) => fmt(lerp(th, k), 3)).join(", ");
+    fitText(ctx, fell ? `toppled at t = ${fmt(m.t_topple, 4)} s (a link passed ${fmt(m.tol, 3)} rad)` : `link angles ${angles} rad`, cx, h - 6, w - 20);
+    if (kp < 1) {
+      ctx.fillStyle = "#6b7685"; ctx.font = `${solo ? 15 : 11}px DejaVu Sans, sans-serif`; ctx.textAlign = "right";
+      ctx.fillText(`pivot travel drawn ${fmt(kp, 2)}× to scale`, w - 6, h - 26);
+    }
+    $("stage").dataset.tower = String(m.n_links); $("stage").dataset.toppled = String(!!m.toppled);
   }
 
   // Text shrunk to fit a width (titles of narrow panels).
@@ -1125,6 +1396,12 @@ export function mount(root, host = {}) {
   // ------------------------------------------------------------------ exports
   function updateExports() {
     if (host.getJSON) return;  // no HTTP API to export from (the notebook hides the links)
+    if (isTower()) {  // the files are the single pendulum's: 'kapitza tower' writes the tower's
+      for (const id of ["chart-png", "chart-svg", "chart-csv", "motion-png", "motion-svg", "motion-csv", "motion-json", "report-json"]) {
+        const a = $(`x-${id}`); a.removeAttribute("href"); a.style.opacity = 0.45; a.title = "the tower's files: kapitza tower --out";
+      }
+      return;
+    }
     const c = qs({ ...chartParams(driveText()), ...(S.point ? { T: S.point.T, A: S.point.A } : {}) });
     for (const f of ["png", "svg", "csv"]) { const a = $(`x-chart-${f}`); a.href = `/api/export/chart.${f}?${c}`; a.download = `kapitza-chart.${f}`; }
     const ok = !!S.point;
