@@ -314,3 +314,21 @@ def test_the_widget_draws_in_chromium_from_its_own_module(tmp_path):
             page.evaluate("cleanup()")
         finally:
             browser.close()
+
+
+def test_the_tower_routes_are_answered_in_the_kernel():
+    import json
+
+    from kapitza.web import app as web_app
+    from kapitza.widgets import answer
+
+    got = answer("/api/tower/point?chain=0.2,0.2&masses=1,2&frequency=150&stroke=0.01")
+    assert got["ok"]
+    want = web_app.tower_point_answer(chain="0.2,0.2", masses="1,2", frequency=150.0, stroke=0.01)
+    assert json.loads(got["json"])["stable"] == want["stable"] and json.loads(got["json"])["verdict"] == want["verdict"]
+    band = json.loads(answer("/api/tower/chart?chain=0.2,0.2,0.2&grid=40&points=60")["json"])
+    assert band["n_links"] == 3 and len(band["modal_lengths"]) == 3 and band["band"]
+    motion = json.loads(answer("/api/tower/motion?chain=0.2,0.2&frequency=150&stroke=0.01&periods=20")["json"])
+    assert motion["n_links"] == 2 and len(motion["theta"]) == 2 and motion["periods"] == 20
+    bad = answer("/api/tower/point?chain=0.2,-1&frequency=150&stroke=0.01")
+    assert not bad["ok"] and bad["detail"].startswith("chain must lie within") and "\n" not in bad["detail"]

@@ -32,8 +32,13 @@ ROUTES: dict[str, Callable] = {
     "point": _app.point_answer,
     "safe_tilt": _app.safe_tilt_answer,
     "motion": _app.motion_answer,
+    "tower/chart": _app.tower_chart_answer,
+    "tower/point": _app.tower_point_answer,
+    "tower/motion": _app.tower_motion_answer,
 }
-_INTS = {"samples"}  # parameters without a default that are integers (the rest without one are floats)
+# parameters without a default that are integers, and those that are texts (the rest without one are floats)
+_INTS = {"samples", "grid", "points", "points_per_period"}
+_TEXTS = {"masses"}
 
 
 class _Dropped(Exception):
@@ -53,7 +58,7 @@ def _parse(route: str, query) -> dict:
             if text.lower() not in ("true", "false", "1", "0"):
                 raise _v.KapitzaValueError(f"{name} must be true or false; got {text!r}")
             kwargs[name] = text.lower() in ("true", "1")
-        elif isinstance(default, str):
+        elif isinstance(default, str) or name in _TEXTS:
             kwargs[name] = text
         elif isinstance(default, int) or name in _INTS:
             try:
@@ -84,7 +89,7 @@ def answer(url: str, check=None) -> dict:
     'eps must be finite and > 0 (0 < eps < inf); got -1.0'
     """
     parts = urlsplit(url)
-    route = parts.path.rsplit("/", 1)[-1]
+    route = parts.path[len("/api/"):]
     try:
         if not parts.path.startswith("/api/") or route not in ROUTES:
             raise _v.KapitzaValueError(f"the explorer answers {', '.join('/api/' + r for r in ROUTES)}; "
@@ -93,7 +98,8 @@ def answer(url: str, check=None) -> dict:
         if route == "chart":
             body = ROUTES[route](**kwargs, check=check)
         else:
-            body = _app.json_bytes(ROUTES[route](**kwargs))
+            body = ROUTES[route](**kwargs)
+            body = body if isinstance(body, bytes) else _app.json_bytes(body)
     except Exception as exc:  # noqa: BLE001 - a user's error becomes its one-line message
         detail = _app.error_detail(exc)
         if detail is None:

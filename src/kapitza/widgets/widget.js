@@ -52,7 +52,7 @@ function render({ model, el }) {
   };
   quiet = true;  // the first point is Python's own
   const ctl = mount(shadow, {
-    getJSON, url: false, box, state: state(),
+    getJSON, url: false, box, state: state(), tower: true,
     onPoint(p) { if (quiet) return; model.set("point", p); model.save_changes(); },
     onState(s) {
       if (quiet) return;
