@@ -98,6 +98,14 @@ def test_zone_2_is_framed_clicked_and_the_start_will_fall(site):
     for mu in (v["y0"] + 0.02 * (v["y1"] - v["y0"]), v["y1"] - 0.02 * (v["y1"] - v["y0"])):
         a, b = (float(x) for x in kapitza.zone_edges(mu, 2))
         assert v["x0"] < a < b < v["x1"]
+    # the magnified inset: zone 2's two edges over its whole range of mu, as kapitza chart draws them
+    page.wait_for_function("kapitza.inset.data && kapitza.inset.data.n === 2 && !document.getElementById('inset').hidden",
+                           timeout=LONG)
+    rows = page.evaluate("kapitza.inset.data.rows")
+    assert len(rows) > 100 and rows[0][0] < 0.01 and rows[-1][0] > 0.5
+    for mu, a, b in rows[::40]:
+        ea, eb = (float(x) for x in kapitza.zone_edges(mu, 2))
+        assert a == pytest.approx(ea, rel=1e-12) and b == pytest.approx(eb, rel=1e-12)
     page.screenshot(path=str(SCREENS / "11-show-zone-2.png"))
     x, y = _pixel(page, 0.5 * (lo + hi), mu0)
     page.mouse.click(x, y)

@@ -158,6 +158,7 @@ export function mount(root, host = {}) {
 
   // ------------------------------------------------------------------ the chart
   const chart = { canvas: $("chart"), data: null, overlay: null, pad: { l: 78, r: 18, t: 14, b: 50 }, error: null };
+  const inset = { canvas: $("inset"), data: null };  // the magnified zone beside "show zone n"
   function axes(w, h) {
     const v = view(), P = chart.pad, logY = S.plane !== "arnold", logX = S.plane === "rig";
     const fy = logY ? Math.log : (x) => x, fx = logX ? Math.log : (x) => x;
@@ -262,6 +263,7 @@ export function mount(root, host = {}) {
   }
 
   function drawChart() {
+    drawInset();  // (it hides itself once the plane, the drive or the damping is no longer its own)
     const { ctx, w, h } = fit(chart.canvas), v = view();
     // room for the longest tick label of the vertical axis, then the axis title
     ctx.font = "12.5px DejaVu Sans, sans-serif";
@@ -649,6 +651,7 @@ export function mount(root, host = {}) {
   }
 
   $("reset-view").onclick = () => {
+    hideInset();
     if (isTower()) { S.views.tower = null; drawChart(); requestChart(0); return; }
     S.views[S.plane] = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()), S.point)[S.plane]; drawChart(); requestChart(0); saveURL();
   };
@@ -697,9 +700,68 @@ export function mount(root, host = {}) {
       const v = S.views.arnold;
       v.x0 = Math.max(0, lo - 1.2 * w); v.x1 = hi + 1.2 * w; v.y0 = mu0 - hy; v.y1 = mu0 + hy;
       chart.error = null; clampView(); drawChart(); requestChart(0); saveURL();
+      showInset(n, hi, top);
     } catch (e) { chart.error = String(e.message || e); drawChart(); }
   }
   $("show-zone").onclick = () => showZone(parseInt($("zone-n").value, 10) || 0);
+
+  // The magnified inset beside a framed zone, as `kapitza chart` draws its thin tongues: the zone's
+  // two edges over its whole range of mu, as offsets from their midpoint in a power of ten of eps.
+  async function showInset(n, hi0, top) {
+    const general = S.drive !== "square" || S.zeta > 0, cap = general ? 12 : 60;
+    const q = { plane: "arnold", eps_min: 0, eps_max: Math.min(cap, 4 * hi0), mu_min: 0.001, mu_max: Math.min(0.99, 0.99 * top),
+      drive: driveText(), zeta: S.zeta, samples: general ? 60 : 240, l: S.l, g: S.g };
+    try {
+      const c = await getJSON("/api/chart?" + qs(q)), z = c.zones.find((zz) => zz.n === n);
+      if (!z) { hideInset(); return; }
+      const rows = [];
+      c.y_values.forEach((mu, i) => {
+        const a = z.lo[i], b = z.hi[i];
+        if (a !== null && b !== null && Number.isFinite(a) && Number.isFinite(b) && b >= a) rows.push([mu, a, b]);
+      });
+      if (rows.length < 3) { hideInset(); return; }
+      inset.data = { n, rows, drive: driveText(), zeta: S.zeta };
+      inset.canvas.hidden = false;
+      drawInset();
+    } catch (e) { hideInset(); }
+  }
+  function hideInset() { inset.data = null; inset.canvas.hidden = true; }
+  function drawInset() {
+    const d = inset.data;
+    if (!d || inset.canvas.hidden) return;
+    if (S.plane !== "arnold" || d.drive !== driveText() || d.zeta !== S.zeta) { hideInset(); return; }
+    const { ctx, w, h } = fit(inset.canvas);
+    ctx.clearRect(0, 0, w, h);
+    const half = Math.max(...d.rows.map(([, a, b]) => 0.5 * (b - a)), 1e-300);
+    const k = Math.floor(Math.log10(half)), sc = Math.pow(10, k), xr = Math.max(half / sc, 1e-9) * 1.15;
+    const L = 34, R = 8, T = 18, B = 30, pw = w - L - R, ph = h - T - B;
+    const X = (x) => L + ((x / xr) + 1) * 0.5 * pw, mus = d.rows.map((r) => r[0]);
+    const m0 = Math.min(...mus), m1 = Math.max(...mus), Y = (mu) => T + (1 - (mu - m0) / Math.max(m1 - m0, 1e-12)) * ph;
+    ctx.fillStyle = "rgba(107,174,214,0.55)";
+    ctx.beginPath();
+    d.rows.forEach(([mu, a, b], i) => { const x = X((a - 0.5 * (a + b)) / sc); i ? ctx.lineTo(x, Y(mu)) : ctx.moveTo(x, Y(mu)); });
+    [...d.rows].reverse().forEach(([mu, a, b]) => ctx.lineTo(X((b - 0.5 * (a + b)) / sc), Y(mu)));
+    ctx.closePath(); ctx.fill();
+    for (const [side, colour, dash] of [[1, d.n % 2 ? "#c0392b" : "#1f4e9c", d.n % 2 ? [5, 3] : []],
+                                        [2, d.n % 2 ? "#1f4e9c" : "#c0392b", d.n % 2 ? [] : [5, 3]]]) {
+      ctx.strokeStyle = colour; ctx.setLineDash(dash); ctx.lineWidth = 1.4; ctx.beginPath();
+      d.rows.forEach((r, i) => { const x = X((r[side] - 0.5 * (r[1] + r[2])) / sc); i ? ctx.lineTo(x, Y(r[0])) : ctx.moveTo(x, Y(r[0])); });
+      ctx.stroke();
+    }
+    ctx.setLineDash([]);
+    ctx.strokeStyle = "#334155"; ctx.lineWidth = 1; ctx.strokeRect(L, T, pw, ph);
+    ctx.fillStyle = "#0f172a"; ctx.font = "11px DejaVu Sans, sans-serif"; ctx.textAlign = "center";
+    ctx.fillText(`zone ${d.n} magnified`, L + pw / 2, 12);
+    ctx.fillText(`(ε − ε_mid) / 10^${k}`, L + pw / 2, h - 6);
+    ctx.font = "10px DejaVu Sans, sans-serif";
+    ctx.fillText(fmt(-xr / 1.15, 2), L + 0.5 * pw * (1 - 1 / 1.15), T + ph + 12);
+    ctx.fillText("0", L + pw / 2, T + ph + 12);
+    ctx.fillText(fmt(xr / 1.15, 2), L + 0.5 * pw * (1 + 1 / 1.15), T + ph + 12);
+    ctx.textAlign = "right";
+    ctx.fillText(fmt(m1, 2), L - 3, T + 8); ctx.fillText(fmt(m0, 2), L - 3, T + ph);
+    ctx.save(); ctx.translate(10, T + ph / 2); ctx.rotate(-Math.PI / 2); ctx.textAlign = "center"; ctx.fillText("μ", 0, 0); ctx.restore();
+  }
+  inset.canvas.onclick = hideInset;
 
   // The projector: the real pendulum alone, large; the verdict above it.
   $("projector").onclick = () => {
@@ -1486,6 +1548,6 @@ export function mount(root, host = {}) {
   }
   // For tests, the console and the notebook: the state, where a point of the chart is on screen,
   // and the state set from outside.
-  return { S, anim, chart, panel: PANEL, set, destroy, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+  return { S, anim, chart, inset, panel: PANEL, set, destroy, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
     return { x: r.left + ax.X(x), y: r.top + ax.Y(y) }; } };
 }
