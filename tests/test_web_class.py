@@ -9,22 +9,16 @@ two fingers; the API page renders with the network cut. Screenshots go to ``out/
 """
 from __future__ import annotations
 
-import shutil
 import urllib.request
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import kapitza
-from web_server import running_server
+from web_server import ARGS, CHROMIUM, SCREENS, running_server
 
-CHROMIUM = shutil.which("chromium") or ("/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else None)
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="Chromium is not installed (apt-get install chromium)")
 
-SCREENS = Path(__file__).resolve().parents[1] / "out" / "web-screens"
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 LONG = 120_000  # ms: the machine may be loaded
 REPORT = 400_000  # ms: another drive's full report (its margins are root solves) on a loaded machine
 

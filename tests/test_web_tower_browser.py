@@ -4,21 +4,15 @@ clicks a point inside it and sees the tower stand and move; a point below it fal
 the single pendulum's chart returns. Screenshots go to ``out/web-screens/``."""
 from __future__ import annotations
 
-import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import kapitza
-from web_server import running_server
+from web_server import ARGS, CHROMIUM, SCREENS, running_server
 
-CHROMIUM = shutil.which("chromium") or ("/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else None)
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="Chromium is not installed (apt-get install chromium)")
 
-SCREENS = Path(__file__).resolve().parents[1] / "out" / "web-screens"
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 
 
 @pytest.fixture(scope="module")

@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
 import urllib.request
 from contextlib import contextmanager
+from pathlib import Path
 
 
 @contextmanager
@@ -46,3 +48,12 @@ def running_server(*args, timeout=30.0):
         proc.stderr_text = proc.stderr.read()
         for stream in (proc.stdout, proc.stderr):
             stream.close()
+
+
+#: Debian's chromium, which the browser tests drive through Playwright (None where it is missing)
+CHROMIUM = shutil.which("chromium") or ("/usr/bin/chromium" if Path("/usr/bin/chromium").exists() else None)
+#: where the browser tests write their screenshots
+SCREENS = Path(__file__).resolve().parents[1] / "out" / "web-screens"
+#: Chromium's switches for a headless run that reaches nothing but the test server
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
