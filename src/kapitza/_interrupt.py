@@ -30,14 +30,23 @@ def started_as_command() -> bool:
     return os.path.basename(sys.argv[0] if sys.argv else "") == "kapitza"
 
 
+def _end_now(message: str, status: int) -> None:
+    # os._exit, not SystemExit: an exception raised inside an import may meet a bare ``except:`` in
+    # a third-party module and be swallowed, and the command would then run on and end with 0.
+    # Nothing needs unwinding yet: the command has written nothing before :func:`done`.
+    try:
+        sys.stderr.write(message + "\n")
+        sys.stderr.flush()
+    finally:
+        os._exit(status)
+
+
 def _interrupted(signum, frame):
-    sys.stderr.write("kapitza: interrupted\n")
-    raise SystemExit(130)
+    _end_now("kapitza: interrupted", 130)
 
 
 def _terminated_at_start(signum, frame):
-    sys.stderr.write("kapitza: terminated\n")
-    raise SystemExit(143)
+    _end_now("kapitza: terminated", 143)
 
 
 _PID = os.getpid()
