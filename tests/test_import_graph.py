@@ -17,8 +17,6 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "kapitza"
 
 #: Private cross-module imports still to be made public (outer layers and the sine engine).
 KNOWN = {
-    "kapitza.figures.animation imports kapitza.motion.pivot._acceleration",
-    "kapitza.figures.animation imports kapitza.motion.pivot._displacement",
     "kapitza.figures.nonlinear imports kapitza.normal_form._DEFECT_DRAW",
     "kapitza.figures.nonlinear imports kapitza.normal_form._normal_form",
     "kapitza.motion.basins imports kapitza.motion.nonlinear._budget",
@@ -28,10 +26,6 @@ KNOWN = {
     "kapitza.motion.basins imports kapitza.motion.nonlinear._peak",
     "kapitza.motion.basins imports kapitza.motion.nonlinear._physical",
     "kapitza.motion.basins imports kapitza.motion.nonlinear._solve",
-    "kapitza.motion.nonlinear imports kapitza.motion.pivot._acceleration",
-    "kapitza.motion.nonlinear imports kapitza.motion.pivot._checked",
-    "kapitza.motion.nonlinear imports kapitza.motion.pivot._displacement",
-    "kapitza.motion.nonlinear imports kapitza.motion.pivot._phase_index",
     "kapitza.motion.rotation imports kapitza.normal_form._normal_coordinate",
     "kapitza.motion.rotation imports kapitza.normal_form._normal_form",
     "kapitza.motion.rotation imports kapitza.normal_form._stable_arnold",

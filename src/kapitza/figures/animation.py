@@ -22,7 +22,7 @@ from matplotlib import animation as mpl_animation
 
 from .. import _validate as _v
 from .._io import atomic_path
-from ..motion.pivot import _acceleration, _displacement
+from ..motion._pivot import _acceleration, _displacement
 from .motion import LINEAR_STYLE, NONLINEAR_STYLE, WINDOW_STYLE, parameter_label
 
 __all__ = ["ProgressBar", "AnimationResult", "animate", "ffmpeg_available", "frame_times", "MAX_FRAMES"]

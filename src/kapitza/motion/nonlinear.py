@@ -20,7 +20,7 @@ from .._display import Summary, num
 from ..parameters import G_EARTH
 from ..propagation import linear_motion
 from ._elliptic import _phase_step
-from .pivot import _acceleration, _checked, _displacement, _phase_index
+from ._pivot import _acceleration, _checked, _displacement, _phase_index
 
 __all__ = [
     "phase_flow",
