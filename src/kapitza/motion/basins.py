@@ -36,8 +36,9 @@ from .. import _validate as _v
 from .._display import Summary, num
 from ..drives import as_drive
 from ..parameters import G_EARTH
+from ._integrate import MAX_PERIODS, _budget, _check_speed, _choice, _damping, _peak, _physical, _solve
 from ._maps import AMPLITUDES, STEPS, bound_ensemble, chunk_results
-from .nonlinear import MAX_PERIODS, MODELS, _budget, _check_speed, _choice, _damping, _peak, _physical, _solve
+from .nonlinear import MODELS
 
 __all__ = ["survival", "Basin", "basin"]
 

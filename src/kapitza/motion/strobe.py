@@ -15,10 +15,10 @@ import numpy as np
 from .. import _validate as _v
 from .._display import Summary, num, span
 from ..parameters import G_EARTH
+from ._integrate import (MAX_PERIODS, MAX_SAMPLES, _add_turns, _budget, _check_speed, _choice, _damping, _drive_of,
+                         _integrated_drive, _integrated_motion, _method, _peak, _physical, _reduce_angle, _tolerances)
 from ._maps import STEPS, bound_ensemble, chunk_results, phases
-from .nonlinear import (MAX_PERIODS, MAX_SAMPLES, MODELS, _add_turns, _budget, _check_speed, _choice, _damping,
-                        _drive_of, _integrated_drive, _integrated_motion, _method, _peak, _physical, _reduce_angle,
-                        _tolerances)
+from .nonlinear import MODELS
 
 __all__ = ["StrobeOrbits", "stroboscopic_map"]
 

@@ -10,7 +10,7 @@ from .. import _validate as _v
 from ..drives import as_drive, parse_drive
 from ..parameters import G_EARTH
 from ..motion.basins import INTEGRATED_STEP_COST, MAX_INTEGRATED_STATE_PERIODS, exact_path, integrated_work
-from ..motion.nonlinear import _damping
+from ..motion._integrate import _damping
 from .kernel import QUANTITIES
 
 __all__ = ["SweepSpec", "PLANES", "MAX_POINTS", "MAX_INTEGRATED_SWEEP"]
