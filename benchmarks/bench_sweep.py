@@ -33,7 +33,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _timing import machine  # noqa: E402
 
 import kapitza  # noqa: E402
-import kapitza.motion.basins as B  # noqa: E402
+import kapitza.motion._periods as B  # noqa: E402
 import kapitza.sweeps.kernel as K  # noqa: E402
 from kapitza.sweeps import SweepSpec, sweep  # noqa: E402
 

@@ -27,7 +27,7 @@ from _timing import machine  # noqa: E402
 
 import kapitza  # noqa: E402
 from kapitza.drives import parse_drive  # noqa: E402
-from kapitza.motion.basins import _IntegratedPeriod  # noqa: E402
+from kapitza.motion._periods import _IntegratedPeriod  # noqa: E402
 from kapitza.sweeps.kernel import period_step, ray_radii  # noqa: E402
 
 EPS, MU = (0.1, 1.2), (0.05, 0.8)

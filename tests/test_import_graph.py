@@ -26,8 +26,6 @@ KNOWN = {
     "kapitza.resonances imports kapitza.normal_form._DEFECT_DRAW",
     "kapitza.resonances imports kapitza.normal_form._normal_form",
     "kapitza.resonances imports kapitza.normal_form._w_of",
-    "kapitza.sweeps.kernel imports kapitza.motion.basins._ExactPeriod",
-    "kapitza.sweeps.kernel imports kapitza.motion.basins._IntegratedPeriod",
 }
 
 

@@ -8,7 +8,8 @@ import kapitza as K
 from kapitza import KapitzaValueError
 from kapitza.drives import as_drive
 from kapitza.motion import basin, nonlinear_motion, survival
-from kapitza.motion.basins import _IntegratedPeriod, _hermite_peak, survival_chunk
+from kapitza.motion._periods import _IntegratedPeriod, _hermite_peak
+from kapitza.motion.basins import survival_chunk
 
 A, L, G = 100.0, 1.0, 9.81
 

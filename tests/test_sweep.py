@@ -343,7 +343,7 @@ G = kapitza.parameters.G_EARTH
 def test_integrated_search_without_damping_agrees_with_the_exact_one(drive):
     """The same in-flight bisection driven by the exact period step and by the DOP853 one (c = 0)."""
     from kapitza.drives import parse_drive
-    from kapitza.motion.basins import _IntegratedPeriod
+    from kapitza.motion._periods import _IntegratedPeriod
 
     eps, mu = np.meshgrid([0.3, 0.55], [0.1, 0.3])
     T, A = (np.asarray(v, float).ravel() for v in kapitza.to_physical(eps, mu))

@@ -14,7 +14,7 @@ It is one definition of the same mathematics, scalar by scalar:
   arithmetic-geometric mean (DLMF 22.20(ii), the algorithm of :func:`scipy.special.ellipj`) for
   ``m <= 1/2``,
   the reciprocal-modulus transformation for rotations and the same quarter-period reductions;
-* the window test of :func:`kapitza.motion.basins._one_period` (end points of each sub-step, and the
+* the window test of :func:`kapitza.motion._periods._one_period` (end points of each sub-step, and the
   turning amplitude ``2 asin k`` where ``theta'`` changes sign in an elliptic phase);
 * the scan and bisection of :func:`kapitza.sweeps.kernel.ray_radii`, candidate by candidate.
 
@@ -49,7 +49,7 @@ MACHEP = 1.11022302462515654042e-16
 
 def pack_plan(subs, n_points):
     """``(S, H, CNT)`` arrays of shape ``(n_points, phases)`` from the ``(s, h, count)`` sub-steps of
-    :class:`kapitza.motion.basins._ExactPeriod` (scalars, or arrays with one entry per point)."""
+    :class:`kapitza.motion._periods._ExactPeriod` (scalars, or arrays with one entry per point)."""
     nph = len(subs)
     S = np.empty((n_points, nph))
     H = np.empty((n_points, nph))
@@ -248,7 +248,7 @@ def sign(x):
 @_jit
 def one_period(th, om, S, H, CNT, p, tol, work):
     """One period of the parameters of row ``p``; ``left``: the window was left during it
-    (:func:`kapitza.motion.basins._one_period`, nonlinear model)."""
+    (:func:`kapitza.motion._periods._one_period`, nonlinear model)."""
     for j in range(S.shape[1]):
         s = S[p, j]
         h = H[p, j]

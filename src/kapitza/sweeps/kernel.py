@@ -36,7 +36,8 @@ import numpy as np
 
 from ..drives import as_drive, parse_drive
 from ..drives._api import zeta_of
-from ..motion.basins import _ExactPeriod, _IntegratedPeriod, survival_chunk, exact_path
+from ..motion._periods import _ExactPeriod, _IntegratedPeriod
+from ..motion.basins import survival_chunk, exact_path
 from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
 from ..zones import stability_margin
