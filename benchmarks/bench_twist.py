@@ -27,7 +27,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _timing import machine, median_time  # noqa: E402
 
 import kapitza as K  # noqa: E402
-from kapitza import normal_form as NF  # noqa: E402
+from kapitza import _normal_form as NFE  # noqa: E402
 
 
 def points(n, seed=0):
@@ -57,7 +57,7 @@ def ivp_twist(eps, mu):
         C.append([a, (s1 - s2) / 2, (s1 + s2) / 2, d])
     w = np.arccos(np.trace(M) / 2)
     lam = np.exp(1j * w)
-    coef = NF._coefficients(M, np.array(C), lam)
+    coef = NFE._coefficients(M, np.array(C), lam)
     return (coef[1] / lam).imag / (8 * np.pi * M[0, 1] ** 2)
 
 
@@ -74,7 +74,7 @@ def main(argv=None):
     for line in machine():
         print("  " + line)
     eps, mu = points(a.n)
-    redo = int(np.sum(NF._normal_form(eps, mu)[0].area_defect == 0))
+    redo = int(np.sum(NFE._normal_form(eps, mu)[0].area_defect == 0))
     t, tmin, tmax = median_time(lambda: K.twist_coefficient(eps, mu), a.repeats)
     print(f"twist_coefficient: {a.n} points in zones 0-2: {t:.4g} s (min {tmin:.4g}, max {tmax:.4g}); "
           f"{1e6 * t / a.n:.3g} us per point; {redo} points not from the composed jets (rounding estimate "

@@ -17,15 +17,6 @@ SRC = Path(__file__).resolve().parent.parent / "src" / "kapitza"
 
 #: Private cross-module imports still to be made public (outer layers and the sine engine).
 KNOWN = {
-    "kapitza.figures.nonlinear imports kapitza.normal_form._DEFECT_DRAW",
-    "kapitza.figures.nonlinear imports kapitza.normal_form._normal_form",
-    "kapitza.motion.rotation imports kapitza.normal_form._normal_coordinate",
-    "kapitza.motion.rotation imports kapitza.normal_form._normal_form",
-    "kapitza.motion.rotation imports kapitza.normal_form._stable_arnold",
-    "kapitza.motion.rotation imports kapitza.normal_form._taylor",
-    "kapitza.resonances imports kapitza.normal_form._DEFECT_DRAW",
-    "kapitza.resonances imports kapitza.normal_form._normal_form",
-    "kapitza.resonances imports kapitza.normal_form._w_of",
 }
 
 

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import kapitza as K
-from kapitza import normal_form as NF
+from kapitza import _normal_form as NFE
 from kapitza.motion import measured_rotation_number
 from kapitza.motion._elliptic import _phase_step
 from kapitza.motion._maps import phases
@@ -96,14 +96,14 @@ def test_linear_part_is_the_monodromy_matrix():
 def test_series_and_closed_forms_agree_where_they_meet(k):
     """The two evaluations of c, sh, f1, f2, f3 are twins: both sides of |k| = 1."""
     for kk in (k * (1 - 1e-12), k * (1 + 1e-12)):
-        a = NF._entire(np.array(kk))
+        a = NFE._entire(np.array(kk))
         with mp.workdps(40):
-            b = NF._entire_mp(mp.mpf(kk))
+            b = NFE._entire_mp(mp.mpf(kk))
         np.testing.assert_allclose(np.array(a, float), np.array([float(v) for v in b]), rtol=1e-13)
 
 
 def test_free_flight_has_no_cubic_terms():
-    L, C = NF._phase_cubic(np.array([0.0, 1e-30, -1e-30]))
+    L, C = NFE._phase_cubic(np.array([0.0, 1e-30, -1e-30]))
     assert np.all(np.abs(C) < 1e-29)
     np.testing.assert_array_equal(L[0], [[1.0, 1.0], [0.0, 1.0]])  # free flight for a unit time
 
@@ -267,8 +267,8 @@ def test_every_evaluation_path_agrees_with_extended_precision():
         eps = lo + rng.uniform(0.02, 0.98, 12) * (hi - lo)
         ok = K.is_stable(eps, mu)
         eps, mu = eps[ok], mu[ok]
-        nf, _ = NF._normal_form(eps, mu)
-        ref = [NF._normal_form_mp(e, m) for e, m in zip(eps, mu)]
+        nf, _ = NFE._normal_form(eps, mu)
+        ref = [NFE._normal_form_mp(e, m) for e, m in zip(eps, mu)]
         coef = np.array([c for _, c, _ in ref])
         np.testing.assert_allclose(nf.w, [w for w, _, _ in ref], rtol=1e-9)
         np.testing.assert_allclose(nf.coefficients, coef, rtol=1e-8)

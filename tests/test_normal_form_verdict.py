@@ -10,6 +10,7 @@ import pytest
 
 import kapitza as K
 from kapitza import normal_form as NF
+from kapitza import _normal_form as NFE
 from kapitza.motion import stroboscopic_map
 from kapitza.resonances import nonlinear_chart, resonance_curve, twist_zeros
 
@@ -22,9 +23,9 @@ def kicked_jet(a, b):
     zero = np.zeros((2, 4))
     Ka = (np.eye(2), np.array([[0, 0, 0, 0], [a, 0, 0, 0.0]]))
     Kb = (np.eye(2), np.array([[0, 0, 0, 0], [b, 0, 0, 0.0]]))
-    L, C = NF._compose(*Ka, ROT, zero)
-    L, C = NF._compose(L, C, *Kb)
-    return NF._compose(L, C, ROT, zero)
+    L, C = NFE._compose(*Ka, ROT, zero)
+    L, C = NFE._compose(L, C, *Kb)
+    return NFE._compose(L, C, ROT, zero)
 
 
 def kicked_map(q, p, a, b):
@@ -38,7 +39,7 @@ def kicked_verdict(a, b):
     L, C = kicked_jet(a, b)
     w = np.arccos(np.trace(L) / 2)
     lam = np.exp(1j * w)
-    coef = NF._coefficients(L, C, lam)
+    coef = NFE._coefficients(L, C, lam)
     beta = (coef[1] / lam).imag
     return NF.KINDS[int(NF._verdict_kinds(np.array(w), np.array(beta), coef, 1e-12))], beta, coef
 

@@ -25,6 +25,7 @@ import kapitza as K
 from kapitza import _point as P
 from kapitza import analysis
 from kapitza import normal_form as NF
+from kapitza import _normal_form as NFE
 from kapitza import _square as Z
 from kapitza._square import _floquet
 
@@ -217,7 +218,7 @@ def test_nonlinear_twin_matches_nonlinear_stability():
     _, _, theta, stable, zone = _floquet(eps, mu)
     eps, mu, near_edge, theta, zone = eps[stable], mu[stable], near_edge[stable], theta[stable], zone[stable]
     ref = NF.nonlinear_stability(eps, mu)
-    ref_nf, _ = NF._normal_form(eps, mu)
+    ref_nf, _ = NFE._normal_form(eps, mu)
     sentences = ref.sentences()
     paper_like = (zone == 0) & (mu < 0.5) & ~near_edge
     decided = identical = 0
@@ -397,9 +398,9 @@ def test_array_fallback_of_the_nonlinear_line_prints_what_nonlinear_stability_pr
 
 
 def test_series_of_the_jets_at_one_point_are_those_of_an_array():
-    # normal_form._polyval sums a few points in Python floats: the same bits as np.polyval
+    # _normal_form._polyval sums a few points in Python floats: the same bits as np.polyval
     k = np.concatenate([np.random.default_rng(15).uniform(-1.0, 1.0, 2000), [0.0, -0.0, 1.0, -1.0]])
-    big = NF._entire(k)
+    big = NFE._entire(k)
     for i in range(k.size):
-        for one, many in zip(NF._entire(k[i]), big):
+        for one, many in zip(NFE._entire(k[i]), big):
             assert np.asarray(one).tobytes() == np.asarray(many[i]).tobytes(), k[i]

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _validate as _v
-from .normal_form import _DEFECT_DRAW, _normal_form, _w_of
+from ._normal_form import _DEFECT_DRAW, _normal_form, _w_of
 from ._square import _floquet
 from ._square import _edges_eps
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..normal_form import _DEFECT_DRAW, _normal_form
+from .._normal_form import _DEFECT_DRAW, _normal_form
 from ..resonances import nonlinear_chart
 from . import _style
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _validate as _v
-from ..normal_form import _normal_coordinate, _normal_form, _stable_arnold, _taylor
+from .._normal_form import _normal_coordinate, _normal_form, _stable_arnold, _taylor
 from ..parameters import G_EARTH, to_physical
 from ._elliptic import _phase_step
 from ._maps import bound_ensemble, phases
