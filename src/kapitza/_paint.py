@@ -14,19 +14,22 @@ import numpy as np
 _EDGE_BAND = 1e-12
 
 
-def settle_near_edges(eps, out, rows, lo, hi, i0, i1, verdict):
+def settle_near_edges(eps, out, rows, lo, hi, i0, i1, verdict, band=None):
     """Repaint the pixels of ``out`` (painted from the edges ``lo``, ``hi`` of the rows ``rows``;
     ``i0``, ``i1`` the first pixels above each) that lie within :data:`_EDGE_BAND` of an edge with
     ``verdict(eps, rows)`` (boolean, certified; ``rows`` the row of each point), so that the grid
     equals ``is_stable`` at its own doubles; a normal grid has no pixel there, which the pixels on
-    either side of each edge tell at the cost of a comparison."""
+    either side of each edge tell at the cost of a comparison. ``band``: relative, instead of
+    :data:`_EDGE_BAND` (the edges of a drive given by its shape lie within about ``1e-12`` of the
+    certified ones, not a few ulp)."""
     W = eps.size
+    band = _EDGE_BAND if band is None else band
 
     def near(edge, i):
         below = np.where(i > 0, eps[np.maximum(i - 1, 0)], -np.inf)
         above = np.where(i < W, eps[np.minimum(i, W - 1)], np.inf)
         with np.errstate(invalid="ignore"):
-            return (below >= edge * (1.0 - _EDGE_BAND)) | (above <= edge * (1.0 + _EDGE_BAND))
+            return (below >= edge * (1.0 - band)) | (above <= edge * (1.0 + band))
 
     sel_lo, sel_hi = near(lo, i0), near(hi, i1)
     if not (sel_lo.any() or sel_hi.any()):
@@ -35,8 +38,8 @@ def settle_near_edges(eps, out, rows, lo, hi, i0, i1, verdict):
     r = np.concatenate([rows[sel_lo], rows[sel_hi]])
     ok = np.isfinite(e)
     e, r = e[ok], r[ok]
-    i0 = np.searchsorted(eps, e * (1.0 - _EDGE_BAND), side="left")
-    i1 = np.searchsorted(eps, e * (1.0 + _EDGE_BAND), side="right")
+    i0 = np.searchsorted(eps, e * (1.0 - band), side="left")
+    i1 = np.searchsorted(eps, e * (1.0 + band), side="right")
     counts = i1 - i0
     if not counts.any():
         return out

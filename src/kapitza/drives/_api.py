@@ -69,7 +69,11 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
             h = 16.0 * np.finfo(float).eps * e
             with np.errstate(invalid="ignore"):
                 swing = np.abs(_excess(drive, e + h, m, z) - _excess(drive, e - h, m, z))
-            unsure = cand[~(np.abs(Gf[cand]) > swing + 1e-13)]
+            # G's own accuracy: 1e-13 from exact products, the engine's error relative to |tau_phi|
+            # for a drive given by its shape
+            acc = 1e-13 if not drive._from_shape else drive._trace_error(
+                e, m * np.sqrt(1.0 + z * z)) / np.maximum(np.abs(f.tau.reshape(-1)[cand]), 1.0)
+            unsure = cand[~(np.abs(Gf[cand]) > swing + acc)]
         res = drive._damped_exact(eps.reshape(-1)[unsure], mu.reshape(-1)[unsure],
                                   zeta.reshape(-1)[unsure]) if unsure.size else None
         if res is not None:
@@ -314,7 +318,29 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
             return drive._floquet0(bits.view(np.float64), m[rows], certify=True).zone >= 0
         return np.asarray(drive._floquet(bits.view(np.float64), m[rows], z[rows], True)[3], bool)
 
+    def value(bits, rows):
+        # tr M_phi / 2 and the threshold it crosses: 1 undamped, cosh(kappa) damped
+        if z is None:
+            return drive._floquet0(bits.view(np.float64), m[rows], certify=True).tau, 1.0
+        f = drive._floquet(bits.view(np.float64), m[rows], z[rows], True)
+        return np.asarray(f[0], float), np.cosh(np.asarray(f[5], float))
+
     for edge, inside in ((L, 1), (H, -1)):
+        if drive._from_shape:
+            # the engine's edges may lie a thousand ulp off where its trace is flat, or more than
+            # a thin zone's width: one secant step first on the certified trace, from the edge and
+            # a double a little inside, towards the threshold it crosses there (of its sign if the
+            # edge is outside the zone; the one it heads for outwards if inside)
+            rows = np.arange(live.size)
+            d = np.clip(half // 4, 1, 64)
+            t, bar = value(np.concatenate([edge, edge + inside * d]), np.concatenate([rows, rows]))
+            bar = np.broadcast_to(bar, t.shape)[:rows.size]
+            t0, t1 = t[:rows.size], t[rows.size:]
+            target = np.where(np.abs(t0) >= bar, np.sign(t0), np.sign(t0 - t1)) * bar
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                step = -(t0 - target) * d / (t1 - t0)
+            good = np.isfinite(step) & (np.abs(step) < 2.0**20)
+            edge = edge + inside * np.where(good, np.rint(np.where(good, step, 0.0)), 0).astype(np.int64)
         # out: a double outside the zone (unstable), inn: one inside (stable), widened in turns
         k = np.ones(live.size, np.int64)
         out, inn = edge.copy(), edge + inside
@@ -397,7 +423,8 @@ def grid(eps, mu, drive, zeta, out):
         flat[a:b] = True
     from .._paint import settle_near_edges
 
-    return settle_near_edges(eps, out, rows, lo, hi, i0, i1, lambda e, r: verdict(e, mu[r], drive, zeta[r])[0])
+    return settle_near_edges(eps, out, rows, lo, hi, i0, i1, lambda e, r: verdict(e, mu[r], drive, zeta[r])[0],
+                             band=1e-9 if drive._from_shape else None)
 
 
 def _zone_range(drive, mu, zeta, e0, e1):
@@ -845,7 +872,9 @@ def search_bits(pred, lo, hi, ways=64, certified=None):
     ``certified``: the same predicate decided to the last bit (``pred`` may err within a few ulp of
     its change, at a fraction of the cost). The final pair is checked with it; where it is not
     False below and True above, the change is searched with it (by halves: each of its points may
-    cost an extended-precision product) within 64 ulp either side, and kept where found there.
+    cost an extended-precision product) in a window of 64 ulp either side, widened fourfold up to
+    2^20 ulp until it holds the change (a drive given by its shape may err by a thousand ulp where
+    its trace is flat), and kept where found there.
     """
     a = lo.view(np.int64).copy()
     b = hi.view(np.int64).copy()
@@ -871,11 +900,17 @@ def search_bits(pred, lo, hi, ways=64, certified=None):
     # (an end of the given bracket carries no claim: the predicate may hold all the way)
     bad = inner[(ends[:, 0] & (a[inner] > lo_i[inner])) | (~ends[:, 1] & (b[inner] < hi_i[inner]))]
     if bad.size:
-        wa, wb = np.maximum(a[bad] - 64, lo_i[bad]), np.minimum(b[bad] + 64, hi_i[bad])
-        w_ends = np.asarray(certified(np.stack([wa, wb], axis=1).view(np.float64), bad), bool)
-        keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
-        rows, wa, wb = bad[keep], wa[keep], wb[keep]
-        for _ in range(10):
+        rows, wa, wb = bad[:0], a[:0], b[:0]
+        width = 64
+        while bad.size and width <= 1 << 20:
+            ca, cb = np.maximum(a[bad] - width, lo_i[bad]), np.minimum(b[bad] + width, hi_i[bad])
+            w_ends = np.asarray(certified(np.stack([ca, cb], axis=1).view(np.float64), bad), bool)
+            keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
+            rows, wa, wb = np.concatenate([rows, bad[keep]]), np.concatenate([wa, ca[keep]]), np.concatenate([wb, cb[keep]])
+            # (a window at both ends of the bracket cannot grow: its rows keep the pair found)
+            bad = bad[~keep & ((ca > lo_i[bad]) | (cb < hi_i[bad]))]
+            width *= 4
+        for _ in range(64):
             live = wb - wa > 1
             if not live.any():
                 break

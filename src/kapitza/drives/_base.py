@@ -97,6 +97,9 @@ class Drive:
       ``_stroke_coefficient``, ``_mean_square_velocity``, ``_trough``;
     - segments: subclass :class:`~kapitza.drives._piecewise.PiecewiseConstant` for the exact
       product of closed-form segment matrices (certified verdicts);
+    - linear pieces: ``_linear_pieces()``, the shape as pieces linear in ``tau``, for verdicts
+      decided to the last bit (with and without damping) where the engine's trace is near the
+      threshold (:meth:`_linear_pieces`);
     - closed forms or characteristic values: override ``_floquet0(eps, mu, certify=True)``
       (returning :class:`Floquet0`), ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
@@ -211,13 +214,78 @@ class Drive:
 
         ``certify`` asks for verdicts settled to the last bit where a drive can (the exact
         product does so in mpmath); the generic engine's ``tr M / 2`` is accurate to about
-        1e-13 relative and its verdicts are those of that value.
+        1e-13 relative, and its verdicts are those of that value unless the drive gives its shape
+        as linear pieces (:meth:`_linear_pieces`): then the points near the threshold are decided
+        in extended precision.
         """
         eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
         tau, log_tau, theta, zone, growth = self._engine.floquet(eps.ravel(), mu.ravel(), growth=True)
+        pieces = self._linear_pieces() if certify else None
+        if pieces is not None:
+            tau, log_tau, theta, zone, growth = self._settle_pieces(pieces, eps.ravel(), mu.ravel(), tau, log_tau,
+                                                                    theta, zone, growth)
         sh = eps.shape
         return Floquet0(tau=tau.reshape(sh), log_tau=log_tau.reshape(sh), growth=growth.reshape(sh),
                         theta=theta.reshape(sh), zone=zone.reshape(sh))
+
+    def _linear_pieces(self):
+        """``((x0, x1, s0, s1), ...)``: the shape as pieces linear in ``tau`` over the period (``s`` from
+        ``s0`` at ``x0`` to ``s1`` at ``x1``, constant where ``s0 = s1``), or None. A drive that gives
+        them has its verdicts decided in extended precision where the engine's trace is within its
+        accuracy of the threshold (:meth:`_settle_pieces`), with and without damping."""
+        return None
+
+    #: The generic engine's ``tr M / 2`` is taken to be within ``_ENGINE_BAND e^G`` of the exact one
+    #: (``G`` bounds the growth over the repelling parts of the period: the size of the terms that
+    #: cancel in the trace); it is about ``1e-13 e^G`` where measured, ``1e-12`` at the edges of zone 0.
+    _ENGINE_BAND = 1e-10
+
+    def _trace_error(self, eps, mu):
+        """A bound on the absolute error of the generic engine's ``tr M / 2`` at flat ``eps, mu``
+        (:attr:`_ENGINE_BAND` ``e^G``; ``G`` from the linear pieces where the drive gives them,
+        else from the largest ``s``)."""
+        eps, mu = np.asarray(eps, float), np.asarray(mu, float)
+        m2 = mu * mu
+        pieces = self._linear_pieces()
+        with np.errstate(over="ignore", invalid="ignore"):
+            if pieces is not None:
+                grow = sum(np.sqrt(8.0 * eps * eps * np.maximum(np.maximum(m2 + s0, m2 + s1), 0.0)) * (x1 - x0)
+                           for x0, x1, s0, s1 in pieces)
+            else:
+                grow = 2.0 * SQRT8 * eps * np.sqrt(np.maximum(m2 + self._engine.s_max, 0.0))
+            return self._ENGINE_BAND * np.exp(np.minimum(grow, 700.0))
+
+    def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth):
+        """The engine's undamped data with the verdicts near the threshold decided in extended
+        precision (:func:`kapitza._certify.pieces_mp`; flat arrays). Where the exact verdict differs
+        from the engine's, the zone follows it: a point found stable in the gap ``theta = k pi`` lies
+        in zone ``k - 1`` while ``|tau|`` rises with ``eps`` there, in zone ``k`` where it falls; one
+        found unstable on zone ``n`` lies in the gap its trace's sign gives (``(-1)^k``)."""
+        from .._certify import MAX_PHASE, pieces_mp, pieces_phase
+
+        near = (np.abs(np.abs(tau) - 1.0) <= self._trace_error(eps, mu)) & (pieces_phase(eps, mu, pieces) <= MAX_PHASE)
+        idx = np.flatnonzero(near)
+        if not idx.size:
+            return tau, log_tau, theta, zone, growth
+        tau, log_tau, theta, zone, growth = (np.array(v, copy=True) for v in (tau, log_tau, theta, zone, growth))
+        res = pieces_mp(eps[idx], mu[idx], None, pieces)
+        for i, (t, lt, st, gr) in zip(idx.tolist(), res):
+            tau[i], log_tau[i] = t, lt
+            if st and zone[i] < 0:
+                k = int(np.rint(theta[i] / PI))
+                h = 1e-7 * eps[i]
+                rise = self._engine.log_tau(np.array([eps[i] + h, eps[i] - h]), np.array([mu[i], mu[i]]))[1]
+                zone[i] = max(k - 1 if rise[0] > rise[1] else k, 0)
+            elif not st and zone[i] >= 0:
+                n = int(zone[i])
+                zone[i] = -1
+                theta[i] = PI * (n if (t < 0) == (n % 2 == 1) else n + 1)
+            if st:
+                n = int(zone[i])
+                a = float(np.arccos(np.clip(t, -1.0, 1.0)))
+                theta[i] = n * PI + (a if n % 2 == 0 else PI - a)
+            growth[i] = 0.0 if st else gr
+        return tau, log_tau, theta, zone, growth
 
     def _edges0(self, mu, n):
         """``(eps_lo, eps_hi)`` of undamped zone ``n`` at ``mu`` (NaN where there is none).
@@ -447,7 +515,7 @@ class Drive:
     @property
     def _damped_certified(self) -> bool:
         """Whether :meth:`_damped_exact` decides damped verdicts in extended precision."""
-        return self._steps() is not None
+        return self._steps() is not None or self._linear_pieces() is not None
 
     def _damped_exact(self, eps, mu, zeta):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points
@@ -455,7 +523,12 @@ class Drive:
         exact monodromy (a drive given by its shape: its damped verdicts are the engine's)."""
         steps = self._steps()
         if steps is None:
-            return None
+            pieces = self._linear_pieces()
+            if pieces is None:
+                return None
+            from .._certify import pieces_mp
+
+            return [(st, gr) for _, _, st, gr in pieces_mp(eps, mu, zeta, pieces)]
         from .._certify import damped_mp
 
         levels, fractions = steps
@@ -563,6 +636,11 @@ class Drive:
                 return found
         st, zone, lo, hi, m = (np.asarray(a)[()] for a in self.margin(
             np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float)))
+        if zone >= 0 and np.isfinite(lo) and np.isfinite(hi):
+            # one point: its edges moved to the doubles the certified verdict puts them at, as
+            # zone_edges gives them (the array margin keeps the solver's doubles)
+            lo, hi = (float(v) for v in self.edges(np.float64(mu), np.int64(zone), np.float64(zeta)))
+            m = min(eps - lo, hi - eps) / eps
         return bool(st), int(zone), float(lo), float(hi), float(m)
 
     def point_intervals(self, eps, mu, zone, zeta, T, A, l, g, c, pointwise=True, eps_edges=None):

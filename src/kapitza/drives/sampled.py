@@ -110,6 +110,13 @@ class SampledDrive(Drive):
         i = np.clip(np.searchsorted(self._phase, tau, side="right") - 1, 0, self._s.size - 1)
         return self._s[i]
 
+    def _linear_pieces(self):
+        if self.kind == "linear":
+            x, f = self._xp, self._fp
+            return tuple(zip(x[:-1].tolist(), x[1:].tolist(), f[:-1].tolist(), f[1:].tolist()))
+        ends = np.concatenate([self._phase[1:], [2.0]])
+        return tuple(zip(self._phase.tolist(), ends.tolist(), self._s.tolist(), self._s.tolist()))
+
     @property
     def samples(self):
         """``(t, a)``: one period of the samples as used (the mean removed, times from 0)."""
