@@ -120,9 +120,9 @@ def caption(fig, text: str):
     return art
 
 
-#: Save as matplotlib does by itself: each format's ticks and titles worked out anew on every
-#: pass, PNG at zlib's default level. Kept only so that ``benchmarks/bench_renders.py`` can time
-#: the difference; the files are the same pictures either way.
+#: Save the earlier way: the formats one after the other in this process, each format's ticks
+#: and titles worked out anew on every pass, PNG at zlib's default level. Kept only so that
+#: ``benchmarks/bench_renders.py`` can time the difference; the files are the same either way.
 _LEGACY = False
 
 #: zlib level of the PNG files: the same pixels as the default level 6 in about half the time,
@@ -145,9 +145,7 @@ def _freeze_ticks(fig):
             for which in (axis.major, axis.minor):
                 if isinstance(which.locator, (NullLocator, FixedLocator)):
                     continue
-                locs = which.locator()
-                if which is axis.minor:
-                    locs = axis.get_minorticklocs()
+                locs = axis.get_majorticklocs() if which is axis.major else axis.get_minorticklocs()
                 labels = which.formatter.format_ticks(locs)
                 if which.formatter.get_offset():
                     continue
@@ -205,8 +203,15 @@ def _save_in_child(fig, path, fmt, dpi):
     import os
     import pickle
 
+    import warnings
+
     r, w = os.pipe()
-    pid = os.fork()
+    with warnings.catch_warnings():
+        # Python 3.12+ warns of any fork in a process with threads; the only ones here are the
+        # idle BLAS workers (save forks only without other Python threads), which the child never
+        # uses: it only draws and writes one file.
+        warnings.simplefilter("ignore", DeprecationWarning)
+        pid = os.fork()
     if pid == 0:  # pragma: no cover - the child's coverage is not collected
         os.close(r)
         status = 0
@@ -263,17 +268,21 @@ def save(fig, stem, formats=("png", "svg"), dpi=150):
 
     The layout is computed once, at the resolution of the first format, and then kept for the
     others (the constrained layout measures every text, which costs as much as drawing it), with
-    the ticks and titles it settled. Where the system can fork, the formats after the first are
-    each written by a forked copy of the process while this one writes the first: drawing a figure
-    is plain Python and cannot share one interpreter's time.
+    the ticks and titles it settled. Where the system can fork, the formats after a first PNG are
+    each written by a forked copy of the process while this one writes the PNG: drawing a figure
+    is plain Python and cannot share one interpreter's time. The files are the same as written
+    one after the other.
     """
     import os
+    import threading
 
     stem = Path(stem)
     formats = list(formats)
     paths = [stem.with_suffix("." + fmt) for fmt in formats]
-    if not _LEGACY and len(formats) > 1 and _layout_once(fig, dpi):
-        if not hasattr(os, "fork"):
+    if not _LEGACY and len(formats) > 1 and formats[0] == "png" and _layout_once(fig, dpi):
+        # A fork copies only the calling thread: with other Python threads alive (a Dask pool, a
+        # server) a lock one of them holds could stay held in the child, so write in turn there.
+        if not hasattr(os, "fork") or threading.active_count() > 1:
             for p, fmt in zip(paths, formats):
                 _savefig(fig, p, fmt, dpi)
             return paths
