@@ -120,8 +120,8 @@ def caption(fig, text: str):
     return art
 
 
-#: Save the earlier way: the formats one after the other in this process, each format's ticks
-#: and titles worked out anew on every pass, PNG at zlib's default level. Kept only so that
+#: Save the earlier way: the layout run inside the first ``savefig``, each format's ticks and
+#: titles worked out anew on every pass, PNG at zlib's default level. Kept only so that
 #: ``benchmarks/bench_renders.py`` can time the difference; the files are the same either way.
 _LEGACY = False
 
@@ -195,106 +195,19 @@ def _savefig(fig, path, fmt, dpi):
         fig.savefig(tmp, format=fmt, dpi=dpi, **kw)
 
 
-def _save_in_child(fig, path, fmt, dpi):
-    """Fork a process that writes ``fig`` as ``path``; return ``(pid, read end of its error pipe)``.
-
-    The child reports a failure by writing the pickled exception to the pipe and never returns
-    (``os._exit``: no buffers flushed twice, no ``atexit`` run twice)."""
-    import os
-    import pickle
-
-    import warnings
-
-    r, w = os.pipe()
-    with warnings.catch_warnings():
-        # Python 3.12+ warns of any fork in a process with threads; the only ones here are the
-        # idle BLAS workers (save forks only without other Python threads), which the child never
-        # uses: it only draws and writes one file.
-        warnings.simplefilter("ignore", DeprecationWarning)
-        pid = os.fork()
-    if pid == 0:  # pragma: no cover - the child's coverage is not collected
-        os.close(r)
-        status = 0
-        try:
-            _savefig(fig, path, fmt, dpi)
-        except BaseException as exc:  # noqa: BLE001 - every failure goes back to the parent
-            status = 1
-            try:
-                data = pickle.dumps(exc)
-            except Exception:
-                data = pickle.dumps(RuntimeError(f"{type(exc).__name__}: {exc}"))
-            try:
-                with os.fdopen(w, "wb") as fh:
-                    fh.write(data)
-            except BaseException:
-                pass
-        os._exit(status)
-    os.close(w)
-    return pid, r
-
-
-def _reap(children):
-    """Wait for the forked writers; raise the first failure one of them reported."""
-    import os
-    import pickle
-
-    failure = None
-    for pid, r in children:
-        with os.fdopen(r, "rb") as fh:
-            data = fh.read()
-        _, status = os.waitpid(pid, 0)
-        if failure is None and (data or status != 0):
-            failure = pickle.loads(data) if data else RuntimeError(f"the writer of a figure ended with status {status}")
-    if failure is not None:
-        raise failure
-
-
-def _stop(children):
-    """End the forked writers (this process is failing or interrupted): they leave no file."""
-    import os
-    import signal
-
-    for pid, r in children:
-        try:
-            os.close(r)
-            os.kill(pid, signal.SIGTERM)
-            os.waitpid(pid, 0)
-        except OSError:
-            pass
-
-
 def save(fig, stem, formats=("png", "svg"), dpi=150):
     """Write ``stem.<fmt>`` for each format atomically; return the paths.
 
-    The layout is computed once, at the resolution of the first format, and then kept for the
-    others (the constrained layout measures every text, which costs as much as drawing it), with
-    the ticks and titles it settled. Where the system can fork, the formats after a first PNG are
-    each written by a forked copy of the process while this one writes the PNG: drawing a figure
-    is plain Python and cannot share one interpreter's time. The files are the same as written
-    one after the other.
+    The layout is computed once, by the renderer of the first format (a PNG), and then kept for
+    the others (the constrained layout measures every text, which costs as much as drawing it),
+    with the ticks and titles it settled.
     """
-    import os
-    import threading
-
     stem = Path(stem)
     formats = list(formats)
     paths = [stem.with_suffix("." + fmt) for fmt in formats]
     if not _LEGACY and len(formats) > 1 and formats[0] == "png" and _layout_once(fig, dpi):
-        # A fork copies only the calling thread: with other Python threads alive (a Dask pool, a
-        # server) a lock one of them holds could stay held in the child, so write in turn there.
-        if not hasattr(os, "fork") or threading.active_count() > 1:
-            for p, fmt in zip(paths, formats):
-                _savefig(fig, p, fmt, dpi)
-            return paths
-        children = []
-        try:
-            for p, fmt in zip(paths[1:], formats[1:]):
-                children.append(_save_in_child(fig, p, fmt, dpi))
-            _savefig(fig, paths[0], formats[0], dpi)
-        except BaseException:
-            _stop(children)
-            raise
-        _reap(children)
+        for p, fmt in zip(paths, formats):
+            _savefig(fig, p, fmt, dpi)
         return paths
     for k, (p, fmt) in enumerate(zip(paths, formats)):
         _savefig(fig, p, fmt, dpi)
