@@ -171,6 +171,29 @@ def test_points_beside_thin_zones_follow_their_trace(eps, mu):
     assert float(f.growth) == pytest.approx(float(mp.acosh(abs(tr) / 2)), rel=1e-12)
 
 
+def test_long_double_counts_decide_beside_edges_and_spare_the_exact_trace(monkeypatch):
+    # within the double band of an edge the Sturm counts are taken again in long double (where it
+    # has more bits than a double): they agree with the oracle, and the exact trace is asked rarely
+    from kapitza.drives import _mathieu
+
+    if _mathieu._LD is None:
+        pytest.skip("long double is a double on this platform")
+    calls = []
+    exact = _mathieu._exact_tau
+    monkeypatch.setattr(_mathieu, "_exact_tau", lambda e, m: calls.append(e) or exact(e, m))
+    mu = 0.3
+    for n in range(3):
+        lo, hi = (float(x) for x in K.zone_edges(mu, n, drive="sine"))
+        eps = np.array(sorted({near(lo, k) for k in range(-4, 5)} | {near(hi, k) for k in range(-4, 5)}))
+        got = K.floquet(eps, mu, drive="sine")
+        for i, e in enumerate(eps):
+            tr, _ = oracle_monodromy(e, mu)
+            assert bool(got.stable[i]) == bool(-2 < tr < 2), (e, mu, float(tr))  # (abs() would round)
+            # the trace stays on its verdict's side of +-2
+            assert (abs(float(got.trace[i])) < 2) == bool(got.stable[i])
+    assert len(calls) <= 6, len(calls)
+
+
 CASES = [(0.5, 6), (0.3, 8), (0.7, 4), (0.9, 1), (0.95, 0)]
 SLOW_CASES = [(0.3, 4), (0.3, 6), (0.4, 7), (0.5, 4), (0.5, 8), (0.6, 5), (0.7, 3), (0.7, 6), (0.9, 0),
               (0.92, 1), (0.95, 1), (0.97, 0)]

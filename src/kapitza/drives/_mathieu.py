@@ -171,7 +171,9 @@ def _count(fam, q, x):
     characteristic value compares with ``x`` correctly unless they agree to a few ulp of ``|x| + q``.
     All four families go through one loop (one numpy call per row for every point at once).
     """
-    fam, q, x = np.asarray(fam), np.asarray(q, float), np.asarray(x, float)
+    fam, q, x = np.asarray(fam), np.asarray(q), np.asarray(x)
+    if q.dtype != _LD:  # (long double stays long double: the second tier of counts)
+        q, x = q.astype(float, copy=False), x.astype(float, copy=False)
     if not (fam.shape == q.shape == x.shape and q.ndim == 1):
         fam, q, x = np.broadcast_arrays(fam, q, x)
         fam, q, x = fam.reshape(-1), q.reshape(-1), x.reshape(-1)
@@ -320,7 +322,28 @@ def sine_floquet0(eps, mu, certify=True):
     count = c_lo.copy()
     with np.errstate(invalid="ignore"):
         says = np.abs(np.abs(tau) - 1.0) > err  # the double trace decides |tau| vs 1 by itself
-    unsure |= says & ((np.abs(tau) < 1.0) != (count % 2 == 1))
+    mismatch = says & ((np.abs(tau) < 1.0) != (count % 2 == 1))
+    with np.errstate(invalid="ignore"):
+        accurate = err <= 1e-6 * np.maximum(np.abs(tau), 1.0)
+    if certify and _LD is not None and np.any(unsure & ~mismatch & accurate):
+        # an edge within the double band: the counts again in long double, in a band 2,048 times
+        # narrower; where they agree they decide, and the trace (accurate to err, which spans 1
+        # there) is put on the verdict's side of +-1; the rest, and every point whose double trace
+        # has lost its digits (beside the thin zones), goes to the exact trace
+        rows = np.flatnonzero(unsure & ~mismatch & accurate)
+        l_lo, l_hi = _counts_ld(e[rows], m[rows])
+        ok = l_lo == l_hi
+        rows, c = rows[ok], l_lo[ok]
+        count[rows] = c
+        st = c % 2 == 1
+        t = tau[rows]
+        sgn = np.where(t < 0, -1.0, 1.0)
+        t = np.where(st & (np.abs(t) >= 1.0), sgn * np.nextafter(1.0, 0.0),
+                     np.where(~st & (np.abs(t) <= 1.0), sgn * np.nextafter(1.0, 2.0), t))
+        log_tau[rows] = np.where(t == tau[rows], log_tau[rows], np.log(np.abs(t)))
+        tau[rows] = t
+        unsure[rows] = False
+    unsure |= mismatch
     idx = np.flatnonzero(unsure) if certify else np.zeros(0, np.int64)
     if idx.size:
         tau[idx], log_tau[idx], count[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx])
@@ -474,6 +497,28 @@ def _total_count(eps, mu):
     """Characteristic values of all four families below the ray point at ``eps`` (flat arrays)."""
     q, a = _qa(eps, mu)
     return _count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0)
+
+
+#: Long double where it carries more bits than a double (x86's 80-bit format; elsewhere None): the
+#: Sturm counts beside an edge are taken again in it before the exact trace is asked.
+_LD = np.longdouble if np.finfo(np.longdouble).nmant >= 60 else None
+_PI_LD = np.longdouble("3.141592653589793238462643383279502884") if _LD is not None else None
+
+
+def _counts_ld(eps, mu):
+    """``(c_lo, c_hi)``: :func:`_total_count` at ``eps (1 -+ delta)`` in long double (flat arrays),
+    ``q`` and ``a`` formed there from the exact doubles, ``delta`` the band of :func:`_band` for the
+    long double's unit roundoff (``2^-64``): 2,048 times narrower than the double one."""
+    u = np.finfo(_LD).eps / 2
+    e, m = eps.astype(_LD), mu.astype(_LD)
+    with np.errstate(divide="ignore"):
+        d = 64 * u + 16 * u / np.maximum(1 - m * m, _LD(1e-300)) * (m < 1)
+    out = []
+    for x in (e * (1 - d), e * (1 + d)):
+        q = 16 * x * x / (_PI_LD * _PI_LD)
+        a = -2 * m * m * q
+        out.append(_count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0))
+    return out
 
 
 def _sine_zone_of(eps, mu):
