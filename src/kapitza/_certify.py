@@ -217,6 +217,8 @@ def pieces_mp(eps, mu, zeta, pieces):
     ``growth = log max|lambda|``. The precision starts at 96 bits beyond the growth ``e^G`` of the
     solutions and doubles until ``|tau|`` is resolved from the threshold by more than ``2^32`` times
     the series' rounding (to 3,000 bits; beyond, the last answer stands)."""
+    import math
+
     import mpmath
 
     out = []
@@ -226,6 +228,27 @@ def pieces_mp(eps, mu, zeta, pieces):
         P = 96 + bits
         while True:
             num = _pieces_half_trace(e, m, z, pieces, P)
+            if z == 0.0:
+                # undamped: |tau| against 1 in integers (tau = num / 2^(2P)), the logarithms from
+                # the correctly rounded quotient of the integers
+                one = 1 << (2 * P)
+                gap = abs(num) - one
+                if abs(gap) > 1 << (P + bits + 32) or P > 1500:
+                    if gap.bit_length() < 2 * P + 1000:
+                        x = gap / one  # |tau| - 1, correctly rounded
+                        log_tau = math.log1p(x) if x > -1.0 else -np.inf
+                        growth = math.log1p(x + math.sqrt(x * (x + 2.0))) if x > 0.0 else 0.0
+                        if not math.isfinite(growth):  # acosh t = log 2t to rounding
+                            growth = log_tau + math.log(2.0)
+                        tau = num / one
+                    else:  # |tau| beyond 2^1000: its logarithm from the integer
+                        log_tau = math.log(abs(num)) - 2 * P * math.log(2.0)
+                        growth = log_tau + math.log(2.0)
+                        tau = math.copysign(math.inf, num)
+                    out.append((tau, log_tau, gap < 0, growth))
+                    break
+                P *= 2
+                continue
             with mpmath.workprec(2 * P + 64):
                 t = mpmath.mpf(num) / mpmath.mpf(2) ** (2 * P)
                 kappa = 2 * mpmath.sqrt(8) * mpmath.mpf(z) * mpmath.mpf(m) * mpmath.mpf(e)
