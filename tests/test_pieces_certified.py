@@ -130,3 +130,12 @@ def test_a_flipped_verdict_carries_its_zone_and_rotation():
         assert np.all((rho_in > n / 2) & (rho_in < (n + 1) / 2)), rho_in
         two_rho = 2.0 * np.asarray(f_out.rotation_number)
         assert np.array_equal(two_rho, [n, n + 1]), two_rho
+
+
+def test_a_long_measured_drive_keeps_the_engines_verdicts():
+    # past CERTIFIED_SAMPLES each exact decision would cost a series per piece: the engine decides
+    t = np.arange(200) / 200.0 * 0.02
+    d = K.drives.from_samples(t, 400.0 * np.sin(2 * np.pi * t / 0.02))
+    assert d._s.size > d.CERTIFIED_SAMPLES and d._linear_pieces() is None and not d._damped_certified
+    lo, hi = (float(v) for v in K.zone_edges(0.3, 0, drive=d))
+    assert K.is_stable(0.5 * (lo + hi), 0.3, drive=d) and not K.is_stable(0.5 * lo, 0.3, drive=d)
