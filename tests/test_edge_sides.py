@@ -65,3 +65,20 @@ def test_the_grid_equals_is_stable_at_doubles_beside_the_edges(drive):
         eps = np.unique((edges[:, None].view(np.int64) + np.arange(-3, 4)[None, :]).view(np.float64))
         grid = K.stability_grid(eps, np.array([mu]), drive=drive)[0]
         assert np.array_equal(grid, K.is_stable(eps, mu, drive=drive)), mu
+
+
+@pytest.mark.parametrize("drive, zeta, mu", [(K.RectangularWave(0.3), 1.0, 0.4), (K.RectangularWave(0.3), 2.0, 0.2),
+                                             (K.SquareWave(), 2.0, 0.4)])
+def test_zones_joined_by_damping_share_one_edge_in_every_call(drive, zeta, mu):
+    # heavy damping joins neighbouring zones: the shared edge is the maximum of the gap's excess,
+    # which a search locates only to about 1e-8; every call (one zone or several) gives the same
+    # double, the same for both zones
+    lo, hi = K.zone_edges(np.full(5, mu), np.arange(5), drive=drive, zeta=zeta)
+    joined = 0
+    for n in range(4):
+        one_lo, one_hi = (float(v) for v in K.zone_edges(mu, n, drive=drive, zeta=zeta))
+        assert (one_lo, one_hi) == (lo[n], hi[n]), n
+        if hi[n] >= lo[n + 1] * (1 - 1e-6):
+            joined += 1
+            assert hi[n] == lo[n + 1], n
+    assert joined >= 2

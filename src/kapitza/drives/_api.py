@@ -205,10 +205,19 @@ def _damped_edges(drive, mu, n, zeta, phi=None):
     damping has joined the two zones; both edges are then reported at that maximum.
     """
     if phi is None:
+        # the phi-edges on the doubles the certified verdict puts them at: unique doubles, so that
+        # a gap's maximum is searched on the same bracket whichever zone, and whichever call, asks
+        # (where damping joins two zones their shared edge is that maximum, which the search
+        # locates only to about 1e-8: a bracket an ulp apart would move it by that much)
         mu_c = mu * np.sqrt(1.0 + zeta * zeta)
-        lo_n, hi_n = drive._edges0(mu_c, n)
-        _, hi_prev = drive._edges0(mu_c, np.maximum(n - 1, 0))
-        lo_next, _ = drive._edges0(mu_c, n + 1)
+        m1, n1 = mu_c.reshape(-1), n.reshape(-1)
+        m3 = np.concatenate([m1, m1, m1])
+        lo3, hi3 = drive._edges0(m3, np.concatenate([n1, np.maximum(n1 - 1, 0), n1 + 1]))
+        if drive._edges_need_sides:
+            lo3, hi3 = certified_sides(drive, m3, lo3, hi3)
+        k, sh = m1.size, mu.shape
+        lo_n, hi_n = lo3[:k].reshape(sh), hi3[:k].reshape(sh)
+        hi_prev, lo_next = hi3[k:2 * k].reshape(sh), lo3[2 * k:].reshape(sh)
     else:  # the phi-system's edges, known already (a chart's window; lo_next may be a cap)
         lo_n, hi_n, hi_prev, lo_next = phi
     # gap below zone n: (hi_{n-1}, lo_n), or (0, lo_0) for zone 0
