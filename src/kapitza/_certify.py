@@ -177,18 +177,30 @@ def _pieces_half_trace(e, m, z, pieces, P):
         bh = (E * dS >> P) // steps
         for j in range(steps):
             A = E * (M2 + S0 + dS * j // steps) >> P
-            for col in cols:
-                Y = [col[0], col[1] * hf >> P]
-                k = 0
-                while True:
-                    acc = A * Y[k] + (bh * Y[k - 1] if k else 0)
-                    Y.append(((acc >> P) * hh >> P) // ((k + 1) * (k + 2)))
-                    k += 1
-                    if k > 8 and abs(Y[-1]) < 16 and abs(Y[-2]) < 16 and abs(Y[-3]) < 16:
-                        break
-                col[0] = sum(Y)
-                col[1] = (sum(i * Yi for i, Yi in enumerate(Y)) << P) // hf
+            taylor_step(cols, (A, bh), hf, hh, P)
     return (cols[0][0] + cols[1][1]) << (P - 1)
+
+
+def taylor_step(cols, C, hf, hh, P):
+    """One step ``h`` of ``y'' = c(z) y`` for each column ``[y, y']`` of ``cols`` (in place), by Taylor
+    series in fixed-point integers (values times ``2^P``; ``hf = h``, ``hh = h^2``): ``C[i]`` are the
+    Taylor coefficients of ``c`` at the step's start scaled by ``h^i``, and with
+    ``Y_k = y^(k) h^k / k!``, ``Y_(k+2) = h^2 sum_i C[i] Y_(k-i) / ((k + 1)(k + 2))``, summed until three
+    terms in a row vanish at ``2^-P``."""
+    K = len(C)
+    for col in cols:
+        Y = [col[0], col[1] * hf >> P]
+        k = 0
+        while True:
+            acc = 0
+            for i in range(min(k, K - 1) + 1):
+                acc += C[i] * Y[k - i]
+            Y.append(((acc >> P) * hh >> P) // ((k + 1) * (k + 2)))
+            k += 1
+            if k > 8 and abs(Y[-1]) < 16 and abs(Y[-2]) < 16 and abs(Y[-3]) < 16:
+                break
+        col[0] = sum(Y)
+        col[1] = (sum(i * Yi for i, Yi in enumerate(Y)) << P) // hf
 
 
 def _pieces_growth_bits(e, m2, pieces):

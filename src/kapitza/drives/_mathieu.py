@@ -552,6 +552,8 @@ def _exact_half_period(eps, mu, P, zeta=0.0):
 
     import mpmath
 
+    from .._certify import taylor_step
+
     one = 1 << P
     with mpmath.workprec(P + 40):
         e, m = mpmath.mpf(float(eps)), mpmath.mpf(float(mu))
@@ -579,19 +581,7 @@ def _exact_half_period(eps, mu, P, zeta=0.0):
         for k in range(1, K):
             r = k % 4
             C.append((scale[k] * (sj if r % 2 else cj) >> P) * (1 if r in (0, 3) else -1))
-        for col in cols:
-            Y = [col[0], col[1] * hf >> P]  # Y_k = y^(k)(z0) h^k / k!
-            k = 0
-            while True:
-                acc = 0
-                for i in range(min(k, K - 1) + 1):
-                    acc += C[i] * Y[k - i]
-                Y.append(((acc >> P) * hh >> P) // ((k + 1) * (k + 2)))
-                k += 1
-                if k > 8 and abs(Y[-1]) < 16 and abs(Y[-2]) < 16 and abs(Y[-3]) < 16:
-                    break
-            col[0] = sum(Y)
-            col[1] = (sum(i * Yi for i, Yi in enumerate(Y)) << P) // hf
+        taylor_step(cols, C, hf, hh, P)
     return cols[0][0], cols[0][1], cols[1][0], cols[1][1]
 
 
