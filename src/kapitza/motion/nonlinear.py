@@ -418,6 +418,9 @@ class Trajectory(Summary):
         """``(t_k, theta_k, dtheta_k)`` at ``t_k = 2 k T`` within the sampled span."""
         k = np.arange(int(np.floor(self.t[-1] / (2.0 * self.T) + 1e-12)) + 1)
         tk = 2.0 * self.T * k
+        i = np.minimum(np.searchsorted(self.t, tk), self.t.size - 1)
+        if np.all(self.t[i] == tk):  # sampled already (simulate puts whole periods on the grid)
+            return tk, self.theta[i], self.dtheta[i]
         th, om = self.at(tk)
         return tk, th, om
 
@@ -595,6 +598,11 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
                         what="samples held in memory")
         n = int(np.ceil(periods * ppp))
         t = np.linspace(0.0, 2.0 * T * periods, n + 1)
+        if n == periods * ppp:
+            # the whole periods on their exact doubles 2 T k (linspace may miss them by an ulp): the
+            # stroboscopic points are then samples (Trajectory.strobe reads them, no second run)
+            k = np.arange(0, n + 1, ppp)
+            t[k] = 2.0 * T * (k // ppp)
     else:
         t = _times(t).ravel()
         _v.bounded_work("len(t)", t.size, MAX_SAMPLES, what="samples held in memory")
