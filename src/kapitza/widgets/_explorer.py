@@ -27,6 +27,8 @@ _LOG = logging.getLogger(__name__)
 
 #: The routes of ``/api`` the explorer asks, and the functions that answer them.
 ROUTES: dict[str, Callable] = {
+    "drives": _app.drives_answer,
+    "drive": _app.drive_answer,
     "chart": _app.chart_answer,
     "verdict": _app.verdict_answer,
     "point": _app.point_answer,
