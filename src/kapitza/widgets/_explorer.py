@@ -27,13 +27,13 @@ _LOG = logging.getLogger(__name__)
 
 #: The routes of ``/api`` the explorer asks, and the functions that answer them.
 ROUTES: dict[str, Callable] = {
-    "drives": _app.drives_answer,
-    "drive": _app.drive_answer,
     "chart": _app.chart_answer,
     "verdict": _app.verdict_answer,
     "point": _app.point_answer,
     "safe_tilt": _app.safe_tilt_answer,
     "motion": _app.motion_answer,
+    "drives": _app.drives_answer,
+    "drive": _app.drive_answer,
     "tower/chart": _app.tower_chart_answer,
     "tower/point": _app.tower_point_answer,
     "tower/motion": _app.tower_motion_answer,
