@@ -237,3 +237,54 @@ def test_a_drive_that_holds_the_rod_up_below_g(site):
     page.screenshot(path=str(SCREENS / "09-duty-0.3-grey-beyond-mu-max.png"))
     assert not errors
     page.close()
+
+
+def test_drive_lists_come_from_the_registry_and_the_triangle_wave_works(site):
+    """Both lists hold every drive the server offers, the triangle wave among them; choosing it draws
+    its chart (mu up to 1, the stroke coefficient 1/6 from the server), a click on a stable point gives
+    the verdict and the pendulum moves."""
+    base, context = site
+    page, errors = _new_page(context, base + "?plane=arnold")
+    drives = page.evaluate("[...document.getElementById('drive').options].map(o => o.value)")
+    assert drives == ["square", "rectangular", "sine", "triangle"]   # the registry's order; steps needs lists
+    assert page.evaluate("document.getElementById('drive').value") == "square"
+    overlays = page.evaluate("[...document.getElementById('overlay').options].map(o => o.value)")
+    assert overlays == ["", "square", "rectangular:0.3", "rectangular:0.7", "sine", "triangle"]
+    assert not page.is_visible("#duty")                              # the square wave has no number
+    page.select_option("#drive", "triangle")
+    page.wait_for_function("kapitza.chart.data && kapitza.chart.data.drive.startsWith('triangle')", timeout=120000)
+    _settle(page)
+    assert not page.is_visible("#duty")
+    assert page.evaluate("kapitza.info().stroke_coefficient") == pytest.approx(1 / 6)
+    zones = page.evaluate("kapitza.chart.data.zones.map(z => z.n)")
+    assert 0 in zones
+    # a point inside zone 0 of the triangle wave, at mu = 0.3
+    lo, hi = (float(v) for v in kapitza.zone_edges(0.3, 0, drive="triangle"))
+    eps = 0.5 * (lo + hi)
+    assert kapitza.is_stable(eps, 0.3, drive="triangle")
+    x, y = _pixel(page, eps, 0.3)
+    page.mouse.click(x, y)
+    page.wait_for_function("(document.getElementById('verdict').dataset.verdict || '').startsWith('stable (zone 0)')",
+                           timeout=120000)
+    assert page.evaluate("document.getElementById('verdict').dataset.drive") == "triangle"
+    page.wait_for_function("kapitza.anim.m !== null", timeout=120000)
+    page.wait_for_function("document.getElementById('verdict').dataset.state === 'report'", timeout=120000)
+    page.wait_for_function("document.getElementById('safe-tilt') !== null", timeout=120000)
+    assert "drive=triangle" in page.evaluate("location.search")
+    page.wait_for_timeout(1500)
+    page.screenshot(path=str(SCREENS / "10-triangle-wave.png"))
+    # the link brings the triangle back; a drive the server does not list is not taken from a link
+    page2, errors2 = _new_page(context, page.evaluate("location.href"))
+    assert page2.evaluate("document.getElementById('drive').value") == "triangle"
+    page2.close()
+    page3, errors3 = _new_page(context, base + "?drive=bogus")
+    assert page3.evaluate("kapitza.S.drive") == "square"
+    page3.close()
+    # the rectangular wave's duty field shows, named and bounded as the server describes the duty
+    page.select_option("#drive", "rectangular")
+    page.wait_for_function("kapitza.chart.data && kapitza.chart.data.drive.includes('0.3')", timeout=120000)
+    assert page.is_visible("#duty")
+    assert page.evaluate("[document.getElementById('duty-name').textContent, document.getElementById('duty').value]") \
+        == ["duty", "0.3"]
+    assert not errors and not errors2 and not errors3
+    page.close()

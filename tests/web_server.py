@@ -13,11 +13,14 @@ from pathlib import Path
 
 
 @contextmanager
-def running_server(*args, timeout=30.0):
-    """Yield ``(base_url, seconds_to_first_response, process)`` of ``kapitza serve --port 0``."""
+def running_server(*args, timeout=30.0, prelude=None):
+    """Yield ``(base_url, seconds_to_first_response, process)`` of ``kapitza serve --port 0``
+    (after the Python code ``prelude`` where given, e.g. a user's drive registered)."""
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     t0 = time.perf_counter()
-    proc = subprocess.Popen([sys.executable, "-m", "kapitza", "serve", "--port", "0", *args],
+    start = ["-m", "kapitza"] if prelude is None else [
+        "-c", f"{prelude}\nimport sys\nfrom kapitza.cli import main\nsys.exit(main(sys.argv[1:]))"]
+    proc = subprocess.Popen([sys.executable, *start, "serve", "--port", "0", *args],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     try:
         line = proc.stdout.readline()

@@ -135,6 +135,14 @@ class Drive:
     name = "drive"
     #: the text form the command line and the web take (``name`` when there are no parameters)
     text_form: str | None = None
+    #: what this kind of drive is called in a menu, e.g. the explorer's list (default: ``name``)
+    title: str | None = None
+    #: the numbers of the text form ``NAME:VALUE``, for a form that offers the drive (the
+    #: explorer's page): one dict per number with ``name``, ``min`` and ``max`` (open ends: the
+    #: values the constructor accepts lie strictly between), ``default`` and ``examples`` (values
+    #: worth listing); ``()`` for a drive without parameters, ``None`` for a text form that no
+    #: list of numbers describes (:class:`~kapitza.StepDrive`'s levels and fractions)
+    parameters: tuple | None = ()
 
     @classmethod
     def from_text(cls, parameters, text=None):

@@ -4,6 +4,8 @@ from __future__ import annotations
 from .. import _validate as _v
 from ._piecewise import PiecewiseConstant
 
+_DUTY = (0.0, 1.0)  # the open interval of duty cycles (RectangularWave.parameters says so)
+
 
 class RectangularWave(PiecewiseConstant):
     """Acceleration ``+A`` for the fraction ``duty`` of the period ``2T``, then ``-A duty/(1 - duty)``.
@@ -39,6 +41,10 @@ class RectangularWave(PiecewiseConstant):
 
     name = "rectangular"
     text_form = "rectangular:DUTY"
+    title = "rectangular, duty cycle"
+    #: the duty cycle, as the constructor checks it: ``0 < duty < 1``
+    parameters = ({"name": "duty", "min": _DUTY[0], "max": _DUTY[1], "default": 0.3, "examples": (0.3, 0.7),
+                   "description": "the fraction of the period at +A"},)
 
     @classmethod
     def from_text(cls, parameters, text=None):
@@ -48,7 +54,7 @@ class RectangularWave(PiecewiseConstant):
         return cls(_v.number_text("duty", parameters))
 
     def __init__(self, duty):
-        d = _v.one("duty", _v.in_range("duty", duty, 0.0, 1.0))
+        d = _v.one("duty", _v.in_range("duty", duty, *_DUTY))
         self.duty = d
         super().__init__((1.0, -d / (1.0 - d)), (d, 1.0 - d))
 

@@ -34,6 +34,7 @@ class SineWave(Drive):
     """
 
     name = "sine"
+    title = "sine (Kapitza's shaker)"
     _stroke_coefficient = 2.0 / PI**2
     _mean_square_velocity = 1.0 / (2.0 * PI**2)
     _trough = 1.0

@@ -40,6 +40,7 @@ class SquareWave(PiecewiseConstant):
     """
 
     name = "square"
+    title = "square wave (the paper's)"
     #: zones one by one from their closed-form edges (a few Newton steps each), not by a window
     _windowed = False
 

@@ -44,6 +44,8 @@ class StepDrive(PiecewiseConstant):
 
     name = "steps"
     text_form = "steps:LEVELS:FRACTIONS"
+    title = "steps: levels and fractions"
+    parameters = None  # lists of numbers, not one number: no simple form offers it
 
     def text(self) -> str:
         return ("steps:" + ",".join(repr(float(v)) for v in self.levels) + ":"

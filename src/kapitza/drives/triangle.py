@@ -38,6 +38,7 @@ class TriangleWave(Drive):
     """
 
     name = "triangle"
+    title = "triangle wave"
     _breakpoints = (0.5, 1.5)
     _min_steps = 128
     _stroke_coefficient = 1.0 / 6.0

@@ -35,11 +35,11 @@ from .. import __version__, _io
 from .server import HOSTS_ENV
 from .. import _validate as _v
 from ..analysis import analyze
-from ..drives import parse_drive
+from ..drives import DRIVES, parse_drive, text_forms
 from ..drives._api import damping_of
 from ..parameters import G_EARTH, to_physical
 
-__all__ = ["create_app", "LIMITS", "chart_answer", "point_answer", "verdict_answer", "safe_tilt_answer",
+__all__ = ["create_app", "LIMITS", "drives_answer", "drive_answer", "chart_answer", "point_answer", "verdict_answer", "safe_tilt_answer",
            "motion_answer", "tower_chart_answer", "tower_point_answer", "tower_motion_answer", "error_detail",
            "json_bytes"]
 
@@ -197,6 +197,57 @@ class _BoundedRequests:
 # ------------------------------------------------------------------ the answers
 # What the routes answer, as plain functions of the same parameters (no request): the notebook
 # explorer (kapitza.widgets) calls them for the same JSON without a server.
+def drives_answer() -> dict:
+    """What ``/api/drives`` answers: the registered drives (:data:`kapitza.drives.DRIVES`, a user's
+    own class included), in the registry's order, the first the default.
+
+    Each has its ``name``, ``title`` (what a menu calls it), ``text_form`` and ``parameters`` (the
+    class's description of the numbers of ``NAME:VALUE``, or None where no list of numbers describes
+    them). ``page`` says whether the explorer's page offers it: a drive with at most one number whose
+    ``default`` (``NAME`` or ``NAME:DEFAULT``) the registry reads back; ``default`` is that text and
+    ``examples`` the texts (with their legends' labels) the page lists as overlays."""
+    drives = []
+    for key, cls in DRIVES.items():
+        params = cls.parameters
+        entry = dict(name=key, title=cls.title or key, text_form=cls.text_form or key,
+                     parameters=None if params is None else [_io.to_jsonable(dict(p)) for p in params],
+                     page=False, default=None, label=None, examples=[])
+        if params is not None and len(params) <= 1:
+            try:
+                text = key + "".join(f":{p['default']!r}" for p in params)
+                d = parse_drive(text)
+            except (ValueError, TypeError, KeyError):  # a class whose parameters the form cannot give
+                d = None
+            if d is not None:
+                values = [(f"{key}:{v!r}", v) for v in params[0].get("examples", ())] if params else []
+                examples = []
+                for t, _ in values or [(text, None)]:
+                    try:
+                        examples.append(dict(text=t, label=parse_drive(t).label))
+                    except (ValueError, TypeError):
+                        pass
+                entry.update(page=True, default=text, label=d.label, examples=examples)
+        drives.append(entry)
+    return dict(drives=drives, default=next(iter(DRIVES)), text_forms=text_forms())
+
+
+def drive_answer(drive="square", zeta=0.0) -> dict:
+    """What ``/api/drive`` answers: what the page needs to know of one drive (its text form) at the
+    damping ratio ``zeta``: ``label``, ``mu_max`` (at and above it the upright always falls), ``peak``
+    (the largest ``|a| / A``), ``stroke_coefficient`` (``k`` in stroke = k A T^2), ``closed_form``
+    (whether its edges are closed forms here: a chart may ask more samples) and ``exact_motion``
+    (whether a motion is followed by exact step flows rather than DOP853: a safe tilt may take more
+    periods)."""
+    from ..motion.basins import exact_path
+    from ..rig_plane import stroke_coefficient
+
+    d = _drive(drive)
+    z = _zeta(zeta)
+    return dict(drive=drive, label=d.label, describe=d.describe(), mu_max=d.mu_max, peak=float(d.peak),
+                stroke_coefficient=float(stroke_coefficient(d)), closed_form=bool(d.closed_form(z)),
+                exact_motion=bool(exact_path(d, z)), zeta=z)
+
+
 def chart_answer(plane="arnold", eps_min=0.0, eps_max=4.0, mu_min=0.0, mu_max=1.0, T_min=0.0, T_max=None, A_min=None,
                  A_max=None, l=1.0, g=G_EARTH, drive="square", zeta=0.0, samples=None, f_min=None, f_max=None,
                  stroke_min=None, stroke_max=None, check=None) -> bytes:
@@ -294,6 +345,8 @@ def create_app(hosts=None) -> FastAPI:
     >>> for path in sorted({route.path for route in app.routes if route.path.startswith("/api/")}):
     ...     print(path)
     /api/chart
+    /api/drive
+    /api/drives
     /api/export/chart.{fmt}
     /api/export/motion.{fmt}
     /api/motion
@@ -316,7 +369,8 @@ def create_app(hosts=None) -> FastAPI:
     app = FastAPI(title="kapitza explorer", version=__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
                   description="Exact stability zones and motions of the inverted pendulum on a vibrating pivot. "
                               "Parameters use the library's names: eps, mu (Arnold), T [s], A [m/s^2], l [m], "
-                              "g [m/s^2], drive ('square', 'sine', 'rectangular:DUTY'), zeta (damping ratio).")
+                              f"g [m/s^2], drive ({', '.join(repr(f) for f in text_forms())}: /api/drives), "
+                              "zeta (damping ratio).")
 
     @app.exception_handler(_v.KapitzaValueError)
     async def _value_error(request: Request, exc: _v.KapitzaValueError):
@@ -348,6 +402,24 @@ def create_app(hosts=None) -> FastAPI:
 
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
     _docs_page(app)
+
+    # -------------------------------------------------------------- drives
+    @app.get("/api/drives", response_class=_JSON, summary="the drives the explorer knows (the registry)")
+    def drives():
+        """The registered drives (``kapitza.drives.DRIVES``, with any a user registered before the
+        app was made): ``name``, ``title``, ``text_form``, ``parameters`` (each number's ``name``,
+        ``min`` and ``max`` (open ends), ``default``, ``examples``), ``page`` (whether the page's lists
+        offer it), ``default`` (its text at the default parameters) and ``examples`` (texts with
+        their labels, the overlay list)."""
+        return _JSON(drives_answer())
+
+    @app.get("/api/drive", response_class=_JSON, summary="one drive's numbers the page uses")
+    def drive_route(drive: str = "square", zeta: float = 0.0):
+        """For a drive's text form at damping ratio ``zeta``: ``label``, ``mu_max``, ``peak``,
+        ``stroke_coefficient`` (stroke = k A T^2), ``closed_form`` (edges from closed forms: the
+        square wave undamped) and ``exact_motion`` (motions by exact step flows: an undamped
+        piecewise-constant drive)."""
+        return _JSON(drive_answer(drive, zeta))
 
     # -------------------------------------------------------------- chart
     @app.get("/api/chart", response_class=_JSON, summary="exact edges of every zone in a view")

@@ -32,6 +32,8 @@ ROUTES: dict[str, Callable] = {
     "point": _app.point_answer,
     "safe_tilt": _app.safe_tilt_answer,
     "motion": _app.motion_answer,
+    "drives": _app.drives_answer,
+    "drive": _app.drive_answer,
     "tower/chart": _app.tower_chart_answer,
     "tower/point": _app.tower_point_answer,
     "tower/motion": _app.tower_motion_answer,

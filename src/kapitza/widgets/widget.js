@@ -50,7 +50,7 @@ function render({ model, el }) {
     for (const k of TRAITS) o[k] = model.get(k);
     return o;
   };
-  quiet = true;  // the first point is Python's own
+  quiet = true;  // the first point is Python's own (chosen once the drives have come)
   const ctl = mount(shadow, {
     getJSON, url: false, box, state: state(), tower: true,
     onPoint(p) { if (quiet) return; model.set("point", p); model.save_changes(); },
@@ -61,7 +61,7 @@ function render({ model, el }) {
       if (changed) model.save_changes();
     },
   });
-  quiet = false;
+  ctl.ready.finally(() => { quiet = false; });
   const fromPython = () => { quiet = true; try { ctl.set(state()); } finally { quiet = false; } };
   const events = ["change:point", ...TRAITS.map((k) => `change:${k}`)];
   for (const e of events) model.on(e, fromPython);

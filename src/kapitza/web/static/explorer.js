@@ -21,16 +21,52 @@ export function mount(root, host = {}) {
   const COLORS = { edge2: "#1f4e9c", edge4: "#c0392b", fill: "#9ecae1", overlay: "#d55e00", point: "#ffbf00",
     grid: "#e4e8ee", axis: "#34404f", nonlinear: "#1f4e9c", linear: "#8a94a3", forbidden: "#eef0f3" };
 
-  // ------------------------------------------------------------------ state
-  // The mu at and above which the upright falls whatever T and damping, as kapitza's Drive.mu_max:
-  // the square root of the drive's largest downward acceleration in units of A (1 for the square and
-  // sine waves; sqrt(duty / (1 - duty)) for a rectangular wave). A chart shows mu up to the larger of
-  // it and 1, as kapitza.curves.mu_top.
-  const muMax = (drive) => {
-    const m = /^rectangular:(.+)$/.exec(drive || ""), d = m ? parseFloat(m[1]) : NaN;
-    return d > 0 && d < 1 ? Math.sqrt(d / (1 - d)) : 1; // a duty out of range: the server says so
-  };
+  // ------------------------------------------------------------------ the drives
+  // The drives come from the server's registry (/api/drives): the page lists those it can offer
+  // (page: true), with a field for a drive's one number (the rectangular wave's duty). What the page
+  // needs of a drive it asks /api/drive for that drive's text and damping (INFO): mu_max, the stroke
+  // coefficient, whether its edges are closed forms and whether a motion is followed exactly.
+  let DRIVES = [];
+  const INFO = new Map();
+  const listed = (name) => DRIVES.find((d) => d.page && d.name === name) || null;
+  const driveParam = (name = S.drive) => { const d = listed(name); return d && d.parameters.length ? d.parameters[0] : null; };
+  const paramValue = (name = S.drive) => { const p = driveParam(name); return p ? (S.params[name] ?? p.default) : null; };
+  const infoKey = (text) => `${text}|${S.zeta}`;
+  const info = (text = driveText()) => INFO.get(infoKey(text)) || null;
+  // The drives' numbers for the current drive and overlay (a drive the server refuses gets none: the
+  // chart's own request then says what is wrong).
+  async function ensureInfo() {
+    await Promise.all([driveText(), S.overlay].filter(Boolean).map(async (text) => {
+      const k = infoKey(text);
+      if (INFO.has(k)) return;
+      try { INFO.set(k, await getJSON("/api/drive?" + qs({ drive: text, zeta: S.zeta }))); } catch (e) { /* the chart says */ }
+    }));
+  }
+  // The drive list (both selects) from the registry.
+  async function loadDrives() {
+    try { DRIVES = (await getJSON("/api/drives")).drives; } catch (e) { chart.error = String(e.message || e); return; }
+    const sel = $("drive"), over = $("overlay");
+    sel.innerHTML = "";
+    for (const d of DRIVES) if (d.page) sel.add(new Option(d.title, d.name));
+    while (over.options.length > 1) over.remove(1);
+    for (const d of DRIVES) if (d.page) for (const x of d.examples) over.add(new Option(x.label, x.text));
+  }
+  // The drive's number: its field shows for a drive that has one, named and bounded as the server says.
+  function syncParam() {
+    const p = driveParam();
+    $("duty-l").style.display = p ? "" : "none";
+    if (!p) return;
+    $("duty-name").textContent = p.name; $("duty").min = String(p.min); $("duty").max = String(p.max);
+    $("duty").value = paramValue(); $("duty").title = p.description || "";
+  }
+  // The mu at and above which the upright falls whatever T and damping (kapitza's Drive.mu_max: the
+  // square root of the drive's largest downward acceleration in units of A; 1 until the server said).
+  // A chart shows mu up to the larger of it and 1, as kapitza.curves.mu_top.
+  const muMax = (drive) => { const i = info(drive); return i ? i.mu_max : 1; };
   const muTop = (drive) => Math.max(1, muMax(drive));
+  // Whether the drive's edges are closed forms at this damping (the square wave undamped): a chart
+  // then asks more samples, and views may reach further.
+  const closedForm = (drive = driveText()) => { const i = info(drive); return !!(i && i.closed_form); };
   // The rig plane (drive frequency across, stroke up, both logarithmic): around the chosen point a
   // factor 4 in frequency and 40 in stroke, else from the pendulum's own frequency (kapitza.rig_plane.rig_window).
   const rigView = (l, g, P) => {
@@ -46,7 +82,7 @@ export function mount(root, host = {}) {
   // A demo point for the first view: zone 0, where the pendulum stands from the default start tilt.
   const DEMO = { T: 0.15, A: 100 };
   const S = {
-    plane: "arnold", l: 1, g: 9.81, drive: "square", duty: 0.3, zeta: 0, overlay: "",
+    plane: "arnold", l: 1, g: 9.81, drive: "square", params: {}, zeta: 0, overlay: "",
     point: null, theta0: 0.1, speed: 0.25, views: DEFAULT_VIEWS(1, 9.81),
     rig: false, rod: 1.5, rodKind: "rod", given: "amplitude", dampUnit: "zeta", k: null,
     // the tower: from 2 links on the chart is its band on the rig plane (views.tower: null = its whole band)
@@ -56,17 +92,17 @@ export function mount(root, host = {}) {
   const towerOK = !host.getJSON || !!host.tower;
   const isTower = () => towerOK && S.links > 1;
   const towerHeight = () => S.chain.slice(0, S.links).reduce((a, b) => a + b, 0);
-  // stroke = k A T^2 (peak-to-peak travel of the pivot): 1/4 for the square wave, 2/pi^2 for the sine,
-  // the server's value (from the last chart) for another drive.
+  // stroke = k A T^2 (peak-to-peak travel of the pivot): the server's value for the drive (1/4 for the
+  // square wave), else that of the last chart.
   function strokeCoef() {
-    if (S.drive === "square") return 0.25;
-    if (S.drive === "sine") return 2 / (Math.PI * Math.PI);
-    return S.k || 0.25;
+    const i = info();
+    return i ? i.stroke_coefficient : S.k || 0.25;
   }
   // The same conversions as kapitza.to_arnold / kapitza.to_physical (docs/theory.md section 2).
   const toArnold = (T, A, l, g) => ({ eps: T * Math.sqrt(A / (8 * l)), mu: Math.sqrt(g / A) });
   const toPhysical = (eps, mu, l, g) => { const A = g / (mu * mu); return { T: eps * Math.sqrt(8 * l / A), A }; };
-  const driveText = () => (S.drive === "rectangular" ? `rectangular:${S.duty}` : S.drive);
+  // The drive's text form (kapitza.parse_drive): NAME, or NAME:VALUE for a drive with a number.
+  const driveText = () => (driveParam() ? `${S.drive}:${paramValue()}` : S.drive);
   const view = () => {
     if (!isTower()) return S.views[S.plane];
     if (!S.views.tower) S.views.tower = { ...rigView(towerHeight(), S.g, null), auto: true };  // until the band's own window comes
@@ -92,12 +128,13 @@ export function mount(root, host = {}) {
     const o = { plane: S.plane, x0: v.x0, x1: v.x1, y0: v.y0, y1: v.y1, l: S.l, g: S.g, drive: S.drive, zeta: S.zeta,
       overlay: S.overlay, theta0: S.theta0, speed: S.speed };
     if (S.rig) { o.rig = 1; o.rod = S.rod; o.rod_kind = S.rodKind; o.given = S.given; o.damp_unit = S.dampUnit; }
-    if (S.drive === "rectangular") o.duty = S.duty;
+    const dp = driveParam();
+    if (dp) o[dp.name] = paramValue();
     if (S.links > 1) { o.links = S.links; o.chain = S.chain.slice(0, S.links).join(","); o.masses = S.masses.slice(0, S.links).join(","); o.link_kind = S.linkKind; }
     if (S.point) { o.T = S.point.T; o.A = S.point.A; }
     history.replaceState(null, "", "?" + qs(o));
   }
-  function loadURL() {
+  async function loadURL() {
     const p = new URLSearchParams(location.search);
     const num = (k) => (p.has(k) && isFinite(parseFloat(p.get(k))) ? parseFloat(p.get(k)) : null);
     if (num("l") > 0) S.l = num("l");
@@ -108,11 +145,13 @@ export function mount(root, host = {}) {
     if (["rod", "point"].includes(p.get("rod_kind"))) S.rodKind = p.get("rod_kind");
     if (["amplitude", "stroke"].includes(p.get("given"))) S.given = p.get("given");
     if (["zeta", "c"].includes(p.get("damp_unit"))) S.dampUnit = p.get("damp_unit");
-    if (["square", "sine", "rectangular"].includes(p.get("drive"))) S.drive = p.get("drive");
-    if (num("duty") !== null) S.duty = num("duty");
-    S.views = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
+    if (listed(p.get("drive"))) S.drive = p.get("drive");  // a drive the server listed
+    const dp = driveParam();
+    if (dp && num(dp.name) !== null) S.params[S.drive] = num(dp.name);
     if (num("zeta") !== null) S.zeta = num("zeta");
     if (p.has("overlay")) S.overlay = p.get("overlay");
+    await ensureInfo();
+    S.views = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
     if (num("theta0") !== null) S.theta0 = num("theta0");
     if (num("speed") !== null) S.speed = num("speed");
     const v = ["x0", "x1", "y0", "y1"].map(num);
@@ -452,7 +491,7 @@ export function mount(root, host = {}) {
       const v = view();
       return v.auto ? towerBase() : { ...towerBase(), f_min: v.x0, f_max: v.x1, stroke_min: v.y0, stroke_max: v.y1 };
     }
-    const samples = drive === "square" && !(S.zeta > 0) ? 1000 : 300;
+    const samples = closedForm(drive) ? 1000 : 300;
     const v = view(), base = { plane: S.plane, l: S.l, g: S.g, drive, zeta: S.zeta, samples }, top = muTop(drive);
     if (v.x1 <= 0) return null;
     if (S.plane === "arnold") return v.y0 >= top ? null : { ...base, eps_min: Math.max(0, v.x0), eps_max: v.x1, mu_min: Math.max(0, v.y0), mu_max: Math.min(top, v.y1) };
@@ -688,7 +727,7 @@ export function mount(root, host = {}) {
     const top = muTop(driveText());
     let mu0 = S.point ? toArnold(S.point.T, S.point.A, S.l, S.g).mu : 0.3;
     if (!(mu0 > 0.02 && mu0 < 0.95 * top)) mu0 = 0.3;
-    const d = Math.min(0.01, mu0 / 4), general = S.drive !== "square" || S.zeta > 0;
+    const d = Math.min(0.01, mu0 / 4), general = !closedForm();
     const q = { plane: "arnold", eps_min: 0, eps_max: general ? 12 : 60, mu_min: mu0 - d, mu_max: mu0 + d, drive: driveText(),
       zeta: S.zeta, samples: 3, l: S.l, g: S.g };
     try {
@@ -708,7 +747,7 @@ export function mount(root, host = {}) {
   // The magnified inset beside a framed zone, as `kapitza chart` draws its thin tongues: the zone's
   // two edges over its whole range of mu, as offsets from their midpoint in a power of ten of eps.
   async function showInset(n, hi0, top) {
-    const general = S.drive !== "square" || S.zeta > 0, cap = general ? 12 : 60;
+    const general = !closedForm(), cap = general ? 12 : 60;
     const q = { plane: "arnold", eps_min: 0, eps_max: Math.min(cap, 4 * hi0), mu_min: 0.001, mu_max: Math.min(0.99, 0.99 * top),
       drive: driveText(), zeta: S.zeta, samples: general ? 60 : 240, l: S.l, g: S.g };
     try {
@@ -806,7 +845,8 @@ export function mount(root, host = {}) {
   // ------------------------------------------------------------------ inputs
   function setInputs() {
     $("l").value = S.l; $("l-s").value = Math.log10(S.l); $("g").value = S.g;
-    $("drive").value = S.drive; $("duty").value = S.duty; $("duty-l").style.display = S.drive === "rectangular" ? "" : "none";
+    $("drive").value = S.drive; syncParam();
+    if (S.overlay && ![...$("overlay").options].some((o) => o.value === S.overlay)) $("overlay").add(new Option(S.overlay, S.overlay));
     $("zeta").value = S.zeta; $("overlay").value = S.overlay; $("theta0").value = S.theta0; $("theta0-s").value = S.theta0;
     $("speed").value = String(S.speed);
     $("mu-s").max = String(0.999 * muTop(driveText()));
@@ -946,18 +986,22 @@ export function mount(root, host = {}) {
     pointSeq++;
     if (S.point) markBusy();
   }
-  function onRig() {
+  async function onRig() {
     // A view left as the default follows the drive's default (mu up to its mu_max where above 1).
     const was = DEFAULT_VIEWS(S.l, S.g, muTop(driveText())), keep = {};
     for (const k of ["arnold", "physical"]) keep[k] = ["x0", "x1", "y0", "y1"].some((c) => S.views[k][c] !== was[k][c]);
     S.l = parseFloat($("l").value) > 0 ? parseFloat($("l").value) : S.l;
     S.g = parseFloat($("g").value) > 0 ? parseFloat($("g").value) : S.g;
-    S.drive = $("drive").value; S.duty = parseFloat($("duty").value) || 0.3;
+    const before = S.drive;
+    S.drive = $("drive").value;
+    const dp = driveParam();  // the field holds this drive's number (another drive's field is refilled)
+    if (dp && S.drive === before) { const v = parseFloat($("duty").value); S.params[S.drive] = isFinite(v) ? v : dp.default; }
+    syncParam();
+    S.zeta = Math.max(0, parseFloat($("zeta").value) || 0); S.overlay = $("overlay").value;
+    await ensureInfo();  // mu_max and the rest of the drive now chosen
     const now = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
     for (const k of ["arnold", "physical"]) if (!keep[k]) S.views[k] = now[k];
     $("mu-s").max = String(0.999 * muTop(driveText()));
-    S.zeta = Math.max(0, parseFloat($("zeta").value) || 0); S.overlay = $("overlay").value;
-    $("duty-l").style.display = S.drive === "rectangular" ? "" : "none";
     $("l-s").value = Math.log10(S.l);
     setDampInput();
     saveURL(); requestChart(100); tell();
@@ -1034,7 +1078,7 @@ export function mount(root, host = {}) {
   function describeChoice() {
     if (!S.point) return "";
     const f = 1 / (2 * S.point.T), st = strokeCoef() * S.point.A * S.point.T * S.point.T;
-    const d = shortDrive(({ square: "square wave", sine: "sine", rectangular: `rectangular, duty ${S.duty}` })[S.drive] || S.drive);
+    const d = shortDrive((info() || {}).label || driveText());
     return `${isTower() ? `${S.links}-link tower · ` : ""}${d} · ${fmt(f, 4)} Hz, ${S.given === "stroke" ? "stroke " + fmt(1e3 * st, 4) : "amplitude " + fmt(500 * st, 4)} mm` +
       ` (A = ${fmt(S.point.A / S.g, 3)} g)${S.zeta > 0 ? ` · damping ζ = ${fmt(S.zeta, 3)}` : ""}`;
   }
@@ -1070,7 +1114,7 @@ export function mount(root, host = {}) {
   }
   // The safe tilt over the periods the motion is shown for (at most 40 where DOP853 follows it).
   function safePeriods() {
-    const n = motionParams().periods, integrated = S.drive === "sine" || S.zeta > 0;
+    const n = motionParams().periods, integrated = !(info() || {}).exact_motion;
     return integrated ? Math.min(n, 40) : n;
   }
   // A verdict in plain words first, the technical term after.
@@ -1482,21 +1526,24 @@ export function mount(root, host = {}) {
   function tell() {
     if (host.onState) host.onState({ l: S.l, g: S.g, drive: driveText(), zeta: S.zeta, plane: S.plane, theta0: S.theta0 });
   }
-  // A drive's text form ("square", "sine", "rectangular:0.3", or any other kapitza.parse_drive reads).
+  // A drive's text form ("square", "rectangular:0.3", or any other kapitza.parse_drive reads): a listed
+  // drive (with its number) is chosen in the list, another text is added to it as it is.
   function setDrive(text) {
-    const m = /^rectangular:(.+)$/.exec(text);
-    if (m) { S.drive = "rectangular"; S.duty = parseFloat(m[1]); return; }
+    const [name, ...rest] = text.split(":"), d = listed(name.trim().toLowerCase()), v = parseFloat(rest[0]);
+    if (d && d.parameters.length === 1 && rest.length === 1 && isFinite(v)) { S.drive = d.name; S.params[d.name] = v; return; }
+    if (d && !d.parameters.length && !rest.length) { S.drive = d.name; return; }
     S.drive = text;
     if (![...$("drive").options].some((o) => o.value === text)) $("drive").add(new Option(text, text));
   }
   // A first state, before anything is drawn.
-  function applyState(o) {
+  async function applyState(o) {
     if (o.l > 0) S.l = o.l;
     if (o.g > 0) S.g = o.g;
     if (o.drive) setDrive(o.drive);
     if (o.zeta >= 0) S.zeta = o.zeta;
     if (["arnold", "physical", "rig"].includes(o.plane)) S.plane = o.plane;
     if (isFinite(o.theta0)) S.theta0 = o.theta0;
+    await ensureInfo();
     S.views = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
     if (o.point && o.point.T > 0 && o.point.A > 0) S.point = { T: o.point.T, A: o.point.A };
   }
@@ -1505,7 +1552,7 @@ export function mount(root, host = {}) {
     if (["l", "g", "drive", "zeta"].some((k) => k in o && o[k] !== (k === "drive" ? driveText() : S[k]))) {
       if (o.l > 0) $("l").value = o.l;
       if (o.g > 0) $("g").value = o.g;
-      if (o.drive) { setDrive(o.drive); $("drive").value = S.drive; $("duty").value = S.duty; }
+      if (o.drive) { setDrive(o.drive); $("drive").value = S.drive; syncParam(); }
       if (o.zeta >= 0) $("zeta").value = o.zeta;
       onRig();
     }
@@ -1518,16 +1565,24 @@ export function mount(root, host = {}) {
   }
 
   // ------------------------------------------------------------------ start
-  if (useURL) loadURL();
-  if (host.state) applyState(host.state);
-  if (!S.point) S.point = { ...DEMO };  // a first view that shows something: the pendulum standing (zone 0)
-  if (S.plane === "rig" && !(useURL && new URLSearchParams(location.search).has("x0"))) S.views.rig = rigView(S.l, S.g, S.point);
-  clampView();
-  setInputs();
-  updateExports();
-  drawChart();
-  fetchChart();
-  if (S.point) choosePoint(S.point);
+  // The drives first (the lists, and the numbers of the drive in the link or the host's state).
+  async function start() {
+    await loadDrives();
+    if (stopped) return;
+    if (useURL) await loadURL();
+    if (host.state) await applyState(host.state);
+    await ensureInfo();
+    if (stopped) return;
+    if (!S.point) S.point = { ...DEMO };  // a first view that shows something: the pendulum standing (zone 0)
+    if (S.plane === "rig" && !(useURL && new URLSearchParams(location.search).has("x0"))) S.views.rig = rigView(S.l, S.g, S.point);
+    clampView();
+    setInputs();
+    updateExports();
+    drawChart();
+    fetchChart();
+    if (S.point) choosePoint(S.point);
+  }
+  const ready = start();
   const onResize = () => { drawChart(); anim.prepare(); };
   window.addEventListener("resize", onResize);
   // An embedded explorer changes width with its container (a notebook cell), not with the window
@@ -1548,6 +1603,6 @@ export function mount(root, host = {}) {
   }
   // For tests, the console and the notebook: the state, where a point of the chart is on screen,
   // and the state set from outside.
-  return { S, anim, chart, inset, panel: PANEL, set, destroy, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
+  return { S, anim, chart, inset, panel: PANEL, drives: () => DRIVES, info, ready, set, destroy, pixel(x, y) { const r = chart.canvas.getBoundingClientRect(), ax = axes(r.width, r.height);
     return { x: r.left + ax.X(x), y: r.top + ax.Y(y) }; } };
 }
