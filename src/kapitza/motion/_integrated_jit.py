@@ -131,14 +131,14 @@ def pack_plan(period):
     ``A``, samples per period, the drive's table, ``l, g, c``, the model, the tolerances per
     component for one state), or ``None`` where its drive has no table (:func:`drive_table`)."""
     from .basins import MIN_SAMPLES, SAMPLE_SPACING
-    from .nonlinear import _peak
 
     table = drive_table(period.drive)
     if table is None:
         return None
     T2 = np.ascontiguousarray(period.T2, float)
     A = np.ascontiguousarray(period.A, float)
-    w = np.sqrt((period.g + _peak(period.drive) * A) / period.l) + period.c
+    peak = 1.0 if period.drive is None else float(period.drive.peak)  # as _IntegratedPeriod's w_h
+    w = np.sqrt((period.g + peak * A) / period.l) + period.c
     m = np.maximum(MIN_SAMPLES, np.ceil(w * T2 / SAMPLE_SPACING)).astype(np.int64)
     scale = 1.0 / math.sqrt(2.0)  # as _IntegratedPeriod scales them for one state
     rtol, atol = max(period.rtol * scale, 1e-13), period.atol * scale
