@@ -155,9 +155,20 @@ def test_an_excursion_between_the_sample_instants_is_seen(margin, survives):
     assert (got[0] == 3) == survives
 
 
-@pytest.mark.parametrize("drive, c", [("sine", 0.0), ("square", C_DAMPED)])
+def _measured(kind):
+    t = np.arange(24) / 24
+    return kapitza.from_samples(t, np.sin(2 * np.pi * t) + 0.3 * np.cos(6 * np.pi * t), kind=kind)
+
+
+@pytest.mark.parametrize("drive, c", [("sine", 0.0), ("square", C_DAMPED),
+                                      # the numpy loop steps across the samples' jumps and kinks: minutes
+                                      pytest.param("samples-linear", 0.1, marks=pytest.mark.slow),
+                                      pytest.param("samples-constant", 0.1, marks=pytest.mark.slow)])
 def test_survival_counts_agree_with_the_numpy_loop(drive, c):
-    period, plan, T = _plan(drive, 0.55, 0.3, c)
+    eps, mu = 0.55, 0.3
+    if drive.startswith("samples-"):  # linear or held between its 24 samples (zone 1 at eps 0.5, mu 0.2)
+        drive, eps, mu = _measured(drive.split("-")[1]), 0.5, 0.2
+    period, plan, T = _plan(drive, eps, mu, c)
     th = np.linspace(-0.5, 0.5, 17)
     om = np.linspace(-1.0, 1.0, 17) / T
     th0, om0 = (a.ravel() for a in np.meshgrid(th, om))
