@@ -81,13 +81,14 @@ def test_maps_agree_with_the_numpy_path(drive):
         assert np.mean(got[k] == want[k]) >= 0.97, k
 
 
-def test_the_integrated_path_ignores_the_compiled_flag():
-    """The sine drive or damping has no exact flow: both settings take the same DOP853 loop."""
+def test_the_integrated_path_takes_its_own_compiled_twin():
+    """The sine drive or damping has no exact flow: ``compiled`` picks the compiled DOP853 per state
+    (tests/test_integrated_jit.py) or the numpy DOP853 loop; they agree to the search's accuracy."""
     kw = dict(plane="arnold", l=1.0, g=G, drive="sine", periods=5, tol=0.5, quantities=("tilt",), directions=1,
               basin_resolution=5, accuracy=0.01, floor=1e-4)
     a = block_quantities([0.4, 0.6], [0.2], compiled=False, **kw)["max_safe_tilt"]
     b = block_quantities([0.4, 0.6], [0.2], compiled=True, **kw)["max_safe_tilt"]
-    assert np.array_equal(a, b) and np.all(a > 0)
+    assert np.allclose(a, b, rtol=0.01) and np.all(a > 0)
 
 
 def test_a_second_process_loads_the_compiled_kernel_from_the_disk_cache():

@@ -98,6 +98,16 @@ def _compiled_plan(period, n_points, compiled):
     return pack_plan(period.subs, n_points)
 
 
+def _compiled_integrated(period, compiled):
+    """The plan of an integrated period for its compiled twin (:mod:`kapitza.motion._integrated_jit`),
+    or ``None`` for the numpy path (not asked for, or a drive known only by its shape)."""
+    if not compiled or not isinstance(period, _IntegratedPeriod):
+        return None
+    from ..motion._integrated_jit import pack_plan
+
+    return pack_plan(period)
+
+
 def ray_radii(T, period, phis, periods, tol, accuracy, floor, compiled=False):
     """Largest safe radius along each direction of ``phis`` for every point.
 
@@ -120,9 +130,10 @@ def ray_radii(T, period, phis, periods, tol, accuracy, floor, compiled=False):
         ``N``, the window [rad], the relative width of the final bracket, the smallest radius tried.
 
     compiled : bool
-        Run each search to its end in the compiled kernel (:mod:`kapitza.motion._survival_jit`, the
-        same searches and the same phase flows, one state at a time) where ``period`` is exact;
-        otherwise this numpy loop.
+        Run each search to its end in the compiled kernel, one state at a time: where ``period`` is
+        exact :mod:`kapitza.motion._survival_jit` (the same searches and the same phase flows), where
+        it is integrated :mod:`kapitza.motion._integrated_jit` (the same searches, DOP853 per state;
+        a drive given only by its shape stays here); otherwise this numpy loop.
 
     Returns
     -------
@@ -139,6 +150,11 @@ def ray_radii(T, period, phis, periods, tol, accuracy, floor, compiled=False):
         from ..motion._survival_jit import ray_radii_compiled
 
         return ray_radii_compiled(point, cos, sin * omega, *plan, periods, tol, accuracy, floor).reshape(P, K)
+    iplan = _compiled_integrated(period, compiled)
+    if iplan is not None:
+        from ..motion._integrated_jit import ray_radii_compiled as integrated_radii
+
+        return integrated_radii(point, cos, sin * omega, iplan, periods, tol, accuracy, floor).reshape(P, K)
     lo = np.zeros(M)
     hi = np.full(M, np.inf)
     scanning = np.ones(M, dtype=bool)  # 1. r = tol, tol/2, ... down to the first survivor, 2. bisection
@@ -193,6 +209,10 @@ def _basin_grid(T, period, n, periods, tol, compiled=False):
         from ..motion._survival_jit import survival_compiled
 
         got = survival_compiled(theta0, dtheta0, point, *plan, periods, tol).reshape(P, half)
+    elif (iplan := _compiled_integrated(period, compiled)) is not None:
+        from ..motion._integrated_jit import survival_compiled as integrated_survival
+
+        got = integrated_survival(theta0, dtheta0, point, iplan, periods, tol).reshape(P, half)
     else:
         got = survival_chunk(theta0, dtheta0, period, periods, tol, idx=point).reshape(P, half)
     full = np.concatenate([got, got[:, : n * n - half][:, ::-1]], axis=1)
@@ -205,9 +225,11 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
                      accuracy, floor, c=0.0, compiled=None):
     """Every requested variable on the grid ``y x x`` (rows ``y``: mu or A; columns ``x``: eps or T).
 
-    ``compiled``: on the exact path, run the searches in the compiled kernel (numba) -- ``None``:
-    where numba is installed; ``True``: required; ``False``: the numpy loops. The two agree to
-    rounding (:mod:`kapitza.motion._survival_jit`).
+    ``compiled``: run the searches in the compiled kernels (numba) -- ``None``: where numba is
+    installed; ``True``: required; ``False``: the numpy loops. On the exact path the two agree to
+    rounding (:mod:`kapitza.motion._survival_jit`); on the integrated path to the integration error,
+    the safe tilt to ``accuracy`` but at ragged edges (:mod:`kapitza.motion._integrated_jit`; a drive
+    given only by its shape takes the numpy loop either way).
 
     ``c``: viscous damping [1/s] (trusted, ``>= 0``); the linear quantities take the damping ratio
     ``zeta = c / (2 sqrt(g/l))``. An undamped piecewise-constant drive takes the exact path, the
