@@ -215,6 +215,8 @@ DOCUMENTED_NAN = {
     # edges of a zone another drive (or damping) does not have at these parameters
     "kapitza.zone_edges": {"*"}, "kapitza.period_edges": {"*"}, "kapitza.amplitude_edges": {"*"},
     "kapitza.mathieu.sine_zone_edges": {"*"},
+    # no rotation, twist or 1:4 coefficient outside the zones: "linearly unstable" (NonlinearVerdict's docstring)
+    "kapitza.nonlinear_stability": {"rotation_number", "twist", "resonant_4"},
     # no zone 0 when damping has closed it (threshold_table's docstring)
     "kapitza.threshold_table": {"eps_exact", "relative_error"},
 }
