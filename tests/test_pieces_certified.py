@@ -133,9 +133,23 @@ def test_a_flipped_verdict_carries_its_zone_and_rotation():
 
 
 def test_a_long_measured_drive_keeps_the_engines_verdicts():
-    # past CERTIFIED_SAMPLES each exact decision would cost a series per piece: the engine decides
+    # past CERTIFIED_PIECES each exact decision would cost a series per piece: the engine decides
     t = np.arange(200) / 200.0 * 0.02
     d = K.drives.from_samples(t, 400.0 * np.sin(2 * np.pi * t / 0.02))
-    assert d._s.size > d.CERTIFIED_SAMPLES and d._linear_pieces() is None and not d._damped_certified
+    assert len(d._linear_pieces()) > d.CERTIFIED_PIECES and d._certified_pieces() is None and not d._damped_certified
     lo, hi = (float(v) for v in K.zone_edges(0.3, 0, drive=d))
     assert K.is_stable(0.5 * (lo + hi), 0.3, drive=d) and not K.is_stable(0.5 * lo, 0.3, drive=d)
+
+
+def test_a_subclass_that_changes_the_shape_does_not_inherit_the_pieces():
+    class Bumpy(K.TriangleWave):
+        name = "test-bumpy"
+
+        def _shape(self, tau):
+            return np.sin(np.pi * tau) ** 3
+
+    d = K.TriangleWave()
+    assert d._exact_pieces() is not None and d._shape_table() is not None
+    b = Bumpy()
+    assert b._exact_pieces() is None and b._certified_pieces() is None and b._shape_table() is None
+    assert not b._damped_certified

@@ -228,7 +228,7 @@ class Drive:
         """
         eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
         tau, log_tau, theta, zone, growth = self._engine.floquet(eps.ravel(), mu.ravel(), growth=True)
-        pieces = self._linear_pieces() if certify else None
+        pieces = self._certified_pieces() if certify else None
         if pieces is not None:
             tau, log_tau, theta, zone, growth = self._settle_pieces(pieces, eps.ravel(), mu.ravel(), tau, log_tau,
                                                                     theta, zone, growth)
@@ -240,8 +240,52 @@ class Drive:
         """``((x0, x1, s0, s1), ...)``: the shape as pieces linear in ``tau`` over the period (``s`` from
         ``s0`` at ``x0`` to ``s1`` at ``x1``, constant where ``s0 = s1``), or None. A drive that gives
         them has its verdicts decided in extended precision where the engine's trace is within its
-        accuracy of the threshold (:meth:`_settle_pieces`), with and without damping."""
+        accuracy of the threshold (:meth:`_settle_pieces`), with and without damping, up to
+        :attr:`CERTIFIED_PIECES` pieces; its motion in a sweep is integrated by the compiled kernel
+        (:meth:`_shape_table`)."""
         return None
+
+    #: Up to this many linear pieces the verdicts near the threshold are decided in extended precision
+    #: (a Taylor series per piece: beyond, each decision would cost more than a whole report).
+    CERTIFIED_PIECES = 128
+
+    def _own(self, method):
+        """Whether the class that defines ``method`` also gives the ``_shape`` in use (a subclass that
+        changes the shape does not inherit its parent's exact description of it)."""
+        owner = next(k for k in type(self).__mro__ if method in vars(k))
+        return type(self)._shape is owner._shape
+
+    def _exact_pieces(self):
+        """:meth:`_linear_pieces`, where they describe this drive's shape (else None)."""
+        pieces = self._linear_pieces()
+        return pieces if pieces is not None and self._own("_linear_pieces") else None
+
+    def _certified_pieces(self):
+        """The linear pieces the verdicts are certified on (at most :attr:`CERTIFIED_PIECES`), or None."""
+        pieces = self._exact_pieces()
+        return pieces if pieces is not None and len(pieces) <= self.CERTIFIED_PIECES else None
+
+    def _shape_table(self):
+        """``(XS, SA, SB, SD)``: the shape as segments of ``x = tau / 2`` in ``[0, 1]``, on segment ``k``
+        ``s = SA[k] + SB[k] (x - XS[k]) + SD[k] sin(2 pi x)`` (``XS`` ends with 1): what the compiled
+        integrator of the sweeps evaluates. From the steps of a piecewise-constant drive or the
+        linear pieces; None for a drive known only by its ``_shape``."""
+        steps = self._steps()
+        if steps is not None:
+            levels, fractions = steps
+            marks = np.concatenate([[0.0], np.cumsum(fractions)])
+            marks[-1] = 1.0
+            keep = marks[1:] > marks[:-1]
+            sa = np.asarray(levels, float)[keep]
+            return np.concatenate([marks[:-1][keep], [1.0]]), sa, np.zeros(sa.size), np.zeros(sa.size)
+        pieces = self._exact_pieces()
+        if pieces is None:
+            return None
+        x0, x1, s0, s1 = (np.array([p[i] for p in pieces], float) for i in range(4))
+        x0, x1 = 0.5 * x0, 0.5 * x1
+        keep = x1 > x0
+        x0, x1, s0, s1 = x0[keep], x1[keep], s0[keep], s1[keep]
+        return np.concatenate([x0, [1.0]]), s0, (s1 - s0) / (x1 - x0), np.zeros(s0.size)
 
     #: The generic engine's ``tr M / 2`` is taken to be within ``_ENGINE_BAND e^G`` of the exact one
     #: (``G`` bounds the growth over the repelling parts of the period: the size of the terms that
@@ -254,7 +298,7 @@ class Drive:
         else from the largest ``s``)."""
         eps, mu = np.asarray(eps, float), np.asarray(mu, float)
         m2 = mu * mu
-        pieces = self._linear_pieces()
+        pieces = self._exact_pieces()
         with np.errstate(over="ignore", invalid="ignore"):
             if pieces is not None:
                 grow = sum(np.sqrt(8.0 * eps * eps * np.maximum(np.maximum(m2 + s0, m2 + s1), 0.0)) * (x1 - x0)
@@ -523,7 +567,7 @@ class Drive:
     @property
     def _damped_certified(self) -> bool:
         """Whether :meth:`_damped_exact` decides damped verdicts in extended precision."""
-        return self._steps() is not None or self._linear_pieces() is not None
+        return self._steps() is not None or self._certified_pieces() is not None
 
     def _damped_exact(self, eps, mu, zeta):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points
@@ -531,7 +575,7 @@ class Drive:
         exact monodromy (a drive given by its shape: its damped verdicts are the engine's)."""
         steps = self._steps()
         if steps is None:
-            pieces = self._linear_pieces()
+            pieces = self._certified_pieces()
             if pieces is None:
                 return None
             from .._certify import pieces_mp

@@ -110,13 +110,7 @@ class SampledDrive(Drive):
         i = np.clip(np.searchsorted(self._phase, tau, side="right") - 1, 0, self._s.size - 1)
         return self._s[i]
 
-    #: Up to this many samples the verdicts near the threshold are decided in extended precision
-    #: (a Taylor series per piece: beyond, each decision would cost more than the whole report).
-    CERTIFIED_SAMPLES = 128
-
     def _linear_pieces(self):
-        if self._s.size > self.CERTIFIED_SAMPLES:
-            return None
         if self.kind == "linear":
             x, f = self._xp, self._fp
             return tuple(zip(x[:-1].tolist(), x[1:].tolist(), f[:-1].tolist(), f[1:].tolist()))

@@ -49,6 +49,11 @@ class SineWave(Drive):
     def _displacement_shape(self, tau):
         return -np.sin(PI * tau) / PI**2
 
+    def _shape_table(self):
+        if not self._own("_shape_table"):
+            return None
+        return np.array([0.0, 1.0]), np.zeros(1), np.zeros(1), np.ones(1)  # sin(pi tau) = sin(2 pi x)
+
     def _floquet0(self, eps, mu, certify=True):
         from ._mathieu import sine_floquet0
 

@@ -92,38 +92,8 @@ BOUND_MARGIN = 1e-12
 def drive_table(drive):
     """``(XS, SA, SB, SD)``: the drive's shape as segments of ``0 <= x <= 1`` (``x = tau / 2``), on
     segment ``k`` ``shape = SA[k] + SB[k] (x - XS[k]) + SD[k] sin(2 pi x)``; ``None`` for a drive
-    known only by its ``_shape`` (module notes)."""
-    from ..drives.sampled import SampledDrive
-    from ..drives.sine import SineWave
-    from ..drives.triangle import TriangleWave
-
-    cls = type(drive)
-    if hasattr(drive, "levels"):  # the segments of _IntegratedPeriod, zero-width ones dropped
-        marks = np.concatenate([[0.0], np.cumsum(drive.fractions)])
-        marks[-1] = 1.0
-        keep = marks[1:] > marks[:-1]
-        xs = np.concatenate([marks[:-1][keep], [1.0]])
-        sa = np.asarray(drive.levels, float)[keep]
-        return xs, sa, np.zeros(sa.size), np.zeros(sa.size)
-    if isinstance(drive, SineWave) and cls._shape is SineWave._shape:
-        return np.array([0.0, 1.0]), np.zeros(1), np.zeros(1), np.ones(1)
-    if isinstance(drive, SampledDrive) and cls._shape is SampledDrive._shape:
-        if drive.kind == "constant":
-            xs = np.concatenate([0.5 * drive._phase, [1.0]])
-            keep = xs[1:] > xs[:-1]
-            return (np.concatenate([xs[:-1][keep], [1.0]]), np.asarray(drive._s, float)[keep],
-                    np.zeros(int(keep.sum())), np.zeros(int(keep.sum())))
-        tau, val = np.asarray(drive._xp, float), np.asarray(drive._fp, float)
-    elif isinstance(drive, TriangleWave) and cls._shape is TriangleWave._shape:
-        tau = np.concatenate([[0.0], np.asarray(drive._breakpoints, float), [2.0]])
-        val = np.asarray(drive._shape(tau), float)  # linear between its breakpoints (continuous)
-    else:
-        return None
-    xs = 0.5 * tau
-    keep = xs[1:] > xs[:-1]
-    x0, x1, v0, v1 = xs[:-1][keep], xs[1:][keep], val[:-1][keep], val[1:][keep]
-    xs = np.concatenate([x0, [1.0]])
-    return xs, v0, (v1 - v0) / (x1 - x0), np.zeros(v0.size)
+    known only by its ``_shape`` (:meth:`kapitza.drives.Drive._shape_table`)."""
+    return None if drive is None else drive._shape_table()
 
 
 def pack_plan(period):
