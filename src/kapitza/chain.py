@@ -31,7 +31,7 @@ exponentials for piecewise-constant drives and a DOP853 integration of one perio
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 

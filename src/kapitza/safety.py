@@ -89,7 +89,7 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
     """
     from .drives import as_drive, parse_drive
     from .parameters import to_arnold, to_physical
-    
+
     periods = _v.bounded_count("periods", periods, 100_000, minimum=1)
     tol = _v.one("tol", _v.in_range("tol", tol, 0.0, np.pi))
     accuracy = _v.one("accuracy", _v.in_range("accuracy", accuracy, 1e-6, 1.0, lo_open=False))

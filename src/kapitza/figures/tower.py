@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..chain import Chain, TowerCurves, tower_curves
+from ..chain import Chain, tower_curves
 from ._style import ZONE_FILL, Drawn, caption, new_figure
 
 __all__ = ["plot_tower_chart", "tower_chart_figure", "tower_family", "plot_tower_motion", "tower_motion_figure",
