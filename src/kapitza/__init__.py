@@ -49,7 +49,7 @@ from .periodic import BoundaryPeriod, PeriodicSolution, alpha, beta, boundary_pe
 # ---- the high-frequency limit
 from .limits import averaging_threshold, threshold_table
 
-from ._version import __version__  # noqa: E402  (the one version: pyproject.toml, read from the metadata)
+from ._version import __version__  # noqa: E402, F401  (re-exported; pyproject.toml's, from the metadata)
 
 #: Loaded on first use: name -> (module, attribute or None for the module itself).
 _LAZY = {
@@ -106,7 +106,8 @@ __all__ = [
     # parameters
     "G_EARTH", "to_arnold", "to_physical", "frequencies", "phase_angles",
     # drives and the rig
-    "Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples", "parse_drive", "register",
+    "Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples", "parse_drive",
+           "register",
     "Pendulum", "Rig",
     # the tower of linked pendulums: docs/tower.md
     "Chain", "ChainReport", "analyze_chain", "chain_floquet", "tower_curves", "chain_motion", "tower_safe_tilt",

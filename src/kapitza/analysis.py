@@ -161,7 +161,8 @@ class StabilityReport(Summary):
         rows = []
         if self.T is not None:
             rows.append(("parameters", f"T = {_fmt(self.T)} s (frequency {_fmt(self.frequency, 6)} Hz), "
-                                       f"A = {_fmt(self.A)} m/s^2 ({_fmt(self.A / self.g, 4)} g), l = {_fmt(self.l)} m, "
+                                       f"A = {_fmt(self.A)} m/s^2 ({_fmt(self.A / self.g, 4)} g), "
+                                       f"l = {_fmt(self.l)} m, "
                                        f"g = {_fmt(self.g)} m/s^2"))
         if self.pendulum:
             rows.append(("pendulum", self.pendulum))
@@ -201,7 +202,8 @@ class StabilityReport(Summary):
                 st, k, word = self.stroke, 1.0, "stroke"
                 if self.given == "amplitude":
                     k, word = 0.5, "amplitude"
-                rows.append(("", f"{_fmt(1e3 * k * self.stroke_lo, 6)} < {word} < {_fmt(1e3 * k * self.stroke_hi, 6)} mm "
+                rows.append(("",
+                             f"{_fmt(1e3 * k * self.stroke_lo, 6)} < {word} < {_fmt(1e3 * k * self.stroke_hi, 6)} mm "
                                  f"at this frequency ({_pct(self.stroke_lo, st)} / {_pct(self.stroke_hi, st)})"))
             for i, d in enumerate(self.directions):
                 rows.append(("" if i else "to hold it" if not self.stable else "room", d["text"]))

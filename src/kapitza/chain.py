@@ -312,7 +312,8 @@ class ModeReport(Summary):
         d = dict(self.__dict__)
         d["shape"] = list(self.shape)
         d["multipliers"] = [[float(z.real), float(z.imag)] for z in self.multipliers]
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) and k != "margin" else v) for k, v in d.items()}
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) and k != "margin" else v)
+                for k, v in d.items()}
 
 
 def _shape_text(shape):
@@ -420,14 +421,18 @@ class ChainReport(Summary):
             rows.append(("margin", f"{100 * self.margin:.4g} % (T may change by this fraction at fixed A; "
                                    f"mode {self.critical_mode} {_how(self.failure)} first)"))
         else:
-            rows.append(("margin", f"{100 * self.margin:.4g} % (to the nearest edge of mode {self.critical_mode}'s zone)"))
+            rows.append(("margin",
+                         f"{100 * self.margin:.4g} % (to the nearest edge of mode {self.critical_mode}'s zone)"))
         if self.T_lo is not None:
             rows.append(("band", f"{num(self.T_lo, 8)} < T < {num(self.T_hi, 8)} s at this A"))
         if self.frequency_lo is not None:
-            hi = "inf" if self.frequency_hi is None or not math.isfinite(self.frequency_hi) else num(self.frequency_hi, 6)
+            hi = ("inf" if self.frequency_hi is None or not math.isfinite(self.frequency_hi)
+                  else num(self.frequency_hi, 6))
             rows.append(("", f"{num(self.frequency_lo, 6)} < frequency < {hi} Hz at this stroke"))
         if self.stroke_lo is not None:
-            rows.append(("", f"{num(1e3 * self.stroke_lo, 6)} < stroke < {num(1e3 * self.stroke_hi, 6)} mm at this frequency"))
+            rows.append(("",
+                         f"{num(1e3 * self.stroke_lo, 6)} < stroke < {num(1e3 * self.stroke_hi, 6)} mm "
+                         "at this frequency"))
         return rows
 
     def headline(self):
@@ -791,7 +796,8 @@ class ChainFloquet(Summary):
     method: str
 
     def lines(self):
-        return [("verdict", "stable" if self.stable else "unstable"), ("multipliers", _fmt_multipliers(self.multipliers)),
+        return [("verdict", "stable" if self.stable else "unstable"),
+                ("multipliers", _fmt_multipliers(self.multipliers)),
                 ("growth", f"{num(self.growth)} per period 2T"), ("method", self.method)]
 
     def headline(self):
@@ -1062,8 +1068,10 @@ class TowerCurves(Summary):
         return {"chain": self.chain, "drive": self.drive, "modal_lengths": list(self.modal_lengths),
                 "frequency_range": list(self.frequency_range), "stroke_range": list(self.stroke_range),
                 "modes": [{"mode": k + 1, "l": l,
-                           "lower": {"frequency": _finite_list(self.frequency_lo[k]), "stroke": _finite_list(self.stroke_lo[k])},
-                           "upper": {"frequency": _finite_list(self.frequency_hi[k]), "stroke": _finite_list(self.stroke_hi[k])}}
+                           "lower": {"frequency": _finite_list(self.frequency_lo[k]),
+                                     "stroke": _finite_list(self.stroke_lo[k])},
+                           "upper": {"frequency": _finite_list(self.frequency_hi[k]),
+                                     "stroke": _finite_list(self.stroke_hi[k])}}
                           for k, l in enumerate(self.modal_lengths)],
                 "mu": self.mu.tolist(),
                 "band": {"frequency": self.frequency.tolist(), "stroke": self.stroke.tolist(),
@@ -1148,7 +1156,8 @@ def default_window(chain, drive=None, g=G_EARTH):
     d = as_drive(drive)
     g = _v.one("g", _v.in_range("g", g, 1e-3, 1e3, lo_open=False, hi_open=False))
     if not 2e-3 < d.mu_max:
-        raise _v.KapitzaValueError(f"the drive's mu_max = {d.mu_max:.3g} leaves no window to draw (it needs mu_max > 2e-3)")
+        raise _v.KapitzaValueError(f"the drive's mu_max = {d.mu_max:.3g} leaves no window to draw "
+                                   "(it needs mu_max > 2e-3)")
     with np.errstate(all="ignore"):
         (_, _), (_, s_top) = _mode_edges(d, chain.modal_lengths[-1], g, np.array([1e-3]))
         s_top = float(s_top[0])
@@ -1156,7 +1165,8 @@ def default_window(chain, drive=None, g=G_EARTH):
         (f1, s1), _ = _mode_edges(d, chain.modal_lengths[0], g, mu)
         ok = np.isfinite(f1) & np.isfinite(s1) & (f1 > 0) & (s1 > 0)
         if not ok.any() or not (math.isfinite(s_top) and s_top > 0):
-            raise _v.KapitzaValueError("no window found for this tower and drive: give frequency_range and stroke_range")
+            raise _v.KapitzaValueError("no window found for this tower and drive: "
+                                       "give frequency_range and stroke_range")
         order = np.argsort(s1[ok])
         f_c = float(np.exp(np.interp(np.log(s_top), np.log(s1[ok][order]), np.log(f1[ok][order]))))
     return (f_c / 5.0, 30.0 * f_c), (s_top / 100.0, 5.0 * s_top)
@@ -1226,7 +1236,8 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
     else:
         # log-spaced, and as densely towards mu_max, where the edges run off to low frequency
         top = d.mu_max - np.geomspace(d.mu_max - mu_b, max(d.mu_max - mu_a, 1e-9), points // 2)
-        mu = np.unique(np.concatenate([np.geomspace(mu_a, mu_b, points - points // 2), top[(top > mu_a) & (top < mu_b)]]))
+        mu = np.unique(np.concatenate([np.geomspace(mu_a, mu_b, points - points // 2),
+                                       top[(top > mu_a) & (top < mu_b)]]))
     F_lo, S_lo, F_hi, S_hi = [], [], [], []
     for l in chain.modal_lengths:
         (f1, s1), (f2, s2) = _mode_edges(d, l, g, mu)

@@ -199,7 +199,8 @@ def G_inverse(s, branch=0):
     np.float64(0.3)
     """
     s = _v.finite("s", s)
-    if not (isinstance(branch, (int, np.integer)) and not isinstance(branch, (bool, np.bool_))) or branch not in (0, -1):
+    if not (isinstance(branch, (int, np.integer)) and not isinstance(branch, (bool, np.bool_))) \
+            or branch not in (0, -1):
         raise _v.KapitzaValueError(f"branch must be 0 or -1; got {branch!r}")
     with np.errstate(over="ignore"):  # e = inf gives atan(e) = pi/2, the limit
         e = np.exp(-2.0 * s)

@@ -76,7 +76,8 @@ class Rig:
             return T_[()], A_[()]
         if T is not None:
             raise _v.KapitzaValueError("give T or frequency, not both")
-        T_, A_ = np.broadcast_arrays(*self.drive.from_rig(frequency, stroke=stroke, amplitude=amplitude, acceleration=A))
+        T_, A_ = np.broadcast_arrays(*self.drive.from_rig(frequency, stroke=stroke, amplitude=amplitude,
+                                                          acceleration=A))
         return T_[()], A_[()]
 
     def analyze(self, **kwargs):

@@ -194,7 +194,8 @@ def rig_zone_curves(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, d
     (f0, f1), (s0, s1) = rig_window(frequency_range, stroke_range, l, g, around)
     for name, a, b in (("frequency", f0, f1), ("stroke", s0, s1)):
         if not (np.isfinite(a) and np.isfinite(b) and 0.0 < a < b):
-            raise _v.KapitzaValueError(f"{name} range must satisfy 0 < {name}_min < {name}_max < inf; got ({a:g}, {b:g})")
+            raise _v.KapitzaValueError(f"{name} range must satisfy 0 < {name}_min < {name}_max < inf; got ({a:g}, "
+                                       f"{b:g})")
     k = stroke_coefficient(d)
     stroke = np.geomspace(s0, s1, points)
     eps_all = np.sqrt(np.array([s0, s1]) / (8.0 * l * k))

@@ -187,7 +187,6 @@ def _search(T, A, l, g, c, drive, periods, tol, accuracy, floor):
 
     P = T.size
     step = period_step(T, A, l, g, c, drive, tol)
-    point = np.repeat(np.arange(P), _K)
     lo = np.zeros(P)                       # the largest start seen to stay (0: none yet)
     hi = np.full(P, np.nan)                # the smallest failing start above it
     grid = np.geomspace(floor, tol, _K)    # round 1: floor .. tol, geometric

@@ -9,7 +9,8 @@ from pathlib import Path
 from .._io import to_jsonable
 from ..parameters import G_EARTH
 
-__all__ = ["CLIError", "Parser", "add_parameters", "add_damping", "damping_from", "parameters_from", "print_json", "finite_float", "positive_float",
+__all__ = ["CLIError", "Parser", "add_parameters", "add_damping", "damping_from", "parameters_from", "print_json",
+           "finite_float", "positive_float",
            "format_table", "count"]
 
 
@@ -308,8 +309,10 @@ def add_zeta_from_rig(g):
                    help="viscous damping c of a rig, instead of --zeta (with --rod or --l, and --g)")
     g.add_argument("--rod", type=finite_float, default=None, metavar="M",
                    help="with --damping: a uniform rod of this length (l = 2/3 of it)")
-    g.add_argument("--l", type=finite_float, default=None, metavar="M", help="with --damping: equivalent length (default 1)")
-    g.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"with --damping: gravity (default {G_EARTH})")
+    g.add_argument("--l", type=finite_float, default=None, metavar="M",
+                   help="with --damping: equivalent length (default 1)")
+    g.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2",
+                   help=f"with --damping: gravity (default {G_EARTH})")
 
 
 def zeta_from_rig(args, zeta):

@@ -90,12 +90,15 @@ def register(sub):
         "  kapitza chart --mark-T 0.15 --mark-A 100 --out chart   # mark a physical parameter set\n"
         "  kapitza chart --plane physical --l 0.5 --mark-T 0.1 --mark-A 150 --out rod\n"
         "  kapitza chart --plane rig --drive sine --rod 0.25 --frequency 50 --amplitude 0.003 --out shaker\n"
-        "  kapitza chart --chain 0.2,0.2,0.2 --plane rig --out tower   # the bands of 1, 2, 3 linked rods (and OUT.json)\n"
+        "  kapitza chart --chain 0.2,0.2,0.2 --plane rig --out tower   # the bands of 1, 2, 3 linked rods "
+        "(and OUT.json)\n"
         "  kapitza chart --chain 0.3,0.2 --links point --frequency 60 --stroke 0.02 --only --out double",
     )
-    p.add_argument("--out", default="kapitza-chart", metavar="STEM", help="output path without suffix (default kapitza-chart)")
+    p.add_argument("--out", default="kapitza-chart", metavar="STEM",
+                   help="output path without suffix (default kapitza-chart)")
     p.add_argument("--plane", choices=("arnold", "physical", "rig"), default=None,
-                   help="arnold: eps-mu plane (default); physical: half-period T vs amplitude A for the rod --l under --g; "
+                   help="arnold: eps-mu plane (default); physical: half-period T vs amplitude A for the rod --l "
+                        "under --g; "
                         "rig: drive frequency vs stroke (log axes, the window around --frequency/--stroke when given; "
                         "the default and the only plane with --chain)")
     p.add_argument("--eps-min", type=finite_float, default=0.0, help="arnold plane window (default 0..4)")
@@ -104,9 +107,12 @@ def register(sub):
                    help="arnold plane window (default 0..1, or up to the drive's mu_max where that is larger: "
                         "a rectangular wave of duty above 0.5 holds the rod up with A < g)")
     p.add_argument("--mu-max", type=finite_float, default=None)
-    p.add_argument("--T-min", type=finite_float, default=0.0, help="physical plane window in s (default 0 .. 2.5 sqrt(l/g))")
+    p.add_argument("--T-min", type=finite_float, default=0.0,
+                   help="physical plane window in s (default 0 .. 2.5 sqrt(l/g))")
     p.add_argument("--T-max", type=finite_float, default=None)
-    p.add_argument("--A-min", type=finite_float, default=None, help="physical plane window in m/s^2 (default g .. 50 g; from g / mu_max^2 where the drive's mu_max is "
+    p.add_argument("--A-min", type=finite_float, default=None,
+                   help="physical plane window in m/s^2 (default g .. 50 g; from g / mu_max^2 where the drive's "
+                        "mu_max is "
                         "above 1)")
     p.add_argument("--A-max", type=finite_float, default=None)
     p.add_argument("--no-G", dest="show_G", action="store_false", help="do not draw the curves G_m")
@@ -118,8 +124,10 @@ def register(sub):
     p.add_argument("--mark-mu", type=finite_float)
     p.add_argument("--mark-T", type=finite_float, help="mark the physical point --mark-T/--mark-A (with --l, --g)")
     p.add_argument("--mark-A", type=finite_float)
-    p.add_argument("--l", type=finite_float, default=1.0, help="rod length in m, for --plane physical and --mark-T/--mark-A")
-    p.add_argument("--g", type=finite_float, default=9.81, help="gravity in m/s^2, for --plane physical and --mark-T/--mark-A")
+    p.add_argument("--l", type=finite_float, default=1.0,
+                   help="rod length in m, for --plane physical and --mark-T/--mark-A")
+    p.add_argument("--g", type=finite_float, default=9.81,
+                   help="gravity in m/s^2, for --plane physical and --mark-T/--mark-A")
     p.add_argument("--title", default=None)
     add_drive(p.add_argument_group("the pivot's motion (arnold plane)"))
     p.add_argument("--zeta", type=finite_float, default=0.0,
@@ -129,7 +137,8 @@ def register(sub):
     r.add_argument("--rpm", type=finite_float, metavar="REV/MIN", help="... or at this many cam revolutions per minute")
     r.add_argument("--stroke", type=finite_float, metavar="M", help="... with this stroke (peak-to-peak, metres)")
     r.add_argument("--amplitude", type=finite_float, metavar="M", help="... or this displacement amplitude (metres)")
-    r.add_argument("--rod", type=finite_float, metavar="M", help="a uniform rod of this length (l = 2/3 of it), instead of --l")
+    r.add_argument("--rod", type=finite_float, metavar="M",
+                   help="a uniform rod of this length (l = 2/3 of it), instead of --l")
     r.add_argument("--damping", type=finite_float, default=None, metavar="1/S",
                    help="viscous damping c, instead of --zeta (with the rod's l and g)")
     r.add_argument("--frequency-min", type=finite_float, metavar="HZ", help="rig plane window (default around the rig)")
@@ -179,9 +188,11 @@ def cmd_periods(args):
         args.A = args.g / args.mu**2
     table = boundary_table(args.A, args.count, args.l, args.g)
     header = ["name", "T", "period", "equation", "k", "zone", "edge", "eps", "mu"]
-    rows = [[b.name, f"{b.T:.15g}", b.period, b.equation, b.k, b.zone, b.edge, f"{b.eps:.15g}", f"{b.mu:.15g}"] for b in table]
+    rows = [[b.name, f"{b.T:.15g}", b.period, b.equation, b.k, b.zone, b.edge, f"{b.eps:.15g}", f"{b.mu:.15g}"]
+            for b in table]
     if args.csv:
-        _io.write_csv(args.csv, header, [[b.name, b.T, b.period, b.equation, b.k, b.zone, b.edge, b.eps, b.mu] for b in table],
+        _io.write_csv(args.csv, header, [[b.name, b.T, b.period, b.equation, b.k, b.zone, b.edge, b.eps, b.mu]
+                                         for b in table],
                       comments=[f"kapitza periods: A = {args.A!r}, l = {args.l!r}, g = {args.g!r}"])
     if args.json:
         print_json(dict(A=args.A, l=args.l, g=args.g, periods=[b.as_dict() for b in table]))
@@ -231,7 +242,8 @@ def cmd_zones(args):
         else:
             rows = ([int(k), m, lo[i, j], hi[i, j], *kinds(k)] for i, k in enumerate(n) for j, m in enumerate(mu))
             _io.write_csv(args.out, ["n", "mu", "eps_lo", "eps_hi", "lower_edge", "upper_edge"], rows,
-                          comments=["zone n is eps_lo < eps < eps_hi at fixed mu; eps = T sqrt(A/(8 l)), mu = sqrt(g/A)",
+                          comments=["zone n is eps_lo < eps < eps_hi at fixed mu; "
+                                    "eps = T sqrt(A/(8 l)), mu = sqrt(g/A)",
                                     f"drive: {drive.describe()}; damping ratio zeta = {args.zeta!r}"])
     if args.json and args.out:
         print_json(dict(wrote=str(args.out), zones=int(args.zones), points=int(mu.size)))
@@ -239,7 +251,8 @@ def cmd_zones(args):
         print_json(dict(zones=records))
     elif not args.out:
         j = np.unique(np.linspace(0, mu.size - 1, min(mu.size, 6)).astype(int))
-        rows = [[int(k), f"{mu[jj]:.6g}", f"{lo[i, jj]:.15g}", f"{hi[i, jj]:.15g}"] for i, k in enumerate(n) for jj in j]
+        rows = [[int(k), f"{mu[jj]:.6g}", f"{lo[i, jj]:.15g}", f"{hi[i, jj]:.15g}"]
+                for i, k in enumerate(n) for jj in j]
         print(format_table(["n", "mu", "eps_lo", "eps_hi"], rows))
         print("\n(a sample; use --out FILE.csv or --json for every point)")
     else:
@@ -348,7 +361,8 @@ def cmd_chart(args):
         from ..figures.chart import rig_chart_figure
 
         if mark is not None and mark[0].T is None:
-            raise CLIError("on the rig plane mark the rig by --frequency with --stroke or --amplitude (or --mark-T/--mark-A)")
+            raise CLIError("on the rig plane mark the rig by --frequency with --stroke or --amplitude "
+                           "(or --mark-T/--mark-A)")
         fig, curves, header = rig_chart_figure(
             (args.frequency_min, args.frequency_max), (args.stroke_min, args.stroke_max), l=args.l, g=args.g,
             drive=drive, zeta=args.zeta, points=min(args.points, 2000), mark=mark, title=args.title, rod=args.rod)

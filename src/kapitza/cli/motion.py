@@ -44,8 +44,10 @@ def register(sub):
     _add_solver(p)
     p.add_argument("--tol", type=positive_float, default=None, metavar="RAD",
                    help="draw the window |theta| <= RAD (with --chain: a link beyond it has fallen, default pi/2)")
-    p.add_argument("--orbits", type=int, default=12, help="initial states in the stroboscopic-map ensemble (default 12)")
-    p.add_argument("--strobe-periods", type=int, default=300, help="periods each orbit of the map is followed (default 300)")
+    p.add_argument("--orbits", type=int, default=12,
+                   help="initial states in the stroboscopic-map ensemble (default 12)")
+    p.add_argument("--strobe-periods", type=int, default=300,
+                   help="periods each orbit of the map is followed (default 300)")
     p.add_argument("--out", metavar="STEM", help="write data and figures under this stem")
     p.add_argument("--no-figures", dest="figures", action="store_false", help="with --out: data only")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
@@ -78,7 +80,8 @@ def register(sub):
     p.add_argument("--slowdown", type=finite_float, default=None,
                    help="playback seconds per second of motion (default: 24 frames per drive period; with --chain 1)")
     p.add_argument("--dpi", type=int, default=100, help="resolution (default 100: 900 x 460 pixels)")
-    p.add_argument("--out", default="kapitza-motion.gif", metavar="FILE", help="FILE.gif or FILE.mp4 (default kapitza-motion.gif)")
+    p.add_argument("--out", default="kapitza-motion.gif", metavar="FILE",
+                   help="FILE.gif or FILE.mp4 (default kapitza-motion.gif)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print a JSON summary")
     p.set_defaults(func=cmd_animate)
@@ -90,14 +93,16 @@ def register(sub):
         "whole of [0, 2NT] (checked on the continuous motion). Linear and nonlinear side by side by default:\n"
         "inside a stability zone both keep a region about the upright, outside one both lose it. Writes\n"
         "OUT.png, OUT.svg, OUT.csv (every grid point) and OUT.json (summary).",
-        epilog="examples:\n  kapitza basin --T 0.15 --A 100 --out basin-zone0      # stable: the upright keeps a basin\n"
+        epilog="examples:\n  kapitza basin --T 0.15 --A 100 --out basin-zone0      # stable: "
+               "the upright keeps a basin\n"
         "  kapitza basin --T 0.3 --A 100 --out basin-unstable     # unstable: nothing stays\n"
         "  kapitza basin --T 0.15 --A 100 --model nonlinear --resolution 301 --workers 2 --json",
     )
     add_parameters(p, rig=True)
     p.add_argument("--tol", type=finite_float, default=0.5, metavar="RAD", help="window half-width (default 0.5 rad)")
     p.add_argument("--periods", type=int, default=50, help="periods 2T to follow (default 50)")
-    p.add_argument("--theta-max", type=finite_float, default=None, metavar="RAD", help="grid half-width in theta (default tol)")
+    p.add_argument("--theta-max", type=finite_float, default=None, metavar="RAD",
+                   help="grid half-width in theta (default tol)")
     p.add_argument("--dtheta-max", type=finite_float, default=None, metavar="RAD/S",
                    help="grid half-width in theta' (default 2 tol / T)")
     p.add_argument("--resolution", type=int, default=121, help="grid points per axis (default 121)")
@@ -340,7 +345,8 @@ def cmd_basin(args):
     print(_parameters_line(args, T, A, l, g, rep))
     print(f"upright      {rep.verdict}")
     for b in basins:
-        print(f"{b.model:10s}   {100 * b.fraction:.3g}% of the {b.survived.shape[1]} x {b.survived.shape[0]} grid stays "
+        print(f"{b.model:10s}   {100 * b.fraction:.3g}% of the {b.survived.shape[1]} x {b.survived.shape[0]} "
+              "grid stays "
               f"within {args.tol:g} rad for {args.periods} periods")
     for m, v in demo.items():
         verdict = "stays up" if v >= args.periods else f"falls (leaves the window in period {v + 1})"

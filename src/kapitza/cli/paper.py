@@ -18,7 +18,8 @@ def register(sub):
         "  report.html                         self-contained report (figures inline); open it first\n"
         "  report.md                           the same report in Markdown\n\n"
         "Exit status 0 when every check passes, 1 when one fails (the report says which), 2 on bad input.",
-        epilog="examples:\n  kapitza paper --out out/paper\n  kapitza paper --out /tmp/paper --quick   # fewer cases per check",
+        epilog="examples:\n  kapitza paper --out out/paper\n  kapitza paper --out /tmp/paper --quick   # "
+               "fewer cases per check",
     )
     p.add_argument("--out", default="kapitza-paper", metavar="DIR", help="output folder (default kapitza-paper)")
     p.add_argument("--quick", action="store_true", help="fewer parameter sets in each check")

@@ -63,7 +63,8 @@ def register(sub):
     q.add_argument("--directions", type=int, default=8, help="directions of the phase plane for radius (default 8)")
     q.add_argument("--basin-resolution", type=int, default=21, help="start grid n x n for basin (default 21)")
     r = p.add_argument_group("running")
-    r.add_argument("--out", default="kapitza-sweep.zarr", metavar="STORE.zarr", help="Zarr store (default kapitza-sweep.zarr)")
+    r.add_argument("--out", default="kapitza-sweep.zarr", metavar="STORE.zarr",
+                   help="Zarr store (default kapitza-sweep.zarr)")
     r.add_argument("--resume", action="store_true", help="continue the interrupted sweep in --out")
     r.add_argument("--chunk", type=int, default=None,
                    help="grid points per side of a chunk (default: about 16 chunks, 8 to 64 points per side)")

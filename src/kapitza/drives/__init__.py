@@ -22,13 +22,14 @@ from __future__ import annotations
 from .. import _validate as _v
 from ._base import Drive
 from .rectangular import RectangularWave
-from .sampled import SampledDrive, from_samples
+from .sampled import SampledDrive, from_samples  # noqa: F401  (SampledDrive re-exported: kapitza.drives.SampledDrive)
 from .sine import SineWave
 from .square import SquareWave
 from .steps import StepDrive
 from .triangle import TriangleWave
 
-__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples", "DRIVES", "register", "as_drive", "parse_drive", "text_forms"]
+__all__ = ["Drive", "SquareWave", "RectangularWave", "StepDrive", "SineWave", "TriangleWave", "from_samples",
+           "DRIVES", "register", "as_drive", "parse_drive", "text_forms"]
 
 #: Drive classes by the name the command line, the web API and the reports use (:func:`register` adds one).
 DRIVES: dict[str, type[Drive]] = {}

@@ -915,7 +915,8 @@ def search_bits(pred, lo, hi, ways=64, certified=None):
             ca, cb = np.maximum(a[bad] - width, lo_i[bad]), np.minimum(b[bad] + width, hi_i[bad])
             w_ends = np.asarray(certified(np.stack([ca, cb], axis=1).view(np.float64), bad), bool)
             keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
-            rows, wa, wb = np.concatenate([rows, bad[keep]]), np.concatenate([wa, ca[keep]]), np.concatenate([wb, cb[keep]])
+            rows, wa, wb = (np.concatenate([rows, bad[keep]]), np.concatenate([wa, ca[keep]]),
+                            np.concatenate([wb, cb[keep]]))
             # (a window at both ends of the bracket cannot grow: its rows keep the pair found)
             bad = bad[~keep & ((ca > lo_i[bad]) | (cb < hi_i[bad]))]
             width *= 4

@@ -87,7 +87,8 @@ def _size(k, q):
         raise _v.KapitzaValueError(f"q must satisfy |q| <= 4e6 for the characteristic values; got {float(q)!r}")
     N = int(k + 8 + rows)
     _v.bounded_work("the rows of the truncated matrix", N, MAX_ROWS,
-                    what=f"dense eigenproblems, order n and |q| set the rows; here n ~ {2 * int(k)}, q = {float(q):.4g}")
+                    what=f"dense eigenproblems, order n and |q| set the rows; "
+                         f"here n ~ {2 * int(k)}, q = {float(q):.4g}")
     return N
 
 
@@ -625,7 +626,8 @@ def sine_damped_exact(eps, mu, zeta):
     import mpmath
 
     out = []
-    for e, m, z in zip(np.asarray(eps, float).tolist(), np.asarray(mu, float).tolist(), np.asarray(zeta, float).tolist()):
+    for e, m, z in zip(np.asarray(eps, float).tolist(), np.asarray(mu, float).tolist(),
+                       np.asarray(zeta, float).tolist()):
         q = 16.0 * e * e / math.pi**2
         G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + m * m * (1.0 + z * z)))
         growth_bits = int(2.0 * G / math.log(2.0)) + 1

@@ -123,7 +123,8 @@ class SampledDrive(Drive):
         return self._phase * self.T, self._s * self.A
 
     def text(self) -> str:
-        raise _v.KapitzaValueError("a measured drive (from_samples, --drive-file) has no text form to name it by (in a sweep's spec, a link)")
+        raise _v.KapitzaValueError("a measured drive (from_samples, --drive-file) has no text form to name it by "
+                                   "(in a sweep's spec, a link)")
 
     def as_dict(self) -> dict:
         return {"drive": self.name, "kind": self.kind, "samples": int(self._s.size), "period": self.period,

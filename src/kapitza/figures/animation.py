@@ -66,7 +66,8 @@ class ProgressBar:
         elapsed = now - self._start
         eta = elapsed / done * (total - done) if done else 0.0
         tail = f" ~{eta:.0f} s left" if done < total else f" {elapsed:.1f} s"
-        self.stream.write(f"\r{self.label} [{'#' * fill}{'.' * (self.width - fill)}] {pct:3d}%  {done}/{total}{tail}   ")
+        self.stream.write(f"\r{self.label} [{'#' * fill}{'.' * (self.width - fill)}] "
+                          f"{pct:3d}%  {done}/{total}{tail}   ")
         if done >= total:
             self.stream.write("\n")
         self.stream.flush()
@@ -251,7 +252,8 @@ class _GlyphCache:
 
 def ffmpeg_available() -> bool:
     """Whether matplotlib can write MP4 here (an ``ffmpeg`` executable is found)."""
-    return bool(mpl_animation.writers.is_available("ffmpeg")) and shutil.which(plt.rcParams["animation.ffmpeg_path"]) is not None
+    return (bool(mpl_animation.writers.is_available("ffmpeg"))
+            and shutil.which(plt.rcParams["animation.ffmpeg_path"]) is not None)
 
 
 def default_slowdown(T, fps):
@@ -264,7 +266,8 @@ def frame_times(duration, fps, slowdown):
     (at most :data:`MAX_FRAMES` of them, checked before anything is allocated)."""
     n = np.floor(duration * fps * slowdown + 1e-9) + 1.0
     _v.bounded_work("the frames, duration * fps * slowdown", n, MAX_FRAMES,
-                    what=f"a render of minutes; shorten the motion or lower fps * slowdown (now {fps:g} * {slowdown:.3g})")
+                    what=f"a render of minutes; shorten the motion or lower fps * slowdown (now {fps:g} * "
+                         f"{slowdown:.3g})")
     return np.arange(int(n)) / (fps * slowdown)
 
 
@@ -344,7 +347,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     if fmt not in ("gif", "mp4"):
         raise _v.KapitzaValueError(f"animation format must be 'gif' or 'mp4'; got {fmt!r}")
     fps = _v.one("fps", _v.in_range("fps", fps, 1.0, 60.0, lo_open=False, hi_open=False))
-    slowdown = default_slowdown(traj.T, fps) if slowdown is None else _v.one("slowdown", _v.positive("slowdown", slowdown))
+    slowdown = default_slowdown(traj.T, fps) if slowdown is None else \
+        _v.one("slowdown", _v.positive("slowdown", slowdown))
     dpi = _v.bounded_count("dpi", dpi, MAX_DPI, minimum=20)
     if tol is not None:
         tol = _v.one("tol", _v.positive("tol", tol))

@@ -184,7 +184,8 @@ def magnified_zones(eps_range, mu_range, candidates=(1, 2, 3), fraction=0.02):
     keep = []
     for i, n in enumerate(curves.n):
         seen = (curves.eps_hi[i] >= eps_range[0]) & (curves.eps_lo[i] <= eps_range[1])
-        if int(n) in candidates and seen.any() and np.max((curves.eps_hi[i] - curves.eps_lo[i])[seen]) < fraction * width:
+        if (int(n) in candidates and seen.any()
+                and np.max((curves.eps_hi[i] - curves.eps_lo[i])[seen]) < fraction * width):
             keep.append(int(n))
     return keep
 
@@ -383,7 +384,8 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     ax.set_xlabel(rf"$(\varepsilon - \varepsilon_\mathrm{{mid}})\,/\,10^{{{exponent}}}$", fontsize=8)
     ax.set_ylabel(r"$\mu$", fontsize=8)
     if title:
-        ax.set_title(rf"zone {t.n} ($\varepsilon_\mathrm{{mid}}$ = {t.eps_mid[0]:.3f} at $\mu$ = {float(mu_range[0]):g})",
+        ax.set_title(rf"zone {t.n} ($\varepsilon_\mathrm{{mid}}$ = {t.eps_mid[0]:.3f} at $\mu$ = "
+                     rf"{float(mu_range[0]):g})",
                      fontsize=8)
     return out
 
@@ -572,7 +574,8 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     else:
         ax.set_title(title or "Exact stability zones of the inverted pendulum on a square-wave pivot")
         caption(fig, rf"Shaded: the upright position is stable, {what}. "
-                     r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ (3.12, 3.13)"
+                     r"Solid: 2T-periodic edges $T_n$ (eqs. 3.10, 3.11); dashed: 4T-periodic edges $\tilde T_n$ "
+                     r"(3.12, 3.13)"
                      + extra)
     return fig, curves, header
 

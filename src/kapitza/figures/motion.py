@@ -310,11 +310,13 @@ def plot_basin(basin, ax=None, *, colorbar=True):
     ax = _ax(ax)
     N = basin.periods
     edges = np.unique(np.concatenate([[0, 1], np.geomspace(1, N, 6).round(), [N, N + 1]])).astype(float)
-    cmap = ListedColormap(plt.get_cmap("magma")(np.linspace(0.08, 0.78, edges.size - 2)).tolist() + [(0.62, 0.79, 0.88, 1.0)])
+    cmap = ListedColormap(plt.get_cmap("magma")(np.linspace(0.08, 0.78, edges.size - 2)).tolist()
+                          + [(0.62, 0.79, 0.88, 1.0)])
     norm = BoundaryNorm(edges, cmap.N)
     dx = basin.theta0[1] - basin.theta0[0]
     dy = basin.dtheta0[1] - basin.dtheta0[0]
-    extent = (basin.theta0[0] - dx / 2, basin.theta0[-1] + dx / 2, basin.dtheta0[0] - dy / 2, basin.dtheta0[-1] + dy / 2)
+    extent = (basin.theta0[0] - dx / 2, basin.theta0[-1] + dx / 2, basin.dtheta0[0] - dy / 2,
+              basin.dtheta0[-1] + dy / 2)
     im = ax.imshow(basin.periods_survived, origin="lower", extent=extent, aspect="auto", cmap=cmap, norm=norm,
                    interpolation="nearest")
     out = Drawn(ax, {"image": im}, data=basin)
@@ -378,7 +380,8 @@ def time_series_figure(traj, *, linear=None, tol=None, title=None):
     else:
         ax.set_title(title or f"Pendulum on a vibrating pivot ({drive.label}): angle from the upright", fontsize=10)
         pivot_text = f"{drive.describe()}, stroke {1000 * float(drive.stroke(traj.T, traj.A)):.3g} mm."
-    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c) + f". Start θ = {traj.theta0:g} rad, θ' = "
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c)
+            + f". Start θ = {traj.theta0:g} rad, θ' = "
             f"{traj.dtheta0:g} rad/s at t = 0 (a = +A). Lower panel: the pivot's height, " + pivot_text)
     return fig
 
@@ -411,7 +414,8 @@ def phase_portrait_figure(traj, *, title=None):
     plot_phase_portrait(traj, ax)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8, frameon=False)
     fig.suptitle(title or "Phase portrait", fontsize=10)
-    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c) + f". {traj.periods:g} periods 2T; dots: the "
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c)
+            + f". {traj.periods:g} periods 2T; dots: the "
             "state once per period (t = 2kT), i.e. the stroboscopic map. θ' jumps in slope, not in value, at the "
             "switches.")
     return fig
@@ -569,6 +573,7 @@ def basin_figure(basins, *, title=None):
                else "a DOP853 solution checked at 64 or more instants per period and on the Hermite interpolant "
                     "between them")
     damped = f", damping c = {c:g} 1/s" if c else ""
-    caption(fig, parameter_label(b.T, b.A, b.l, b.g, drive) + damped + f". Light blue: |θ(t)| ≤ window for the whole time "
+    caption(fig, parameter_label(b.T, b.A, b.l, b.g, drive) + damped
+            + f". Light blue: |θ(t)| ≤ window for the whole time "
             f"({checked}); darker: whole periods completed before leaving. Black line: the basin's edge.")
     return fig

@@ -146,11 +146,13 @@ def nonlinear_chart_figure(chart=None, mu=None, zones=(0, 1, 2), scan=40, across
         "resonant term at 1:3 (dashed) below degree 5, so there the twist decides too. On 1:4 (solid) "
         "Markeev's criterion compares $|\\tau|$ with the resonant $|c_4|$: "
         + ("stable on every point drawn" if unstable == 0 else f"unstable on {unstable} of the points drawn")
-        + f" ($|\\tau|/|c_4|$ between {min(float(np.min(np.abs(z.twist_1to4) / z.resonant_1to4)) for z in chart.zones):.2f}"
+        + " ($|\\tau|/|c_4|$ between "
+          f"{min(float(np.min(np.abs(z.twist_1to4) / z.resonant_1to4)) for z in chart.zones):.2f}"
         f" and {max(float(np.max(np.abs(z.twist_1to4) / z.resonant_1to4)) for z in chart.zones):.2f}). "
         + (f"Twist zeros (undecided at third order): {found} found" if found else
            f"No twist zero found ({chart.scan} scan points per zone and $\\mu$)")
-        + ". Zone panels: position across the zone; shading $\\log_{10}|\\tau|$, $\\tau$ grows without bound at the edges."))
+        + ". Zone panels: position across the zone; shading $\\log_{10}|\\tau|$, $\\tau$ grows without bound at the "
+          "edges."))
     return fig
 
 
@@ -184,7 +186,8 @@ def plot_rotation_growth(run, ax=None):
     drawn["linear"] = ax.axhline(rho0, color="0.5", linestyle=":", linewidth=1.0,
                                  label=rf"$\rho_0 = w/2\pi$ = {rho0:.6g}")
     if not ok.all():
-        drawn["escaped"] = ax.plot(r[~ok], np.full((~ok).sum(), rho0), "x", color="#d73027", label="left |theta| < pi/2")
+        drawn["escaped"] = ax.plot(r[~ok], np.full((~ok).sum(), rho0), "x", color="#d73027",
+                                   label="left |theta| < pi/2")
     ax.set_xlabel(r"amplitude $r = \max|\theta|$ of the invariant curve [rad]")
     ax.set_ylabel(r"rotation number $\rho$ [turns per period $2T$]")
     ax.set_xlim(0, rr[-1])

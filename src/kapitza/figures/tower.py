@@ -388,7 +388,8 @@ def animate_tower(motions, path, *, titles=None, fps=20.0, slowdown=1.0, dpi=80,
     fps = _v.one("fps", _v.in_range("fps", fps, 1.0, 60.0, lo_open=False, hi_open=False))
     slowdown = _v.one("slowdown", _v.positive("slowdown", slowdown))
     dpi = _v.bounded_count("dpi", dpi, 600, minimum=20)
-    t_end = max(float(m.t[-1]) for m in motions) if duration is None else _v.one("duration", _v.positive("duration", duration))
+    t_end = max(float(m.t[-1]) for m in motions) if duration is None else \
+        _v.one("duration", _v.positive("duration", duration))
     n_frames = int(t_end * fps * slowdown) + 1
     _v.bounded_work("the frames, duration * fps * slowdown", n_frames, 2000, what="a GIF of a few minutes' render")
     if fmt == "mp4" and not ffmpeg_available():

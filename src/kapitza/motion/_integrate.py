@@ -95,7 +95,8 @@ def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
         cmax = float(np.max(c))
         what = ("the damping makes the equation stiff: DOP853 needs about c * duration / 3 steps; use a "
                 "shorter span or weaker damping" if cmax > w else "DOP853 takes about 20 steps per radian")
-        _v.bounded_work("(w_h + |dtheta0| + c) * duration (w_h = sqrt((g + A) / l))", (w + cmax) * float(t_end), MAX_DOP853_SWEEP, what=what)
+        _v.bounded_work("(w_h + |dtheta0| + c) * duration (w_h = sqrt((g + A) / l))", (w + cmax) * float(t_end),
+                        MAX_DOP853_SWEEP, what=what)
 
 
 def _check_speed(dtheta, s_values, name="dtheta0"):
@@ -188,7 +189,8 @@ def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
                 if hi > lo:
                     out_th[lo:hi, a:b] = sol.y[:n].T
                     out_om[lo:hi, a:b] = sol.y[n:].T
-                y = sol.y[:, -1] if hi <= lo or sol.t[-1] == t1 else _last_state(rhs, t0, t1, y, rtol * scale, atol * scale)
+                y = sol.y[:, -1] if hi <= lo or sol.t[-1] == t1 else \
+                    _last_state(rhs, t0, t1, y, rtol * scale, atol * scale)
             elif hi > lo:
                 out_th[lo:hi, a:b] = y[:n]
                 out_om[lo:hi, a:b] = y[n:]
@@ -229,7 +231,8 @@ def _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=Fal
     """Any broadcastable ``t`` and initial states; scalar parameters."""
     for name, v in (("T", T), ("A", A), ("l", l), ("g", g), ("c", c)):
         if np.size(v) != 1:
-            raise _v.KapitzaValueError(f"method='dop853' needs a single parameter set; got {name} of shape {np.shape(v)}")
+            raise _v.KapitzaValueError(f"method='dop853' needs a single parameter set; got {name} of shape "
+                                       f"{np.shape(v)}")
     T, A, l, g, c = (float(np.asarray(v).flat[0]) for v in (T, A, l, g, c))
     full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape)
     traj = np.broadcast_shapes(theta0.shape, dtheta0.shape)
@@ -298,6 +301,7 @@ def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, dri
             if sel.size:
                 Y[sel, a:b] = sol.y[:n].T
                 W[sel, a:b] = sol.y[n:].T
-            y = sol.y[:, -1] if sel.size and sol.t[-1] == t1 else _last_state(rhs, t0, t1, y, rtol * scale, atol * scale)
+            y = sol.y[:, -1] if sel.size and sol.t[-1] == t1 else \
+                _last_state(rhs, t0, t1, y, rtol * scale, atol * scale)
     ic = np.broadcast_to(np.arange(n_all).reshape(traj), full).ravel()
     return Y[inv.ravel(), ic].reshape(full), W[inv.ravel(), ic].reshape(full)

@@ -168,6 +168,7 @@ class _IntegratedPeriod:
             ths = np.concatenate([y[:n, None], sol.y[:n]], axis=1)
             slopes = np.concatenate([y[n:, None], sol.y[n:]], axis=1) * np.reshape(T2, (-1, 1))
             h = np.diff(np.concatenate([[a], x_eval]))
-            left |= np.max(_hermite_peak(ths[:, :-1], ths[:, 1:], h * slopes[:, :-1], h * slopes[:, 1:]), axis=1) > self.tol
+            left |= np.max(_hermite_peak(ths[:, :-1], ths[:, 1:], h * slopes[:, :-1], h * slopes[:, 1:]),
+                           axis=1) > self.tol
             y = sol.y[:, -1]
         return y[:n], y[n:], left

@@ -104,7 +104,8 @@ class ChainMotion(Summary):
     def lines(self):
         end = f"toppled at t = {num(self.t_topple)} s (a link beyond {num(self.tol, 4)} rad)" if self.toppled else (
             f"stands: every link within {num(self.tol, 4)} rad for {num(self.t[-1])} s")
-        return [("motion", f"{self.theta.shape[0]}-link tower, T = {num(self.T)} s, A = {num(self.A)} m/s^2, {self.drive}"),
+        return [("motion",
+                 f"{self.theta.shape[0]}-link tower, T = {num(self.T)} s, A = {num(self.A)} m/s^2, {self.drive}"),
                 ("outcome", end),
                 ("largest tilt", f"{num(np.max(np.abs(self.theta)))} rad")]
 
@@ -335,7 +336,8 @@ class SafeTilt(Summary):
     A: float
 
     def lines(self):
-        return [("safe tilt", f"{num(self.together, 4)} rad ({num(math.degrees(self.together), 3)} deg), all links together"),
+        return [("safe tilt",
+                 f"{num(self.together, 4)} rad ({num(math.degrees(self.together), 3)} deg), all links together"),
                 ("", f"{num(self.mode, 4)} rad ({num(math.degrees(self.mode), 3)} deg) along mode 1, shape "
                      "(" + ", ".join(f"{x:+.3f}" for x in self.shape) + ")"),
                 ("test", f"every link within {num(self.tol, 4)} rad for {num(self.periods)} periods 2T; "

@@ -494,7 +494,8 @@ class Trajectory(Summary):
                 ("start", f"theta0 = {num(self.theta0)} rad, dtheta0 = {num(self.dtheta0)} rad/s"),
                 ("span", f"0 <= t <= {num(s['duration'])} s ({num(s['periods'], 4)} periods 2T), "
                          f"{s['samples']} samples"),
-                ("final", f"theta = {num(s['final']['theta'], 10)} rad, dtheta = {num(s['final']['dtheta'], 10)} rad/s"),
+                ("final",
+                 f"theta = {num(s['final']['theta'], 10)} rad, dtheta = {num(s['final']['dtheta'], 10)} rad/s"),
                 ("max |theta|", f"{num(s['max_abs_theta'])} rad"),
                 ("upright", up)]
         if s["turns"]:

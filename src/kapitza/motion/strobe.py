@@ -86,7 +86,8 @@ class StrobeOrbits(Summary):
                 ("parameters", f"T = {num(self.T)} s, A = {num(self.A)} m/s^2, l = {num(self.l)} m, "
                                f"g = {num(self.g)} m/s^2"),
                 ("members", f"{members:,} (shape {self.theta.shape[1:]})"),
-                ("records", f"{self.n.size} periods 2T from {int(self.n[0])} to {int(self.n[-1])}" if self.n.size else "none"),
+                ("records",
+                 f"{self.n.size} periods 2T from {int(self.n[0])} to {int(self.n[-1])}" if self.n.size else "none"),
                 ("final theta", f"{span(th)} rad"), ("final dtheta", f"{span(om)} rad/s"),
                 ("stay up", f"{int(np.count_nonzero(self._up())):,} of {members:,} members keep |theta| < pi/2 "
                             "at every record")]
@@ -191,7 +192,8 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     T, A, l, g = (float(np.asarray(v).flat[0]) if np.size(v) == 1 else v for v in _physical(T, A, l, g, eps, mu))
     for name, v in (("T", T), ("A", A), ("l", l), ("g", g)):
         if not isinstance(v, float):
-            raise _v.KapitzaValueError(f"{name} must be a single value for the stroboscopic map; got shape {np.shape(v)}")
+            raise _v.KapitzaValueError(f"{name} must be a single value for the stroboscopic map; got shape "
+                                       f"{np.shape(v)}")
     periods = _v.bounded_count("periods", periods, MAX_PERIODS)
     if every is not None:
         every = _v.bounded_count("every", every, MAX_PERIODS, minimum=1)

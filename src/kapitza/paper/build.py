@@ -200,11 +200,13 @@ def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(ran
     blocks = [
         Heading("Reproduction of the paper", 1),
         Para(f"{PAPER}. Every figure, number and verdict below was computed by kapitza {__version__} "
-             f"on {datetime.date.today().isoformat()}" + (" (quick run: fewer parameter sets per check)." if quick else ".")),
+             f"on {datetime.date.today().isoformat()}"
+             + (" (quick run: fewer parameter sets per check)." if quick else ".")),
         Para("**All checks passed.**" if passed else "**Some checks FAILED** — see the table and the sections below."),
         Heading("Summary"),
         Table(("result", "checks", "status"),
-              tuple((C.CLAIMS[k][0], len(rs), "PASSED" if claim_ok[k] else "FAILED") for k, rs in by_claim.items() if rs),
+              tuple((C.CLAIMS[k][0], len(rs), "PASSED" if claim_ok[k] else "FAILED")
+                    for k, rs in by_claim.items() if rs),
               status_column=2),
         Table(("check", "result", "cases", "worst", "bound", "status"),
               tuple((r.key, C.CLAIMS.get(r.claim, (r.claim,))[0].split(" (")[0].split(":")[0], r.cases,
@@ -219,7 +221,8 @@ def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(ran
              "double."),
         Table(tuple(table["header"]),
               tuple((f"{row[0]:g}", row[1], f"{row[2]:.12g}", row[3], row[4], row[5], row[6], row[7],
-                     f"{row[8]:.10g}", f"{row[9]:.6g}", f"{row[10]:.4g}", f"{row[11]:+.12f}") for row in table["rows"])),
+                     f"{row[8]:.10g}", f"{row[9]:.6g}", f"{row[10]:.4g}",
+                     f"{row[11]:+.12f}") for row in table["rows"])),
         Heading("The numbered results and their verification"),
     ]
     notes = []
@@ -242,7 +245,8 @@ def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(ran
                 blocks.append(Para(f"**Discrepancy with the printed paper.** {r.note}"))
                 notes.append((r.key, r.note))
             if r.table:
-                blocks.append(Table(tuple(r.table["header"]), tuple(tuple(str(c) for c in row) for row in r.table["rows"])))
+                blocks.append(Table(tuple(r.table["header"]),
+                                    tuple(tuple(str(c) for c in row) for row in r.table["rows"])))
     blocks.append(Heading("Where the computation differs from the printed paper"))
     if notes:
         blocks += [Para(f"**{key}.** {note}") for key, note in notes]
@@ -257,5 +261,6 @@ def build_paper(out, quick=False, progress=None, workers=None, figures=tuple(ran
                    Image(png, plain_math(f"Figure {n}. {data.caption}"), tuple(p for p in paths if p.suffix != ".png"))]
     say("report")
     files.append(_io.write_text(out / "report.md", to_markdown(blocks, out)))
-    files.append(_io.write_text(out / "report.html", to_html(blocks, out, "kapitza: reproduction of Csizmadia & Hatvani")))
+    files.append(_io.write_text(out / "report.html",
+                                to_html(blocks, out, "kapitza: reproduction of Csizmadia & Hatvani")))
     return PaperBuild(out=out, files=tuple(files), checks=results, passed=passed)

@@ -90,7 +90,8 @@ CLAIMS = {
     "thm3.4": (
         "Theorem 3.4 (4T-periodic solutions)",
         "(2.3) has a 4T-periodic solution that is not 2T-periodic if and only if, for some integer k ≥ 0, "
-        "α(T) + (2k+1)π = ω_e T (3.12) or β(T) + 2kπ = ω_e T (3.13), with α(T) = 2 atan(D (e^{ω_h T} − 1)/(e^{ω_h T} + 1)) "
+        "α(T) + (2k+1)π = ω_e T (3.12) or β(T) + 2kπ = ω_e T (3.13), with α(T) = 2 atan(D (e^{ω_h T} − 1)/"
+        "(e^{ω_h T} + 1)) "
         "and β(T) = 2 atan(D (e^{ω_h T} + 1)/(e^{ω_h T} − 1)); it starts at (3.19) in case (3.12) and at (3.22) in "
         "case (3.13).",
     ),
@@ -364,13 +365,15 @@ def check_phi_h(cases) -> CheckResult:
     printed = QPI + np.arctan(np.exp(-2.0 * tt) * np.tan(p0 - QPI))
     antipodal = np.abs(_wrap(printed - (phi_h(tt, p0, 1.0) + PI)))
     errs = [err_angle.max(), err_start.max(), err_r.max(), antipodal.max()]
-    labels = ["angle of phi_h vs flow", "phi_h(0) = phi_0", "radius (3.5) vs flow", "printed (2.11) branch 2 = phi_h + pi"]
+    labels = ["angle of phi_h vs flow", "phi_h(0) = phi_0", "radius (3.5) vs flow",
+              "printed (2.11) branch 2 = phi_h + pi"]
     note = ("The second branch of (2.11) as printed, π/4 + atan(e^{−2ω_h t} tan(φ_0 − π/4)) for −3π/4 < φ_0 < −π/4, "
             "equals φ_0 + π at t = 0: it describes the antipodal point on the same line. The continuous solution "
             "is −3π/4 + atan(e^{−2ω_h t} tan(φ_0 + 3π/4)); the measured difference of the printed branch from "
             f"φ_h + π is {antipodal.max():.2g} rad (kapitza.phase_plane.phi_h uses the continuous form).")
     return _result(
-        "sec2-phi-h", "sec2", "φ_h(t; φ_0) of (2.11) is the polar angle of the hyperbolic flow (2.6), and (3.5) its radius",
+        "sec2-phi-h", "sec2",
+                   "φ_h(t; φ_0) of (2.11) is the polar angle of the hyperbolic flow (2.6), and (3.5) its radius",
         f"{n} random φ_0 ∈ (−2π, 0], ω_h ∈ [0.5, 50], ω_h t ∈ [0, 4]; the reference is the matrix exponential "
         "[[cosh, sinh], [sinh, cosh]] applied to (cos φ_0, sin φ_0), compared modulo 2π; the radius only where "
         "|cos 2φ_0| > 0.1. The last entry confirms the misprint described below. Tolerance 1e-10: near the "
@@ -1058,7 +1061,8 @@ def check_heights(cases) -> CheckResult:
         "sec4-heights", "sec4.zones", "The tongues lie along G_m and their heights tend to zero: G_m is inside zone m "
         "exactly for μ < μ*_m, and μ*_m decreases to 0",
         f"For m = 0..{m_max}: μ*_m by bisection on D tanh(x/2) = 1 at ω_e T = (m + ½)π; kapitza.is_stable on G_m at "
-        "80 values of μ (down to 1e-3 relative from μ*_m on either side) must agree with μ < μ*_m (count of disagreements), μ*_m must decrease "
+        "80 values of μ (down to 1e-3 relative from μ*_m on either side) must agree with μ < μ*_m "
+        "(count of disagreements), μ*_m must decrease "
         f"and μ*_{m_max} be below 1e-3.", "section 4 (G_m, stability zones), Figure 7",
         "number of violations", errs, labels, 0.0, note=note,
         table=dict(header=["m", "mu*_m (G_m inside zone m for mu < mu*_m)", "sqrt(2) e^{-(m+1/2) pi/2}"], rows=rows))

@@ -187,7 +187,8 @@ class FigureData:
     def csv_comments(self):
         lines = [f"Figure {self.number}: {self.title}"]
         lines += [f"panel {k!r}: x = {v[0]}, y = {v[1]}" for k, v in self.axes.items()]
-        lines.append("kind 'curve': one row per sample of the named curve; kind 'point': a marked point, name = its label")
+        lines.append("kind 'curve': one row per sample of the named curve; kind 'point': a marked point, "
+                     "name = its label")
         return lines
 
     def csv_rows(self):
@@ -261,7 +262,8 @@ def figure1_data(levels=(0.3, 0.6, 0.9, 1.2), extent=1.6, samples=241) -> Figure
                              role="circle", meta=dict(c=float(c), H=float(c * c))))
         for ang in (0.5 * PI, -0.5 * PI):
             xv, yv = c * np.cos(ang), c * np.sin(ang)
-            points.append(Point("arrow", float(xv), float(yv), panel="elliptic", meta=dict(dx=float(yv), dy=float(-xv))))
+            points.append(Point("arrow", float(xv), float(yv), panel="elliptic",
+                                meta=dict(dx=float(yv), dy=float(-xv))))
     s = np.array([-extent, extent])
     series.append(Series("asymptote y=x", r"$y_h = x_h$ (unstable)", s, s, panel="hyperbolic", role="asymptote"))
     series.append(Series("asymptote y=-x", r"$y_h = -x_h$ (stable)", s, -s, panel="hyperbolic", role="asymptote"))
@@ -355,7 +357,8 @@ def _dynamics_data(number, A, l, g, samples):
     else:
         rel = r"$\varphi_1 = -\varphi_0 - \pi$, " + (r"$\varphi_3 = -\varphi_2 - \pi - 2(k+1)\pi$" if not b.tilde
                                                        else r"$\varphi_3 = -\varphi_2 - 2\pi - 2k\pi$")
-    cond = {("3.1", "a"): "3.2", ("3.1", "b"): "3.3", ("3.2", "a"): "3.8", ("3.2", "b"): "3.9"}[(spec["lemma"], spec["case"])]
+    cond = {("3.1", "a"): "3.2", ("3.1", "b"): "3.3", ("3.2", "a"): "3.8", ("3.2", "b"): "3.9"}[
+        (spec["lemma"], spec["case"])]
     ret = ("point 4 returns to point 0" if not b.tilde
            else r"point 4 is point 0 turned by $\pi$ (right panel: the second period, $2T \leq t < 4T$) "
                 "and point 8 returns to point 0")
@@ -374,7 +377,8 @@ def _dynamics_data(number, A, l, g, samples):
     names = {"T_1": r"$T_1$", "T_2": r"$T_2$", "T~_1": r"$\tilde T_1$", "T~_2": r"$\tilde T_2$"}
     bname = names.get(b.name, b.name)
     caption = (f"{kind}-periodic solution at $T$ = {bname} = {T:.6g} s (eq. {b.equation}, $k = {k}$), "
-               rf"$A = {A:g}$ m/s$^2$, $l = {l:g}$ m, $g = {g:g}$ m/s$^2$ ($D = {D:.4g}$, $\omega_h T = {w_h * T:.4g}$, "
+               rf"$A = {A:g}$ m/s$^2$, $l = {l:g}$ m, $g = {g:g}$ m/s$^2$ ($D = {D:.4g}$, $\omega_h T = "
+               rf"{w_h * T:.4g}$, "
                rf"$\omega_e T = {w_e * T:.4g}$). Start $\varphi_0 = {sol.phi0:.5f}$ from "
                f"({'3.19' if b.equation in ('3.10', '3.12') else '3.22'}), {interval}. "
                rf"Points 0-4 of (3.1): hyperbolic arc 0-1, stretch 1-2, clockwise elliptic arc 2-3 by $\omega_e T$, "
@@ -392,7 +396,8 @@ def _dynamics_data(number, A, l, g, samples):
         caption=caption,
         parameters=dict(A=A, l=l, g=g, T=T, boundary=b.name, equation=b.equation, k=k, zone=b.zone,
                         lemma=spec["lemma"], case=spec["case"], condition=cond, phi0=sol.phi0, D=float(D),
-                        w_h=float(w_h), w_e=float(w_e), periods=2 if b.tilde else 1, notable_phi=[float(v) for v in phi],
+                        w_h=float(w_h), w_e=float(w_e), periods=2 if b.tilde else 1,
+                        notable_phi=[float(v) for v in phi],
                         notable_r=[float(v) for v in npnt.r], vertex=vertex, zoom=zoom),
         axes=dict(main=("x = theta", "y = theta'/w (w = w_h for points 0, 1, 4; w_e for 2, 3)")),
         series=tuple(series),
@@ -552,7 +557,8 @@ def figure6_data(A=FIGURE6_A, l=1.0, g=G_EARTH, zones=4, samples=1500, zoom_samp
 
 
 # ------------------------------------------------------------------ Figure 7
-def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600, magnify=(1, 2, 3), zoom_points=300) -> FigureData:
+def figure7_data(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=600, magnify=(1, 2, 3),
+                 zoom_points=300) -> FigureData:
     """The exact stability zones on the ``eps``-``mu`` plane (Figure 7).
 
     Parameters
@@ -697,7 +703,8 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
     for name, label, err, edge in errs:
         series.append(Series(name, label, me, np.abs(err), panel="error", role="error",
                              meta=dict(edge=edge, signed=err)))
-    series.append(Series("mu^4 reference", r"$\frac{4}{7}\mu^4$ (Kapitza's leading error)", me, 4.0 / 7.0 * me**4, panel="error",
+    series.append(Series("mu^4 reference", r"$\frac{4}{7}\mu^4$ (Kapitza's leading error)", me, 4.0 / 7.0 * me**4,
+                         panel="error",
                          role="reference"))
     return FigureData(
         number=8,

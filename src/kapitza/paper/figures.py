@@ -65,7 +65,8 @@ def _arrow(ax, x, y, dx, dy, size, **style):
         return
     ux, uy = dx / n * size, dy / n * size
     ax.annotate("", xy=(x + ux, y + uy), xytext=(x - ux, y - uy),
-                arrowprops=dict(arrowstyle="-|>", mutation_scale=12, shrinkA=0, shrinkB=0, lw=style.get("linewidth", 1.2),
+                arrowprops=dict(arrowstyle="-|>", mutation_scale=12, shrinkA=0, shrinkB=0,
+                                lw=style.get("linewidth", 1.2),
                                 color=style.get("color", "k")))
 
 
@@ -157,7 +158,8 @@ def figure1(ax=None, data=None):
         axh.plot(s.x, s.y, **{**ASYMPTOTE, "linestyle": ls}, label=s.label)
     first = True
     for s in data.series_with(role="circle"):
-        axe.plot(s.x, s.y, color=BETA_COLOR, linewidth=1.2, label=r"circles $x_e^2 + y_e^2 = $ const" if first else None)
+        axe.plot(s.x, s.y, color=BETA_COLOR, linewidth=1.2,
+                 label=r"circles $x_e^2 + y_e^2 = $ const" if first else None)
         first = False
     for p in data.points:
         target = axh if p.panel == "hyperbolic" else axe
@@ -331,7 +333,8 @@ def _mark(ax, p, offset, at=None):
     ax.plot([x], [y], "o" if two else "s", markersize=6, zorder=5,
             color=ALPHA_COLOR if two else BETA_COLOR, markeredgecolor="k", markeredgewidth=0.6)
     ax.annotate(_tex_name(p.label), (x, y), xytext=offset, textcoords="offset points", fontsize=10,
-                ha="center", va="center", zorder=6, bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.85),
+                ha="center", va="center", zorder=6,
+                bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.85),
                 arrowprops=dict(arrowstyle="-", color="0.4", lw=0.6, shrinkA=0, shrinkB=3))
 
 
@@ -529,5 +532,6 @@ def write_figure(number, out_dir, data=None):
     finally:
         plt.close(fig)
     paths.append(_io.write_json(out_dir / f"figure{number}.json", data.as_dict()))
-    paths.append(_io.write_csv(out_dir / f"figure{number}.csv", data.csv_header(), data.csv_rows(), data.csv_comments()))
+    paths.append(_io.write_csv(out_dir / f"figure{number}.csv", data.csv_header(), data.csv_rows(),
+                               data.csv_comments()))
     return data, paths

@@ -107,7 +107,8 @@ def to_markdown(blocks, base: Path) -> str:
             out.append(f"*{b.caption}*")
             if b.links:
                 out.append("")
-                out.append("Files: " + ", ".join(f"[{Path(p).name}]({Path(p).relative_to(base).as_posix()})" for p in b.links))
+                out.append("Files: " + ", ".join(f"[{Path(p).name}]({Path(p).relative_to(base).as_posix()})"
+                                                 for p in b.links))
         elif isinstance(b, Code):
             out.append("```text\n" + b.text.rstrip("\n") + "\n```")
         out.append("")
@@ -147,7 +148,8 @@ def to_html(blocks, base: Path, title: str) -> str:
         elif isinstance(b, Para):
             out.append(f"<p>{_inline(b.text)}</p>")
         elif isinstance(b, Table):
-            out.append("<table><thead><tr>" + "".join(f"<th>{_inline(str(h))}</th>" for h in b.header) + "</tr></thead><tbody>")
+            out.append("<table><thead><tr>" + "".join(f"<th>{_inline(str(h))}</th>" for h in b.header)
+                       + "</tr></thead><tbody>")
             for r in b.rows:
                 cells = []
                 for i, c in enumerate(r):
@@ -162,7 +164,8 @@ def to_html(blocks, base: Path, title: str) -> str:
             links = ""
             if b.links:
                 links = "<br>Files: " + ", ".join(
-                    f'<a href="{html.escape(Path(p).relative_to(base).as_posix())}">{html.escape(Path(p).name)}</a>' for p in b.links)
+                    f'<a href="{html.escape(Path(p).relative_to(base).as_posix())}">{html.escape(Path(p).name)}</a>'
+                    for p in b.links)
             out.append(f'<figure><img alt="{html.escape(b.caption[:80])}" src="data:image/png;base64,{data}">'
                        f"<figcaption>{_inline(b.caption)}{links}</figcaption></figure>")
         elif isinstance(b, Code):

@@ -118,7 +118,8 @@ class SweepSpec:
                 raise _v.KapitzaValueError(f"{name} must be 1 to {MAX_SIDE} grid values; got {arr.size}")
             s(self, attr, tuple(float(v) for v in arr))
         if len(self.x) * len(self.y) > MAX_POINTS:
-            raise _v.KapitzaValueError(f"the grid must have at most {MAX_POINTS} points; got {len(self.x) * len(self.y)}")
+            raise _v.KapitzaValueError(f"the grid must have at most {MAX_POINTS} points; got "
+                                       f"{len(self.x) * len(self.y)}")
         s(self, "l", _v.one("l", _v.positive("l", self.l)))
         s(self, "g", _v.one("g", _v.positive("g", self.g)))
         d = parse_drive(self.drive) if isinstance(self.drive, str) else as_drive(self.drive)
@@ -136,7 +137,8 @@ class SweepSpec:
             compiled = self.compiled_integrator
             _v.bounded_work("the sweep's estimated DOP853 work (sine drive or damping): points * periods * "
                             "(6 * searched directions + basin_resolution^2 / 2) * max(1, (w_h + c) 2T / 3)",
-                            self.integrated_work(), MAX_INTEGRATED_SWEEP * (COMPILED_INTEGRATED_SPEEDUP if compiled else 1),
+                            self.integrated_work(),
+                            MAX_INTEGRATED_SWEEP * (COMPILED_INTEGRATED_SPEEDUP if compiled else 1),
                             what="state-periods integrated by DOP853, about an hour on one core"
                                  + ("" if compiled else " (the compiled integrator, pip install 'kapitza[fast]', "
                                                         f"does {COMPILED_INTEGRATED_SPEEDUP} times as much)")

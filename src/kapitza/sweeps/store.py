@@ -56,7 +56,8 @@ def _attrs(spec: SweepSpec) -> dict:
         "plane": spec.plane,
         "drive": parse_drive(spec.drive).describe(),
         "damping": ("none (undamped)" if spec.c == 0 else
-                    f"viscous, c = {spec.c!r} 1/s (damping ratio zeta = c / (2 sqrt(g/l)) = {zeta_of(spec.c, spec.l, spec.g):.6g})"),
+                    f"viscous, c = {spec.c!r} 1/s (damping ratio zeta = c / (2 sqrt(g/l)) = "
+                    f"{zeta_of(spec.c, spec.l, spec.g):.6g})"),
         "damping_c_per_s": spec.c,
         "path": ("exact: step flows in Jacobi elliptic functions (undamped piecewise-constant drive)" if spec.exact else
                  f"integrated: DOP853, rtol {INTEGRATED_RTOL:g} and atol {INTEGRATED_ATOL:g} per component, restarted "
@@ -138,7 +139,8 @@ def create_store(path, spec: SweepSpec):
         long, units = VARIABLES[name]
         dt = _dtype(name)
         fill = _INT[name][1] if name in _INT else np.nan
-        data[name] = (spec.dims, da.full(spec.shape, fill, dtype=dt, chunks=(c, c)), {"long_name": long, "units": units})
+        data[name] = (spec.dims, da.full(spec.shape, fill, dtype=dt, chunks=(c, c)),
+                      {"long_name": long, "units": units})
         enc[name] = {"chunks": (c, c), "_FillValue": fill}
     flags = {"chunk_checksum": ("int32", "CRC-32 of the chunk's values as written (every variable in order)"),
              "chunk_done": ("int8", "1 once every value of this chunk and its checksum are written")}

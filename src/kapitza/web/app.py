@@ -39,7 +39,8 @@ from ..drives import DRIVES, parse_drive, text_forms
 from ..drives._api import damping_of
 from ..parameters import G_EARTH, to_physical
 
-__all__ = ["create_app", "LIMITS", "drives_answer", "drive_answer", "chart_answer", "point_answer", "verdict_answer", "safe_tilt_answer",
+__all__ = ["create_app", "LIMITS", "drives_answer", "drive_answer", "chart_answer", "point_answer", "verdict_answer",
+           "safe_tilt_answer",
            "motion_answer", "tower_chart_answer", "tower_point_answer", "tower_motion_answer", "error_detail",
            "json_bytes"]
 
@@ -466,7 +467,8 @@ def create_app(hosts=None) -> FastAPI:
                     amplitude: float | None = Query(None, description="displacement amplitude, half the stroke [m]"),
                     rod: float | None = Query(None, description="a uniform rod of this length [m] (l = 2/3 of it)"),
                     damping: float | None = Query(None, description="viscous damping c [1/s], instead of zeta"),
-                    safe_tilt: bool = Query(False, description="also the safe tilt (follows the real pendulum: slower)"),
+                    safe_tilt: bool = Query(False,
+                                            description="also the safe tilt (follows the real pendulum: slower)"),
                     periods: int = Query(50, description="periods of the safe tilt (at most 200)")):
         """What ``kapitza stability --json`` prints (the same keys and numbers), with ``lines``: the
         table's rows and ``directions``: which knob to turn which way. Given ``T`` and ``A`` (or a rig's
@@ -821,7 +823,8 @@ def _chart_json(plane, eps_min, eps_max, mu_min, mu_max, T_min, T_max, A_min, A_
     from ..rig_plane import stroke_coefficient
 
     return _json_bytes(dict(plane=plane, x="eps" if plane == "arnold" else "T", y="mu" if plane == "arnold" else "A",
-                            view=view, l=l, g=g, drive=d.describe(), mu_max=d.mu_max, zeta=zeta, samples=int(np.size(y)), y_values=y,
+                            view=view, l=l, g=g, drive=d.describe(), mu_max=d.mu_max, zeta=zeta,
+                            samples=int(np.size(y)), y_values=y,
                             zones=zones, stroke_coefficient=stroke_coefficient(d)))
 
 
@@ -895,9 +898,11 @@ def _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, ro
         if damping is not None:
             raise _v.KapitzaValueError("with eps and mu give the damping as zeta, not damping")
         if eps is None and mu is None:
-            raise _v.KapitzaValueError("give the point: eps and mu, T and A, or a rig's frequency with stroke or amplitude")
+            raise _v.KapitzaValueError("give the point: eps and mu, T and A, or a rig's frequency with stroke or "
+                                       "amplitude")
         if eps is None or mu is None:
-            raise _v.KapitzaValueError(f"give eps and mu together (or T and A); got only {'eps' if mu is None else 'mu'}")
+            raise _v.KapitzaValueError("give eps and mu together (or T and A); got only "
+                                       f"{'eps' if mu is None else 'mu'}")
         eps = _v.one("eps", _v.positive("eps", eps))
         mu = _v.one("mu", _v.positive("mu", mu))
         z = _zeta(zeta)
@@ -933,7 +938,8 @@ def _docs_page(app):
                                        swagger_ui_parameters={"validatorUrl": None})
         import html
 
-        rows = "".join(f"<li><code>GET {html.escape(path)}</code>: {html.escape(ops.get('get', {}).get('summary', ''))}</li>"
+        rows = "".join(f"<li><code>GET {html.escape(path)}</code>: "
+                       f"{html.escape(ops.get('get', {}).get('summary', ''))}</li>"
                        for path, ops in app.openapi()["paths"].items())
         return HTMLResponse(f"<!doctype html><title>kapitza explorer: API</title><h1>kapitza explorer: API</h1>"
                             f"<p>The schema: <a href='/openapi.json'>/openapi.json</a></p><ul>{rows}</ul>")
@@ -1031,7 +1037,8 @@ def _chain(chain, masses=None, links="rod"):
 
     lengths = _numbers("chain", chain)
     for name, vals, (lo, hi), unit in (("chain", lengths, LIMITS["chain_length"], "m"),
-                                       ("masses", None if masses is None or masses == "" else _numbers("masses", masses),
+                                       ("masses", None if masses is None or masses == "" else
+                                        _numbers("masses", masses),
                                         LIMITS["chain_mass"], "kg")):
         if vals is None:
             continue
