@@ -1,4 +1,4 @@
-"""The code style checks belong to the test command: ruff (configured in pyproject.toml) is clean on ``src/``."""
+"""The code checks belong to the test command: ruff and mypy (configured in pyproject.toml) are clean on ``src/``."""
 import importlib.util
 import subprocess
 import sys
@@ -18,4 +18,9 @@ def _run(module, *args):
 
 def test_ruff_clean():
     r = _run("ruff", "check", "src")
+    assert r.returncode == 0, r.stdout + r.stderr
+
+
+def test_mypy_clean():
+    r = _run("mypy")  # the files and options: [tool.mypy] in pyproject.toml
     assert r.returncode == 0, r.stdout + r.stderr

@@ -161,7 +161,7 @@ class StabilityReport(Summary):
         rows = []
         if self.T is not None:
             rows.append(("parameters", f"T = {_fmt(self.T)} s (frequency {_fmt(self.frequency, 6)} Hz), "
-                                       f"A = {_fmt(self.A)} m/s^2 ({_fmt(self.A / self.g, 4)} g), "
+                                       f"A = {_fmt(self.A)} m/s^2 ({_fmt(self.A / self.g, 4)} g), "  # type: ignore[operator]
                                        f"l = {_fmt(self.l)} m, "
                                        f"g = {_fmt(self.g)} m/s^2"))
         if self.pendulum:

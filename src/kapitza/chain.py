@@ -120,10 +120,10 @@ class Chain:
     """
 
     lengths: tuple
-    masses: tuple | None = None
+    masses: tuple = None  # type: ignore[assignment]  # (None: set by __post_init__)
     links: str = "rod"
     joint_damping: float = 0.0
-    _modes: tuple = field(init=False, compare=False, hash=False, default=None)
+    _modes: tuple = field(init=False, compare=False, hash=False, default=None)  # type: ignore[arg-type]
 
     def __post_init__(self):
         L = _positive_list("lengths", self.lengths, LENGTH_RANGE)

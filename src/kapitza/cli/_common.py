@@ -243,7 +243,7 @@ def parameters_from(args, arnold_damping=False) -> dict:
     if has_drive:
         extra["drive"] = drive
         if not (phys or arn) and hasattr(drive, "period"):
-            args.T, args.A, phys = drive.T, drive.A, True  # a measured drive's own T and A
+            args.T, args.A, phys = drive.T, drive.A, True  # type: ignore[union-attr]  # a measured drive's own T and A
     if phys and arn:
         raise CLIError("give either physical parameters (--T/--A or --frequency) or --eps and --mu, not both")
     if phys:

@@ -19,7 +19,7 @@ try:
 
     _jit = numba.njit(cache=True, nogil=True)
 except ImportError:  # pragma: no cover - depends on the installation
-    numba = None
+    numba = None  # type: ignore[assignment]
 
     def _jit(f):
         return f

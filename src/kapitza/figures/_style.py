@@ -100,7 +100,7 @@ def caption(fig, text: str):
     props = dict(fontsize=CAPTION_SIZE)
     rows = [HPacker(children=[TextArea(seg, textprops=props) for seg in _segments(line)], align="baseline", pad=0,
                     sep=0) for line in lines]
-    box = VPacker(children=rows, align="center", pad=0, sep=0.3 * CAPTION_SIZE)
+    box = VPacker(children=rows, align="center", pad=0, sep=0.3 * CAPTION_SIZE)  # type: ignore[arg-type]
     # Its height as set (rows with fractions are taller), so the figure grows by just that.
     try:
         height = box.get_bbox(fig.canvas.get_renderer()).height / fig.dpi

@@ -468,7 +468,7 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     fig.canvas.draw()
     fig.set_layout_engine("none")
     fig.canvas.draw()
-    background = fig.canvas.copy_from_bbox(fig.bbox)
+    background = fig.canvas.copy_from_bbox(fig.bbox)  # type: ignore[attr-defined]  # (the Agg canvas)
 
     if progress is True:
         progress = ProgressBar(f"rendering {path.name}")
@@ -476,9 +476,9 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     try:
         with atomic_path(path) as tmp:
             with writer.saving(fig, str(tmp), dpi), \
-                    (nullcontext() if _LEGACY else _GlyphCache(fig.canvas.get_renderer())):
+                    (nullcontext() if _LEGACY else _GlyphCache(fig.canvas.get_renderer())):  # type: ignore[attr-defined]
                 for k in range(times.size):
-                    fig.canvas.restore_region(background)
+                    fig.canvas.restore_region(background)  # type: ignore[attr-defined]
                     for a in draw(k):
                         a.axes.draw_artist(a)
                     writer.grab_frame()

@@ -7,6 +7,7 @@ Angles are in radians, measured from the upright and counted counter-clockwise.
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 import matplotlib.pyplot as plt
@@ -31,10 +32,10 @@ __all__ = [
     "parameter_label",
 ]
 
-NONLINEAR_STYLE = dict(color="#1f4e9c", linewidth=1.2)
-LINEAR_STYLE = dict(color="#c0392b", linewidth=1.0, linestyle="--")
-PIVOT_STYLE = dict(color="0.3", linewidth=1.0)
-WINDOW_STYLE = dict(color="0.55", linewidth=0.8, linestyle=":")
+NONLINEAR_STYLE: dict[str, Any] = dict(color="#1f4e9c", linewidth=1.2)
+LINEAR_STYLE: dict[str, Any] = dict(color="#c0392b", linewidth=1.0, linestyle="--")
+PIVOT_STYLE: dict[str, Any] = dict(color="0.3", linewidth=1.0)
+WINDOW_STYLE: dict[str, Any] = dict(color="0.55", linewidth=0.8, linestyle=":")
 STROBE_MARK = dict(marker="o", markersize=3.5, linestyle="none", color="#e67e22", markeredgecolor="k",
                    markeredgewidth=0.4)
 

@@ -293,7 +293,7 @@ def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, dri
                 def rhs(_, z, s_c=s_c):
                     return np.concatenate([z[n:], s_c * sin(z[:n]) - c * z[n:]])
             else:
-                def rhs(tt, z):
+                def rhs(tt, z):  # type: ignore[misc]  # (the other branch binds its constant)
                     s_t = (g + A * drive._shape(np.mod(tt / T, 2.0))) / l
                     return np.concatenate([z[n:], s_t * sin(z[:n]) - c * z[n:]])
             sel = np.flatnonzero((tu > t0) & (tu <= t1))

@@ -161,7 +161,7 @@ class _IntegratedPeriod:
                 def rhs(_, z, k=k):
                     return np.concatenate([T2 * z[n:], k * f(z[:n]) - (T2 * c) * z[n:]])
             else:
-                def rhs(x, z):
+                def rhs(x, z):  # type: ignore[misc]  # (the other branch binds its constant)
                     s = (g + A * drive._shape(np.mod(2.0 * x, 2.0))) / l
                     return np.concatenate([T2 * z[n:], T2 * (s * f(z[:n]) - c * z[n:])])
             sol = _solve(rhs, a, b, y, rtol, atol, t_eval=x_eval)

@@ -376,7 +376,7 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     d = as_drive(drive)
     if model == "nonlinear" and exact_path(d, _v.one("c", _damping(c))):
         # the window's corner speed starts a motion: refuse it here, by this function's name for it
-        plan = d.phases(T, A, l, g)
+        plan = d.phases(T, A, l, g)  # type: ignore[attr-defined]  # exact_path: a drive of phases
         _check_speed(np.asarray(dtheta_max), [s_ for s_, _ in plan], name="dtheta_max")
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)

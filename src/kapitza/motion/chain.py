@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -219,7 +220,7 @@ def chain_motion(chain, theta0, dtheta0=0.0, *, T, A, g=G_EARTH, drive=None, per
     n_samples = int(round(periods * ppp)) + 1
     t_all = np.linspace(0.0, t_end, n_samples)
     levels = getattr(d, "levels", None)
-    fractions = getattr(d, "fractions", None)
+    fractions: Any = getattr(d, "fractions", None)
     if A == 0.0:
         pieces = [(0.0, t_end, 0.0)]
     elif levels is not None:
@@ -242,9 +243,12 @@ def chain_motion(chain, theta0, dtheta0=0.0, *, T, A, g=G_EARTH, drive=None, per
     def topple(t, y):
         return tol - np.max(np.abs(y[: chain.n]))
 
-    topple.terminal = bool(stop)
-    topple.direction = -1
+    topple.terminal = bool(stop)  # type: ignore[attr-defined]
+    topple.direction = -1  # type: ignore[attr-defined]
     y = np.concatenate([th0, om0])
+    ts: Any
+    ys: Any
+    accs: Any  # lists of the pieces, then their concatenation
     ts, ys, accs = [], [], []
     t_top = None
     if np.max(np.abs(th0)) >= tol:  # beyond the window from the start: fallen already

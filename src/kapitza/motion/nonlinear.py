@@ -12,6 +12,7 @@ stepping across the jump of ``a``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,6 +26,9 @@ from ._integrate import (MAX_DOP853_SWEEP as MAX_DOP853_SWEEP, MAX_PERIODS as MA
                          _add_turns, _budget, _check_speed, _choice, _damping, _drive_of, _integrated_drive,
                          _integrated_motion, _method, _peak, _physical, _reduce_angle, _tolerances)
 from ._pivot import _acceleration, _checked, _displacement, _phase_index
+
+if TYPE_CHECKING:
+    from ..drives import Drive
 
 __all__ = [
     "phase_flow",
@@ -387,7 +391,7 @@ class Trajectory(Summary):
     method: str = "exact"
     rtol: float = field(default=1e-10, repr=False)
     atol: float = field(default=1e-12, repr=False)
-    drive: object = None
+    drive: Drive | None = None
 
     @property
     def pivot(self) -> np.ndarray:
@@ -466,7 +470,7 @@ class Trajectory(Summary):
         eps, mu = self.eps_mu
         zeta = self.c / (2.0 * np.sqrt(self.g / self.l))
         growth = float(growth_rate(eps, mu, drive=self.drive, zeta=zeta))
-        out = dict(growth_per_period=growth)
+        out: dict[str, Any] = dict(growth_per_period=growth)
         if growth > 0:
             out["note"] = (f"grows without bound: {growth:.3g} e-folds per period 2T "
                            f"(x{np.exp(min(growth, 700.0)):.3g} per period)")

@@ -7,6 +7,7 @@ What ``kapitza simulate`` writes and the explorer animates: both motions from th
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from ..parameters import G_EARTH
 from .nonlinear import Trajectory, simulate
@@ -61,7 +62,7 @@ class MotionPair:
     def summary(self, report=None) -> dict:
         """Summaries of the motion and of the linear one (or the note why it is absent); with the
         :class:`kapitza.StabilityReport` of the parameters, what ``kapitza simulate --json`` prints."""
-        out = {}
+        out: dict[str, Any] = {}
         if report is not None:
             tr = self.motion
             out["parameters"] = parameters_summary(tr.T, tr.A, tr.l, tr.g, report)

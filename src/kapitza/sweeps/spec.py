@@ -156,7 +156,8 @@ class SweepSpec:
             lo, hi = (float(v) for v in _v.positive(f"{name} range", r))
             if not lo <= hi:
                 raise _v.KapitzaValueError(f"{name} range must be (low, high) with low <= high; got ({lo!r}, {hi!r})")
-        return cls(plane=plane, x=tuple(np.linspace(*x_range, nx)), y=tuple(np.linspace(*y_range, ny)), **kw)
+        return cls(plane=plane, x=tuple(np.linspace(*x_range, nx)),  # type: ignore[call-overload]
+                   y=tuple(np.linspace(*y_range, ny)), **kw)  # type: ignore[call-overload]
 
     # ------------------------------------------------------------------ path and work
     @property

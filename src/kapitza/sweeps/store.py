@@ -23,6 +23,7 @@ import uuid
 import warnings
 import zlib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -134,6 +135,7 @@ def create_store(path, spec: SweepSpec):
     tmp = path.parent / f"{_tmp_prefix(path)}{os.getpid()}-{uuid.uuid4().hex[:8]}"
     (yn, yu), (xn, xu) = PLANES[spec.plane][1], PLANES[spec.plane][0]
     c = spec.chunk
+    enc: dict[str, dict[str, Any]]
     data, enc = {}, {}
     for name in spec.variables:
         long, units = VARIABLES[name]
@@ -154,7 +156,7 @@ def create_store(path, spec: SweepSpec):
         ds.to_zarr(str(tmp), mode="w-", compute=False, encoding=enc, consolidated=False, zarr_format=2)
         grp = zarr.open_group(str(tmp), mode="r+", use_consolidated=False)
         for name, (dt, _) in flags.items():
-            grp[name][...] = np.zeros(spec.chunk_shape, dtype=dt)
+            grp[name][...] = np.zeros(spec.chunk_shape, dtype=dt)  # type: ignore[index]
         zarr.consolidate_metadata(str(tmp))
         try:
             os.rename(tmp, path)  # atomic: the store appears complete or not at all

@@ -22,7 +22,7 @@ import os
 import threading
 import time
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import orjson
@@ -47,7 +47,7 @@ __all__ = ["create_app", "LIMITS", "drives_answer", "drive_answer", "chart_answe
 STATIC = Path(__file__).with_name("static")
 
 #: What one request may ask for.
-LIMITS = dict(
+LIMITS: dict[str, Any] = dict(
     samples=4000,          # mu (or A) samples per edge of a chart, refinement included
     general_samples=400,   # ... with another drive or damping (each an eigenproblem per edge)
     export_samples=1000,   # samples asked of a chart export (the figure refines up to 4 times as many)
@@ -395,7 +395,7 @@ def create_app(hosts=None) -> FastAPI:
         return _JSON(status_code=422, content={"detail": "; ".join(parts)})
 
     app.add_middleware(_BoundedRequests, hosts=hosts)
-    app.openapi = functools.partial(_openapi, app)
+    app.openapi = functools.partial(_openapi, app)  # type: ignore[method-assign]
 
     @app.get("/", include_in_schema=False)
     def index():
@@ -444,7 +444,7 @@ def create_app(hosts=None) -> FastAPI:
         and 1. On the ``rig`` plane ``x`` is the drive frequency [Hz] and ``y`` the stroke [m], both for log
         axes (``f_min`` .. ``stroke_max``); ``stroke_coefficient`` is ``k`` in stroke = k A T^2."""
         if plane == "rig":
-            key = ("rig", f_min, f_max, stroke_min, stroke_max, l, g, drive, zeta, samples)
+            key: tuple = ("rig", f_min, f_max, stroke_min, stroke_max, l, g, drive, zeta, samples)
             body = _VIEWS.get(key)
             if body is None:
                 body = await _worker(request, lambda *a: _rig_chart_json(*a[:-1]), *key[1:])

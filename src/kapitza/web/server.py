@@ -141,7 +141,7 @@ def serve(sock: socket.socket, log_level: str = "warning", workers: int = 1, hos
 
     server = uvicorn.Server(config)
     if "target" in inspect.signature(Multiprocess).parameters:  # uvicorn < 0.36 names the target
-        Multiprocess(config, target=server.run, sockets=[sock]).run()
+        Multiprocess(config, target=server.run, sockets=[sock]).run()  # type: ignore[call-arg]
     else:
         Multiprocess(config, sockets=[sock]).run()
 
