@@ -998,6 +998,7 @@ export function mount(root, host = {}) {
     if (dp && S.drive === before) { const v = parseFloat($("duty").value); S.params[S.drive] = isFinite(v) ? v : dp.default; }
     syncParam();
     S.zeta = Math.max(0, parseFloat($("zeta").value) || 0); S.overlay = $("overlay").value;
+    if (S.point) invalidatePoint();  // the panel greys at once: its report is of the old choice
     await ensureInfo();  // mu_max and the rest of the drive now chosen
     const now = DEFAULT_VIEWS(S.l, S.g, muTop(driveText()));
     for (const k of ["arnold", "physical"]) if (!keep[k]) S.views[k] = now[k];
