@@ -321,7 +321,8 @@ def test_cli_sweep_writes_store_figures_and_netcdf(tmp_path, capsys):
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "-0.1"], "--zeta must be >= 0"),
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "inf"], "--zeta"),
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--zeta", "1e308"], "--zeta"),
-    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--drive", "sine", "--resolution", "64", "--periods", "5000"],
+    # (beyond the compiled integrator's limit too: 40 times the numpy loop's)
+    (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--drive", "sine", "--resolution", "256", "--periods", "20000"],
      "KAPITZA_ALLOW_LARGE=1"),
 ])
 def test_cli_sweep_bad_input_is_one_line(argv, needle, tmp_path, capsys):
