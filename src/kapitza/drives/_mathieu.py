@@ -219,9 +219,10 @@ def _count_below(kind, parity, q, x):
     return _count(_CODE[(kind, parity)], q, x)
 
 
-def _qa(eps, mu):
-    """Mathieu's ``(q, a)`` of the sine drive at ``(eps, mu)``: one rounding, shared by every path."""
-    q = 16.0 * eps * eps / PI**2
+def _qa(eps, mu, pi=PI):
+    """Mathieu's ``(q, a)`` of the sine drive at ``(eps, mu)``: one rounding, shared by every path
+    (``pi`` in the arguments' precision: the long-double counts pass their own)."""
+    q = 16.0 * eps * eps / pi**2
     return q, -2.0 * mu * mu * q
 
 
@@ -516,8 +517,7 @@ def _counts_ld(eps, mu):
         d = 64 * u + 16 * u / np.maximum(1 - m * m, _LD(1e-300)) * (m < 1)
     out = []
     for x in (e * (1 - d), e * (1 + d)):
-        q = 16 * x * x / (_PI_LD * _PI_LD)
-        a = -2 * m * m * q
+        q, a = _qa(x, m, _PI_LD)
         out.append(_count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0))
     return out
 
