@@ -32,6 +32,36 @@ def test_exact_step_flows_agree_with_dop853(drive):
     np.testing.assert_allclose(ex.pivot, drive.displacement(ex.t, T, A))
 
 
+def test_nonlinear_motion_takes_the_drive_and_broadcasts_its_parameters():
+    from kapitza.motion import nonlinear_motion, phase_energy, pivot_acceleration, pivot_displacement, pivot_stroke
+
+    d = kd.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3])
+    t = np.linspace(0.0, 6 * T, 37)
+    Ts = np.array([0.1, 0.15, 0.2])
+    # one parameter set per column: each the same as its own simulation (the same exact step flows)
+    th, om = nonlinear_motion(t[:, None], 0.3, -0.2, Ts[None, :], A, drive=d)
+    for j, Tj in enumerate(Ts):
+        tr = K.simulate(0.3, -0.2, Tj, A, t=t, drive=d)
+        np.testing.assert_allclose(th[:, j], tr.theta, rtol=1e-12, atol=1e-13)
+        # and against DOP853 on the same drive, an independent integration
+        iv = nonlinear_motion(t, 0.3, -0.2, Tj, A, drive=d, method="dop853", rtol=1e-12, atol=1e-13)
+        np.testing.assert_allclose(th[:, j], iv[0], atol=1e-8)
+    # the square wave by name and by default are the same motion
+    np.testing.assert_array_equal(nonlinear_motion(t, 0.3, 0.0, T, A)[0],
+                                  nonlinear_motion(t, 0.3, 0.0, T, A, drive="square")[0])
+    # the energy of the current step is conserved within each step of this drive
+    tr = K.simulate(0.3, -0.2, T, A, periods=2, points_per_period=400, drive=d)
+    E = phase_energy(tr.t, tr.theta, tr.dtheta, T, A, drive=d)
+    first = tr.t < 0.4 * T * 0.999
+    assert np.ptp(E[first]) < 1e-9 * abs(E[0])
+    # the pivot functions are the drive's
+    np.testing.assert_array_equal(pivot_acceleration(t, T, A, drive=d), d.acceleration(t, T, A))
+    np.testing.assert_array_equal(pivot_displacement(t, T, A, drive=d), d.displacement(t, T, A))
+    assert pivot_stroke(T, A, drive=d) == pytest.approx(float(d.stroke(T, A)), rel=1e-15)
+    with pytest.raises(KapitzaValueError, match="piecewise-constant"):
+        nonlinear_motion(t, 0.3, 0.0, T, A, drive="sine", method="exact")
+
+
 def test_sine_motion_against_a_direct_integration():
     tr = K.simulate(0.2, 0.0, T, A, periods=3, drive="sine", rtol=1e-11)
     assert tr.method == "dop853"

@@ -14,7 +14,7 @@ import kapitza as K
 from kapitza import _normal_form as NFE
 from kapitza.motion import measured_rotation_number
 from kapitza.motion._elliptic import _phase_step
-from kapitza.motion._maps import phases
+from kapitza.motion._maps import step_plan
 
 
 def zone_point(n, mu, frac):
@@ -61,7 +61,7 @@ def exact_period_map(eps, mu, q, p):
     """The exact nonlinear period map in the scaled variables (theta, T theta')."""
     T, A = (float(v) for v in K.to_physical(eps, mu))
     th, om = np.asarray(q, float), np.asarray(p, float) / T
-    for s, d in phases(T, A, 1.0, K.G_EARTH):
+    for s, d in step_plan(K.SquareWave(), T, A, 1.0, K.G_EARTH):
         th, om = _phase_step(th, om, s, d)
     return th, om * T
 

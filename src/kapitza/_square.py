@@ -584,3 +584,40 @@ def rig_margins(eps, mu, zone, T, stroke):
         f = 0.5 / T
         out.update(frequency_lo=float(f * mu / mu_a), frequency_hi=float("inf") if open_top else float(f * mu / mu_b))
     return out
+
+
+# ------------------------------------------------------------------ kinematics
+def _phase_index(t, T):
+    """Phase index ``j = floor(t/T)`` (even: ``a = +A``) and the time ``r`` into it, ``0 <= r < T``.
+
+    The one rule by which every part of the package decides which phase a time is in,
+    so that a time a rounding error from a switch is never put in two phases.
+    """
+    j = np.floor(t / T)
+    r = t - j * T
+    over = r >= T
+    j = np.where(over, j + 1.0, j)
+    r = np.where(over, r - T, np.maximum(r, 0.0))
+    return j, r
+
+
+def _phase_time(t, T):
+    """Time in ``[0, 2T)`` since the start of the current period, consistent with :func:`_phase_index`."""
+    j, r = _phase_index(t, T)
+    return np.where(np.mod(j, 2.0) == 0.0, r, r + T)
+
+
+def _acceleration(t, T, A):
+    j, _ = _phase_index(t, T)
+    return np.where(np.mod(j, 2.0) == 0.0, A, -A)
+
+
+def _velocity(t, T, A):
+    r = _phase_time(t, T)
+    return np.where(r < T, A * (r - 0.5 * T), -A * (r - 1.5 * T))
+
+
+def _displacement(t, T, A):
+    r = _phase_time(t, T)
+    quarter = 0.125 * A * T * T
+    return np.where(r < T, 0.5 * A * (r - 0.5 * T) ** 2 - quarter, quarter - 0.5 * A * (r - 1.5 * T) ** 2)

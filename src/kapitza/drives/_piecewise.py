@@ -257,10 +257,6 @@ class PiecewiseConstant(Drive):
         i, r = self._locate(tau)
         return self._Z[i] + self._V[i] * r + 0.5 * np.asarray(self.levels)[i] * r * r
 
-    def phases(self, T, A, l, g):
-        """``((s, duration), ...)`` of one period for the motion: ``theta'' = s sin(theta)``."""
-        return tuple(((g + A * lev) / l, 2.0 * f * T) for lev, f in zip(self.levels, self.fractions))
-
     # ------------------------------------------------------------ stability
     def _floquet0(self, eps, mu, certify=True):
         return floquet_product(eps, mu, self.levels, self._durations, certify)

@@ -47,6 +47,17 @@ class SquareWave(PiecewiseConstant):
     def __init__(self):
         super().__init__((1.0, -1.0), (0.5, 0.5))
 
+    # ------------------------------------------------------------ kinematics: the closed forms
+    # (one rule for which phase a time is in, ``floor(t/T)``, shared with the exact motion's checks)
+    def acceleration(self, t, T, A):
+        return S._acceleration(*self._checked(t, T, A))
+
+    def velocity(self, t, T, A):
+        return S._velocity(*self._checked(t, T, A))
+
+    def displacement(self, t, T, A):
+        return S._displacement(*self._checked(t, T, A))
+
     # ------------------------------------------------------------ undamped data (the damping layer's input)
     def _floquet0(self, eps, mu, certify=True):
         # the closed forms are certified at no cost off a band a few ulp wide about each edge

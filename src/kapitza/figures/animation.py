@@ -22,7 +22,6 @@ from matplotlib import animation as mpl_animation
 
 from .. import _validate as _v
 from .._io import atomic_path
-from ..motion._pivot import _acceleration, _displacement
 from .motion import LINEAR_STYLE, NONLINEAR_STYLE, WINDOW_STYLE, parameter_label
 
 __all__ = ["ProgressBar", "AnimationResult", "animate", "ffmpeg_available", "frame_times", "MAX_FRAMES"]
@@ -371,9 +370,9 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
                              f"periods, or write MP4")
 
     th, _ = traj.at(times)
-    drive = getattr(traj, "drive", None)
-    yp = _displacement(times, traj.T, traj.A) if drive is None else drive.displacement(times, traj.T, traj.A)
-    acc = _acceleration(times, traj.T, traj.A) if drive is None else drive.acceleration(times, traj.T, traj.A)
+    drive = traj.drive
+    yp = drive.displacement(times, traj.T, traj.A)
+    acc = drive.acceleration(times, traj.T, traj.A)
     l = traj.l
     bx = -l * np.sin(th)
     by = yp + l * np.cos(th)
@@ -382,8 +381,7 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     gs = fig.add_gridspec(1, 2, width_ratios=[1.0, 1.35])
     ax = fig.add_subplot(gs[0])
     axt = fig.add_subplot(gs[1])
-    drive = getattr(traj, "drive", None)
-    stroke = 0.25 * traj.A * traj.T**2 if drive is None else float(drive.stroke(traj.T, traj.A))
+    stroke = float(drive.stroke(traj.T, traj.A))
     xlim, ylim, y_clock = _scene_limits(l, stroke)
     ax.set_xlim(*xlim)
     ax.set_ylim(*ylim)
@@ -430,7 +428,7 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     axt.set_ylabel("θ  (rad from upright)")
     axt.grid(True, linewidth=0.4, color="0.88")  # opaque: GIF palettes dither translucent lines
     axt.legend(loc="upper left", fontsize=7, framealpha=0.85)
-    head = title or parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c)
+    head = title or parameter_label(traj.T, traj.A, traj.l, traj.g, traj.drive, traj.c)
     fig.suptitle("\n".join(textwrap.wrap(head, 120)), fontsize=8.5)  # two lines rather than cut at the edges
 
     trail_n = max(2, int(round(2.0 * traj.T * fps * slowdown)))  # about one drive period
@@ -450,10 +448,7 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
             jl = min(int(np.searchsorted(lin_t, times[k], side="right")), lin_end)
             lline.set_data(lin_t[:jl], lin_th[:jl])
         now.set_data([times[k]], [th[k]])
-        if drive is None:
-            phase = "a = +A (hyperbolic)" if acc[k] > 0 else "a = −A (elliptic)"
-        else:
-            phase = f"a = {acc[k] / traj.A:+.2f} A" + (" (repels)" if traj.g + acc[k] > 0 else " (attracts)")
+        phase = f"a = {acc[k] / traj.A:+.2f} A" + (" (repels)" if traj.g + acc[k] > 0 else " (attracts)")
         clock.set_text(f"t = {times[k]:.3f} s = {times[k] / (2 * traj.T):.2f} · 2T\n"
                        f"θ = {th[k]:+.3f} rad\n{phase}")
         return dynamic

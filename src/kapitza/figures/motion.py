@@ -374,14 +374,10 @@ def time_series_figure(traj, *, linear=None, tol=None, title=None):
     ax.tick_params(labelbottom=False)
     ax.set_xlabel("")  # the pivot panel below carries the time axis
     ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
-    drive = getattr(traj, "drive", None)
-    if drive is None:
-        ax.set_title(title or "Pendulum on a square-wave vibrating pivot: angle from the upright", fontsize=10)
-        pivot_text = "parabolic in each phase, stroke A T²/4."
-    else:
-        ax.set_title(title or f"Pendulum on a vibrating pivot ({drive.label}): angle from the upright", fontsize=10)
-        pivot_text = f"{drive.describe()}, stroke {1000 * float(drive.stroke(traj.T, traj.A)):.3g} mm."
-    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c)
+    drive = traj.drive
+    ax.set_title(title or f"Pendulum on a vibrating pivot ({drive.label}): angle from the upright", fontsize=10)
+    pivot_text = f"{drive.describe()}, stroke {1000 * float(drive.stroke(traj.T, traj.A)):.3g} mm."
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, drive, traj.c)
             + f". Start θ = {traj.theta0:g} rad, θ' = "
             f"{traj.dtheta0:g} rad/s at t = 0 (a = +A). Lower panel: the pivot's height, " + pivot_text)
     return fig
@@ -567,10 +563,9 @@ def basin_figure(basins, *, title=None):
     b = basins[0]
     fig.suptitle(title or f"Which starts keep the pendulum within {b.tol:g} rad of the upright for "
                  f"{b.periods} periods?", fontsize=10)
-    drive = getattr(b, "drive", None)
-    c = getattr(b, "c", 0.0)
+    drive, c = b.drive, b.c
     checked = ("checked on the continuous motion, not only at t = 2kT"
-               if (drive is None or hasattr(drive, "levels")) and not c
+               if drive._steps() is not None and not c
                else "a DOP853 solution checked at 64 or more instants per period and on the Hermite interpolant "
                     "between them")
     damped = f", damping c = {c:g} 1/s" if c else ""

@@ -3,6 +3,8 @@
 the exact reduction of large angles, and DOP853 restarted at every switch of the drive (trusted input)."""
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .. import _validate as _v
@@ -33,15 +35,30 @@ def _tolerances(rtol, atol):
     return rtol, atol
 
 
-def _method(method, c, model="nonlinear"):
+def _method(method, c, drive):
+    """The method asked for, or the default: ``'exact'`` (step by step in closed form) for an undamped
+    piecewise-constant drive, else ``'dop853'``."""
+    stepped = drive._steps() is not None
     if method is None:
-        return "exact" if not np.any(c > 0) else "dop853"
+        return "exact" if stepped and not np.any(c > 0) else "dop853"
     _choice("method", method, METHODS)
+    if method == "exact" and not stepped:
+        raise _v.KapitzaValueError(f"method='exact' needs a piecewise-constant drive; got {drive.describe()} "
+                                   "(use method='dop853')")
     if method == "exact" and np.any(c > 0):
         raise _v.KapitzaValueError(
             f"method='exact' solves the undamped motion only; got c = {float(np.max(c))!r} "
             "(use method='dop853' for damping)")
     return method
+
+
+def _single_set(**values):
+    """The parameters as floats, for DOP853, which follows one parameter set at a time."""
+    for name, v in values.items():
+        if np.size(v) != 1:
+            raise _v.KapitzaValueError(f"method='dop853' needs a single parameter set; got {name} of shape "
+                                       f"{np.shape(v)}")
+    return tuple(float(np.asarray(v).flat[0]) for v in values.values())
 
 
 def _physical(T, A, l, g, eps=None, mu=None):
@@ -70,7 +87,7 @@ _REDUCE_ABOVE = 1e3
 
 def _peak(drive):
     """Largest ``|a| / A`` of a drive (1 for the square wave and the sine)."""
-    return 1.0 if drive is None else float(drive.peak)
+    return float(drive.peak)
 
 
 def _budget(t_end, T, A, l, g, c, method, peak=1.0, dtheta0=0.0):
@@ -156,47 +173,6 @@ def _chunk_size(rtol):
     return max(1, min(256, n))
 
 
-def _integrate(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
-    """DOP853 phase by phase. ``t``: sorted unique 1-D times >= 0; ``theta0``, ``dtheta0``:
-    1-D; parameters scalars. Returns arrays ``(len(t), n)``."""
-    n_all = theta0.size
-    out_th = np.empty((t.size, n_all))
-    out_om = np.empty((t.size, n_all))
-    if t.size == 0:
-        return out_th, out_om
-    t_end = float(t[-1])
-    n_phases = int(np.floor(t_end / T)) + 1
-    chunk = _chunk_size(rtol)
-    for a in range(0, n_all, chunk):
-        b = min(a + chunk, n_all)
-        n = b - a
-        scale = 1.0 / np.sqrt(2.0 * n)
-        y = np.concatenate([theta0[a:b], dtheta0[a:b]])
-        for p in range(n_phases):
-            t0 = p * T
-            t1 = min((p + 1) * T, t_end) if p == n_phases - 1 else (p + 1) * T
-            s = (g + A) / l if p % 2 == 0 else (g - A) / l
-            lo = np.searchsorted(t, t0, side="left")
-            hi = np.searchsorted(t, t1, side="right") if p == n_phases - 1 else np.searchsorted(t, t1, side="left")
-            if linear:
-                def rhs(_, z, s=s):
-                    return np.concatenate([z[n:], s * z[:n] - c * z[n:]])
-            else:
-                def rhs(_, z, s=s):
-                    return np.concatenate([z[n:], s * np.sin(z[:n]) - c * z[n:]])
-            if t1 > t0:
-                sol = _solve(rhs, t0, t1, y, rtol * scale, atol * scale, t_eval=t[lo:hi] if hi > lo else None)
-                if hi > lo:
-                    out_th[lo:hi, a:b] = sol.y[:n].T
-                    out_om[lo:hi, a:b] = sol.y[n:].T
-                y = sol.y[:, -1] if hi <= lo or sol.t[-1] == t1 else \
-                    _last_state(rhs, t0, t1, y, rtol * scale, atol * scale)
-            elif hi > lo:
-                out_th[lo:hi, a:b] = y[:n]
-                out_om[lo:hi, a:b] = y[n:]
-    return out_th, out_om
-
-
 def _last_state(rhs, t0, t1, y, rtol, atol):
     return _solve(rhs, t0, t1, y, rtol, atol).y[:, -1]
 
@@ -205,21 +181,28 @@ def _last_state(rhs, t0, t1, y, rtol, atol):
 _TINY = 1e-100
 
 
+def _identity(z):
+    return z
+
+
 def _solve(rhs, t0, t1, y, rtol, atol, t_eval=None):
-    """DOP853 over ``[t0, t1]``; a failure raises.
+    """DOP853 over ``[t0, t1]`` of ``y' = rhs(t, y, f)``, ``f`` the sine of the angles (the identity
+    for the linear model); a failure raises.
 
     A damped motion decays without end; once every component is below ``1e-100``,
     ``sin(theta) = theta`` exactly in doubles, the equation is linear and homogeneous, and
-    the state is scaled by a power of two (exact) to order one for the step: otherwise
-    DOP853's error norm underflows (``0/0``) near ``|theta| ~ 1e-150`` and it stops with
-    "step size less than spacing"."""
+    the state is scaled by a power of two (exact) to order one for the step, with ``f`` the
+    identity (the same equation there): otherwise DOP853's error norm underflows (``0/0``) near
+    ``|theta| ~ 1e-150`` and it stops with "step size less than spacing"."""
     from scipy.integrate import solve_ivp
 
     peak = float(np.max(np.abs(y))) if y.size else 0.0
     factor = 1.0
+    fun = rhs
     if 0.0 < peak < _TINY:
         factor = float(2.0 ** -np.frexp(peak)[1])
-    sol = solve_ivp(rhs, (t0, t1), y * factor, method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval)
+        fun = functools.partial(rhs, f=_identity)
+    sol = solve_ivp(fun, (t0, t1), y * factor, method="DOP853", rtol=rtol, atol=atol, t_eval=t_eval)
     if sol.status != 0:
         raise RuntimeError(f"DOP853 failed on [{t0:g}, {t1:g}] s: {sol.message}")
     if factor != 1.0:
@@ -227,30 +210,12 @@ def _solve(rhs, t0, t1, y, rtol, atol, t_eval=None):
     return sol
 
 
-def _integrated_motion(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear=False):
-    """Any broadcastable ``t`` and initial states; scalar parameters."""
-    for name, v in (("T", T), ("A", A), ("l", l), ("g", g), ("c", c)):
-        if np.size(v) != 1:
-            raise _v.KapitzaValueError(f"method='dop853' needs a single parameter set; got {name} of shape "
-                                       f"{np.shape(v)}")
-    T, A, l, g, c = (float(np.asarray(v).flat[0]) for v in (T, A, l, g, c))
-    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape)
-    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape)
-    th0 = np.broadcast_to(theta0, traj).ravel()
-    om0 = np.broadcast_to(dtheta0, traj).ravel()
-    tu, inv = np.unique(np.broadcast_to(t, full).ravel(), return_inverse=True)
-    Y, W = _integrate(tu, th0, om0, T, A, l, g, c, rtol, atol, linear)
-    ic = np.broadcast_to(np.arange(th0.size).reshape(traj), full).ravel()
-    return Y[inv.ravel(), ic].reshape(full), W[inv.ravel(), ic].reshape(full)
-
-
 # ------------------------------------------------------------------ other drives
 def _drive_of(drive):
-    """``None`` for the paper's square wave (its own code path), else the drive object."""
+    """The drive object (the paper's square wave for ``None``)."""
     from ..drives import as_drive
 
-    d = as_drive(drive)
-    return None if d.name == "square" else d
+    return as_drive(drive)
 
 
 def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, drive):
@@ -265,8 +230,9 @@ def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, dri
     Y = np.empty((tu.size, n_all))
     W = np.empty((tu.size, n_all))
     t_end = float(tu[-1]) if tu.size else 0.0
-    if hasattr(drive, "levels"):
-        marks = np.concatenate([[0.0], np.cumsum([2.0 * f * T for f in drive.fractions])])
+    steps = drive._steps()
+    if steps is not None:
+        marks = np.concatenate([[0.0], np.cumsum([2.0 * f * T for f in steps[1]])])
     else:
         marks = np.array([0.0, T, 2.0 * T])
     period = 2.0 * T
@@ -274,7 +240,7 @@ def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, dri
     bounds = np.unique(np.concatenate([k * period + marks for k in range(n_per)]))
     bounds = np.concatenate([bounds[bounds < t_end], [t_end]])
     chunk = _chunk_size(rtol)
-    sin = (lambda z: z) if linear else np.sin
+    sin = _identity if linear else np.sin
     for a in range(0, n_all, chunk):
         b = min(a + chunk, n_all)
         n = b - a
@@ -287,15 +253,15 @@ def _integrated_drive(t, theta0, dtheta0, T, A, l, g, c, rtol, atol, linear, dri
             if t1 <= t0:
                 continue
             mid = 0.5 * (t0 + t1)
-            if hasattr(drive, "levels"):
+            if steps is not None:  # constant on the step: its level at the step's middle
                 s_c = (g + A * float(drive._shape(np.array([np.mod(mid / T, 2.0)]))[0])) / l
 
-                def rhs(_, z, s_c=s_c):
-                    return np.concatenate([z[n:], s_c * sin(z[:n]) - c * z[n:]])
+                def rhs(_, z, s_c=s_c, f=sin):
+                    return np.concatenate([z[n:], s_c * f(z[:n]) - c * z[n:]])
             else:
-                def rhs(tt, z):  # type: ignore[misc]  # (the other branch binds its constant)
+                def rhs(tt, z, f=sin):  # type: ignore[misc]  # (the other branch binds its constant)
                     s_t = (g + A * drive._shape(np.mod(tt / T, 2.0))) / l
-                    return np.concatenate([z[n:], s_t * sin(z[:n]) - c * z[n:]])
+                    return np.concatenate([z[n:], s_t * f(z[:n]) - c * z[n:]])
             sel = np.flatnonzero((tu > t0) & (tu <= t1))
             sol = _solve(rhs, t0, t1, y, rtol * scale, atol * scale, t_eval=tu[sel] if sel.size else None)
             if sel.size:

@@ -93,7 +93,7 @@ def drive_table(drive):
     """``(XS, SA, SB, SD)``: the drive's shape as segments of ``0 <= x <= 1`` (``x = tau / 2``), on
     segment ``k`` ``shape = SA[k] + SB[k] (x - XS[k]) + SD[k] sin(2 pi x)``; ``None`` for a drive
     known only by its ``_shape`` (:meth:`kapitza.drives.Drive._shape_table`)."""
-    return None if drive is None else drive._shape_table()
+    return drive._shape_table()
 
 
 def pack_plan(period):
@@ -107,7 +107,7 @@ def pack_plan(period):
         return None
     T2 = np.ascontiguousarray(period.T2, float)
     A = np.ascontiguousarray(period.A, float)
-    peak = 1.0 if period.drive is None else float(period.drive.peak)  # as _IntegratedPeriod's w_h
+    peak = float(period.drive.peak)  # as _IntegratedPeriod's w_h
     w = np.sqrt((period.g + peak * A) / period.l) + period.c
     m = np.maximum(MIN_SAMPLES, np.ceil(w * T2 / SAMPLE_SPACING)).astype(np.int64)
     scale = 1.0 / math.sqrt(2.0)  # as _IntegratedPeriod scales them for one state

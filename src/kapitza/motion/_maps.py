@@ -39,9 +39,14 @@ STEPS = {"nonlinear": _phase_step, "linear": _linear_step}
 AMPLITUDES = {"nonlinear": _nonlinear_amplitude, "linear": _linear_amplitude}
 
 
-def phases(T, A, l, g):
-    """``(s, duration)`` of the two phases of one period: ``s = (g + a)/l``."""
-    return (((g + A) / l, T), ((g - A) / l, T))
+def step_plan(drive, T, A, l, g):
+    """``((s, duration), ...)`` of one period of a piecewise-constant drive, ``s = (g + a)/l`` of each
+    step (``T``, ``A``, ``l``, ``g`` scalars or arrays, broadcast), from the drive's
+    :meth:`~kapitza.Drive._steps`; None for a drive without steps (its motion is integrated)."""
+    steps = drive._steps()
+    if steps is None:
+        return None
+    return tuple(((g + A * lev) / l, 2.0 * f * T) for lev, f in zip(*steps))
 
 
 #: Member-periods one call may map (``KAPITZA_ALLOW_LARGE=1`` lifts it): about a minute.

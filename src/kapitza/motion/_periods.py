@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._integrate import _peak, _solve
+from ._integrate import _identity, _peak, _solve
 from ._maps import AMPLITUDES, STEPS
 
 
@@ -128,10 +128,11 @@ class _IntegratedPeriod:
         self.l, self.g, self.c = float(l), float(g), float(c)
         self.drive, self.tol, self.model = drive, tol, model
         self.rtol, self.atol = rtol, atol
-        if hasattr(drive, "levels"):
-            marks = np.concatenate([[0.0], np.cumsum(drive.fractions)])
+        steps = drive._steps()
+        if steps is not None:
+            marks = np.concatenate([[0.0], np.cumsum(steps[1])])
             marks[-1] = 1.0
-            self.segments = [(float(a), float(b), float(lev)) for a, b, lev in zip(marks[:-1], marks[1:], drive.levels)
+            self.segments = [(float(a), float(b), float(lev)) for a, b, lev in zip(marks[:-1], marks[1:], steps[0])
                              if b > a]
         else:
             self.segments = [(0.0, 1.0, None)]
@@ -149,7 +150,7 @@ class _IntegratedPeriod:
         one = self.T2.size == 1
         T2 = self.T2[0] if one else self.T2[idx]
         A = self.A[0] if one else self.A[idx]
-        f = (lambda z: z) if self.model == "linear" else np.sin
+        sin = _identity if self.model == "linear" else np.sin
         g, l, c, drive = self.g, self.l, self.c, self.drive
         scale = 1.0 / np.sqrt(2.0 * n)
         rtol, atol = max(self.rtol * scale, 1e-13), self.atol * scale
@@ -158,10 +159,10 @@ class _IntegratedPeriod:
             if lev is not None:
                 k = T2 * (g + A * lev) / l
 
-                def rhs(_, z, k=k):
+                def rhs(_, z, k=k, f=sin):
                     return np.concatenate([T2 * z[n:], k * f(z[:n]) - (T2 * c) * z[n:]])
             else:
-                def rhs(x, z):  # type: ignore[misc]  # (the other branch binds its constant)
+                def rhs(x, z, f=sin):  # type: ignore[misc]  # (the other branch binds its constant)
                     s = (g + A * drive._shape(np.mod(2.0 * x, 2.0))) / l
                     return np.concatenate([T2 * z[n:], T2 * (s * f(z[:n]) - c * z[n:])])
             sol = _solve(rhs, a, b, y, rtol, atol, t_eval=x_eval)

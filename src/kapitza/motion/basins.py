@@ -34,10 +34,10 @@ import numpy as np
 
 from .. import _validate as _v
 from .._display import Summary, num
-from ..drives import as_drive
+from ..drives import Drive, as_drive
 from ..parameters import G_EARTH
 from ._integrate import MAX_PERIODS, _budget, _check_speed, _choice, _damping, _peak, _physical
-from ._maps import bound_ensemble, chunk_results
+from ._maps import bound_ensemble, chunk_results, step_plan
 from ._periods import (INTEGRATED_ATOL as INTEGRATED_ATOL, INTEGRATED_RTOL as INTEGRATED_RTOL,
                        MIN_SAMPLES as MIN_SAMPLES, SAMPLE_SPACING as SAMPLE_SPACING, _ExactPeriod, _IntegratedPeriod)
 from .nonlinear import MODELS
@@ -170,7 +170,7 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     om = np.ascontiguousarray(dtheta0, dtype=float).ravel()
     d = as_drive(drive)
     if exact_path(d, c):
-        plan = d.phases(T, A, l, g)
+        plan = step_plan(d, T, A, l, g)
         # Sub-steps of scaled length <= 1 per phase: the work grows with w T as well.
         per_period = sum(max(1.0, np.ceil(np.sqrt(abs(s_)) * dur)) for s_, dur in plan)
         bound_ensemble(periods * per_period, th.size,
@@ -190,7 +190,7 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
 def exact_path(drive, c) -> bool:
     """Whether :func:`survival` follows the motion by exact step flows (an undamped piecewise-constant
     drive) rather than by DOP853 (the sine drive, or any damping)."""
-    return hasattr(drive, "levels") and not np.any(np.asarray(c) > 0)
+    return drive._steps() is not None and not np.any(np.asarray(c) > 0)
 
 
 #: States the integrated path solves together in one :func:`survival` chunk.
@@ -263,8 +263,11 @@ class Basin(Summary):
     A: float
     l: float
     g: float
-    drive: object = None
+    drive: Drive = None  # type: ignore[assignment]  # (None: the square wave, set in __post_init__)
     c: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "drive", as_drive(self.drive))
 
     @property
     def survived(self) -> np.ndarray:
@@ -295,11 +298,9 @@ class Basin(Summary):
                 f"for {self.periods} periods")
 
     def lines(self) -> list[tuple[str, str]]:
-        from ..drives import as_drive
-
         eps, mu = self.T * np.sqrt(self.A / (8.0 * self.l)), np.sqrt(self.g / self.A)
         return [("model", self.model + (f", damping c = {num(self.c)} 1/s" if self.c else "")),
-                ("drive", as_drive(self.drive).describe()),
+                ("drive", self.drive.describe()),
                 ("parameters", f"T = {num(self.T)} s, A = {num(self.A)} m/s^2, l = {num(self.l)} m, "
                                f"g = {num(self.g)} m/s^2 (eps = {num(eps)}, mu = {num(mu)})"),
                 ("grid", f"{self.theta0.size} theta0 in [{num(self.theta0[0])}, {num(self.theta0[-1])}] rad x "
@@ -376,11 +377,11 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     d = as_drive(drive)
     if model == "nonlinear" and exact_path(d, _v.one("c", _damping(c))):
         # the window's corner speed starts a motion: refuse it here, by this function's name for it
-        plan = d.phases(T, A, l, g)  # type: ignore[attr-defined]  # exact_path: a drive of phases
+        plan = step_plan(d, T, A, l, g)
         _check_speed(np.asarray(dtheta_max), [s_ for s_, _ in plan], name="dtheta_max")
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)
     grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model, c=c,
                     chunk=chunk, workers=workers, progress=progress, drive=drive)
     return Basin(theta0=th, dtheta0=om, periods_survived=grid, periods=int(periods), tol=tol, model=model,
-                 T=T, A=A, l=l, g=g, drive=None if d.name == "square" else d, c=float(_v.one("c", _damping(c))))
+                 T=T, A=A, l=l, g=g, drive=d, c=float(_v.one("c", _damping(c))))

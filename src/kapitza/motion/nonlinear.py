@@ -1,13 +1,13 @@
 """The motion itself: ``theta(t)`` of the full and the linearised equation, exact or integrated.
 
 The full equation is ``theta'' = (g + a(t))/l sin(theta) - c theta'`` with ``theta``
-the angle from the upright, counted counter-clockwise, and ``a(t)`` the square wave
-(2.2). Without damping each phase is solved exactly in Jacobi elliptic functions
-(:mod:`kapitza.motion._elliptic`, ``docs/theory.md`` section 6): the result at any
-time is a finite sequence of closed-form phase maps, with no step-size error. The
-general path (damping, and the independent cross-check) integrates each phase with
-:func:`scipy.integrate.solve_ivp` (DOP853) and restarts at every switch, never
-stepping across the jump of ``a``.
+the angle from the upright, counted counter-clockwise, and ``a(t)`` the drive's acceleration
+(the paper's square wave (2.2) by default). Without damping each step of a piecewise-constant
+drive is solved exactly in Jacobi elliptic functions (:mod:`kapitza.motion._elliptic`,
+``docs/theory.md`` section 6): the result at any time is a finite sequence of closed-form phase
+maps, with no step-size error. The general path (damping, smooth drives, and the independent
+cross-check) integrates with :func:`scipy.integrate.solve_ivp` (DOP853) and restarts at every
+switch, never stepping across a jump of ``a``.
 """
 from __future__ import annotations
 
@@ -24,8 +24,9 @@ from ._elliptic import _phase_step
 from ._integrate import (MAX_DOP853_SWEEP as MAX_DOP853_SWEEP, MAX_PERIODS as MAX_PERIODS, MAX_SAMPLES,
                          MAX_SCALED_PHASE, MAX_TRAJECTORY_PERIODS as MAX_TRAJECTORY_PERIODS, METHODS, _SPEED_LIMIT,
                          _add_turns, _budget, _check_speed, _choice, _damping, _drive_of, _integrated_drive,
-                         _integrated_motion, _method, _peak, _physical, _reduce_angle, _tolerances)
-from ._pivot import _acceleration, _checked, _displacement, _phase_index
+                         _method, _peak, _physical, _reduce_angle, _single_set, _tolerances)
+from ._maps import step_plan
+from ._pivot import _checked
 
 if TYPE_CHECKING:
     from ..drives import Drive
@@ -130,44 +131,9 @@ def _check_speed_pointwise(dtheta, s):
             f"double); got dtheta0 = {float(dtheta[big].flat[0])!r} with s = {float(s[big].flat[0])!r}")
 
 
-# ------------------------------------------------------------------ exact, piecewise
-def _exact_motion(t, theta0, dtheta0, T, A, l, g):
-    """Trusted input, broadcast together; undamped, closed-form phase maps."""
-    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape, T.shape, A.shape, l.shape, g.shape)
-    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape, T.shape, A.shape, l.shape, g.shape)
-    th, om, Tp, Ap, lp, gp = (np.broadcast_to(a, traj).ravel() for a in (theta0, dtheta0, T, A, l, g))
-    th, om = th.copy(), om.copy()
-    s_h = (gp + Ap) / lp
-    s_e = (gp - Ap) / lp
-    ic = np.broadcast_to(np.arange(th.size).reshape(traj), full).ravel()
-    tf = np.broadcast_to(t, full).ravel()
-    j, r = _phase_index(tf, Tp[ic])
-    order = np.argsort(j, kind="stable")
-    js = j[order]
-    last = int(js[-1]) if js.size else 0
-    out_th = np.empty(tf.size)
-    out_om = np.empty(tf.size)
-    lo = 0
-    for p in range(last + 1):
-        hi = int(np.searchsorted(js, p, side="right"))
-        s = s_h if p % 2 == 0 else s_e
-        if hi > lo:
-            sel = order[lo:hi]
-            k = ic[sel]
-            th1, om1 = _phase_step(th[k], om[k], s[k], r[sel])
-            # At a switch itself the state is the boundary state, not a zero-length step of it.
-            at = r[sel] == 0.0
-            out_th[sel] = np.where(at, th[k], th1)
-            out_om[sel] = np.where(at, om[k], om1)
-            lo = hi
-        if p < last:
-            th, om = _phase_step(th, om, s, Tp)
-    return out_th.reshape(full), out_om.reshape(full)
-
-
 @_v.shapes_named
 def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, c=0.0, method=None,
-                     rtol=1e-10, atol=1e-12):
+                     rtol=1e-10, atol=1e-12, drive=None):
     """Motion of the full equation ``theta'' = (g + a(t))/l sin(theta) - c theta'``.
 
     Parameters
@@ -187,12 +153,14 @@ def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, ep
     c : float, optional
         Linear damping coefficient [1/s], ``>= 0``.
     method : {None, 'exact', 'dop853'}
-        ``'exact'``: closed-form phase maps (``c = 0`` only). ``'dop853'``: scipy's
-        DOP853 restarted at every switch (scalar parameters only). ``None``:
-        ``'exact'`` when ``c = 0``, else ``'dop853'``.
+        ``'exact'``: closed-form phase maps (``c = 0`` and a piecewise-constant drive only).
+        ``'dop853'``: scipy's DOP853 restarted at every switch (scalar parameters only).
+        ``None``: ``'exact'`` when ``c = 0`` and the drive is piecewise constant, else ``'dop853'``.
     rtol, atol : float, optional
         Tolerances of ``'dop853'``, met by every component: for an ensemble the
         solver's RMS norm is tightened by ``sqrt(2n)``. ``rtol >= 1e-13``.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
 
     Returns
     -------
@@ -227,21 +195,24 @@ def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, ep
     T, A, l, g = _physical(T, A, l, g, eps, mu)
     c = _damping(c)
     _v.shape_check(t=t, theta0=theta0, dtheta0=dtheta0, T=T, A=A, l=l, g=g)
-    method = _method(method, c)
+    drive = _drive_of(drive)
+    plan = step_plan(drive, T, A, l, g)
+    method = _method(method, c, drive=drive)
     if method == "exact":
-        _check_speed(dtheta0, [(g + A) / l, (g - A) / l])
-    _budget(float(np.max(t)), T, A, l, g, c, method, dtheta0=dtheta0)
+        _check_speed(dtheta0, [s_ for s_, _ in plan])
+    _budget(float(np.max(t)), T, A, l, g, c, method, _peak(drive), dtheta0=dtheta0)
     r, k = _reduce_angle(theta0)
     if method == "exact":
-        th, om = _exact_motion(t, r, dtheta0, T, A, l, g)
+        th, om = _exact_motion_plan(t, r, dtheta0, plan)
     else:
         rtol, atol = _tolerances(rtol, atol)
-        th, om = _integrated_motion(t, r, dtheta0, T, A, l, g, c, rtol, atol)
+        T, A, l, g, c = _single_set(T=T, A=A, l=l, g=g, c=c)
+        th, om = _integrated_drive(t, r, dtheta0, T, A, l, g, c, rtol, atol, False, drive)
     return _v.scalars(np.asarray(_add_turns(th, k)), np.asarray(om))
 
 
 @_v.shapes_named
-def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None):
+def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, drive=None):
     """The energy of the current phase, ``theta'^2/2 + (g + a(t))/l cos(theta)`` [1/s^2].
 
     Parameters
@@ -252,6 +223,8 @@ def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None
         States at those times.
     T, A, l, g, eps, mu : array_like
         As in :func:`nonlinear_motion`. All arguments broadcast.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
 
     Returns
     -------
@@ -290,7 +263,7 @@ def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None
     if np.any(np.abs(dtheta) > _SPEED_LIMIT):
         raise _v.KapitzaValueError(f"dtheta must satisfy |dtheta| <= 1e150 (the energy dtheta^2 / 2 must be a "
                                    f"double); got {float(np.max(np.abs(dtheta)))!r}")
-    s = (g + _acceleration(t, T, A)) / l
+    s = (g + _drive_of(drive).acceleration(t, T, A)) / l
     return 0.5 * dtheta * dtheta + s * np.cos(theta)
 
 
@@ -298,25 +271,33 @@ def phase_energy(t, theta, dtheta, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None
 
 
 def _exact_motion_plan(t, theta0, dtheta0, plan):
-    """Exact flows through the steps ``plan = ((s, duration), ...)`` of each period (scalar
-    parameters; any ``t`` and initial states, broadcast)."""
-    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape)
-    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape)
+    """Exact flows through the steps ``plan = ((s, duration), ...)`` of each period (trusted input:
+    ``t``, the initial states and each step's ``s`` and duration broadcast together; a trajectory
+    for each broadcast initial state and parameter set, sampled at its times)."""
+    S = [np.asarray(s_, float) for s_, _ in plan]
+    D = [np.asarray(d_, float) for _, d_ in plan]
+    shapes = [x.shape for x in S + D]
+    full = np.broadcast_shapes(t.shape, theta0.shape, dtheta0.shape, *shapes)
+    traj = np.broadcast_shapes(theta0.shape, dtheta0.shape, *shapes)
     th = np.broadcast_to(theta0, traj).ravel().copy()
     om = np.broadcast_to(dtheta0, traj).ravel().copy()
     K = len(plan)
-    dur = np.array([d for _, d in plan])
-    starts = np.concatenate([[0.0], np.cumsum(dur)[:-1]])
-    period = float(np.sum(dur))
+    S = np.stack([np.broadcast_to(x, traj).ravel() for x in S])
+    D = np.stack([np.broadcast_to(x, traj).ravel() for x in D])
+    starts = np.zeros_like(D)                  # each step's start within the period
+    starts[1:] = np.cumsum(D[:-1], axis=0)
+    period = np.sum(D, axis=0)
     ic = np.broadcast_to(np.arange(th.size).reshape(traj), full).ravel()
     tf = np.broadcast_to(t, full).ravel()
-    k = np.floor(tf / period)
-    r = tf - k * period
-    over = r >= period
+    P = period[ic]
+    k = np.floor(tf / P)
+    r = tf - k * P
+    over = r >= P
     k = np.where(over, k + 1.0, k)
-    r = np.where(over, r - period, np.maximum(r, 0.0))
-    i = np.clip(np.searchsorted(starts, r, side="right") - 1, 0, K - 1)
-    rr = r - starts[i]
+    r = np.where(over, r - P, np.maximum(r, 0.0))
+    # the step a time is in: the last whose start it has reached
+    i = np.sum(r[None, :] >= starts[1:, ic], axis=0) if K > 1 else np.zeros(tf.size, np.int64)
+    rr = r - starts[i, ic]
     p_all = (k * K + i).astype(np.int64)
     order = np.argsort(p_all, kind="stable")
     ps = p_all[order]
@@ -325,18 +306,19 @@ def _exact_motion_plan(t, theta0, dtheta0, plan):
     out_om = np.empty(tf.size)
     lo = 0
     for p in range(last + 1):
-        s, d = plan[p % K]
+        s, d = S[p % K], D[p % K]
         hi = int(np.searchsorted(ps, p, side="right"))
         if hi > lo:
             sel = order[lo:hi]
             kk = ic[sel]
-            th1, om1 = _phase_step(th[kk], om[kk], np.full(sel.size, s), rr[sel])
+            th1, om1 = _phase_step(th[kk], om[kk], s[kk], rr[sel])
+            # At a switch itself the state is the boundary state, not a zero-length step of it.
             at = rr[sel] == 0.0
             out_th[sel] = np.where(at, th[kk], th1)
             out_om[sel] = np.where(at, om[kk], om1)
             lo = hi
         if p < last:
-            th, om = _phase_step(th, om, np.full(th.size, s), np.full(th.size, d))
+            th, om = _phase_step(th, om, s, d)
     return out_th.reshape(full), out_om.reshape(full)
 
 
@@ -361,8 +343,8 @@ class Trajectory(Summary):
         ``'nonlinear'`` or ``'linear'``.
     method : str
         ``'exact'`` or ``'dop853'``.
-    drive : Drive or None
-        The pivot's motion (``None``: the paper's square wave).
+    drive : Drive
+        The pivot's motion (the paper's square wave unless another was given).
 
     Examples
     --------
@@ -391,21 +373,20 @@ class Trajectory(Summary):
     method: str = "exact"
     rtol: float = field(default=1e-10, repr=False)
     atol: float = field(default=1e-12, repr=False)
-    drive: Drive | None = None
+    drive: Drive = None  # type: ignore[assignment]  # (None: the square wave, set in __post_init__)
+
+    def __post_init__(self):
+        object.__setattr__(self, "drive", _drive_of(self.drive))
 
     @property
     def pivot(self) -> np.ndarray:
         """Pivot height above its mean position [m] at ``t`` (:func:`pivot_displacement`)."""
-        if self.drive is not None:
-            return self.drive.displacement(self.t, self.T, self.A)
-        return _displacement(self.t, self.T, self.A)
+        return self.drive.displacement(self.t, self.T, self.A)
 
     @property
     def energy(self) -> np.ndarray:
         """:func:`phase_energy` along the samples (nonlinear model)."""
-        a = self.drive.acceleration(self.t, self.T, self.A) if self.drive is not None else \
-            _acceleration(self.t, self.T, self.A)
-        s = (self.g + a) / self.l
+        s = (self.g + self.drive.acceleration(self.t, self.T, self.A)) / self.l
         return 0.5 * self.dtheta**2 + s * np.cos(self.theta)
 
     @property
@@ -507,29 +488,19 @@ class Trajectory(Summary):
         return rows
 
 
-def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive=None):
+def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive):
     if model == "nonlinear":
         r, k = _reduce_angle(theta0)
         if k is not None:
             th, om = _motion(model, method, t, r, dtheta0, T, A, l, g, c, rtol, atol, drive)
             return _add_turns(th, k), om
-    if drive is not None:
-        if model == "linear" and method == "exact":
-            return linear_motion(t, theta0, dtheta0, T, A, l, g, drive=drive, damping=c)
-        if method == "exact":
-            return _exact_motion_plan(t, np.asarray(theta0, float), np.asarray(dtheta0, float),
-                                      drive.phases(float(T), float(A), float(l), float(g)))
-        return _integrated_drive(t, np.asarray(theta0, float), np.asarray(dtheta0, float), float(T), float(A),
-                                 float(l), float(g), float(c), rtol, atol, model == "linear", drive)
-    if model == "linear":
-        if method == "exact":
-            return linear_motion(t, theta0, dtheta0, T, A, l, g)
-        return _integrated_motion(t, np.asarray(theta0, float), np.asarray(dtheta0, float),
-                                  T, A, l, g, c, rtol, atol, linear=True)
+    if model == "linear" and method == "exact":
+        return linear_motion(t, theta0, dtheta0, T, A, l, g, drive=drive, damping=c)
     if method == "exact":
-        return _exact_motion(t, *(np.asarray(v, float) for v in (theta0, dtheta0, T, A, l, g)))
-    return _integrated_motion(t, np.asarray(theta0, float), np.asarray(dtheta0, float),
-                              T, A, l, g, c, rtol, atol)
+        return _exact_motion_plan(t, np.asarray(theta0, float), np.asarray(dtheta0, float),
+                                  step_plan(drive, T, A, l, g))
+    return _integrated_drive(t, np.asarray(theta0, float), np.asarray(dtheta0, float), *_single_set(
+        T=T, A=A, l=l, g=g, c=c), rtol, atol, model == "linear", drive)
 
 
 @_v.shapes_named
@@ -589,12 +560,7 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     c = _v.one("c", _damping(c))
     _choice("model", model, MODELS)
     drive = _drive_of(drive)
-    if drive is not None and not hasattr(drive, "levels"):
-        if method == "exact":
-            raise _v.KapitzaValueError(f"method='exact' needs a piecewise-constant drive; got {drive.describe()} "
-                                       "(use method='dop853')")
-        method = "dop853" if method is None else method
-    method = _method(method, c, model)
+    method = _method(method, c, drive)
     rtol, atol = _tolerances(rtol, atol)
     if t is None:
         periods = _v.one("periods", _v.positive("periods", periods))
@@ -614,8 +580,7 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
         if t.size and np.any(np.diff(t) < 0):
             raise _v.KapitzaValueError("t must be increasing")
     if model == "nonlinear" and method == "exact":
-        _check_speed(dtheta0, [s_ for s_, _ in drive.phases(T, A, l, g)] if drive is not None else
-                     [(g + A) / l, (g - A) / l])
+        _check_speed(dtheta0, [s_ for s_, _ in step_plan(drive, T, A, l, g)])
     _budget(float(t[-1]) if t.size else 0.0, T, A, l, g, c, method, _peak(drive), dtheta0)
     th, om = _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive)
     return Trajectory(t=t, theta=np.asarray(th), dtheta=np.asarray(om), theta0=theta0, dtheta0=dtheta0,

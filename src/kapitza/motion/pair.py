@@ -81,7 +81,7 @@ class MotionPair:
         if lin is not None:
             _, th_l, om_l = lin.strobe()
             strobe.update(theta_linear=th_l, dtheta_linear=om_l)
-        return dict(T=tr.T, A=tr.A, l=tr.l, g=tr.g, c=tr.c, drive=None if tr.drive is None else tr.drive.describe(),
+        return dict(T=tr.T, A=tr.A, l=tr.l, g=tr.g, c=tr.c, drive=tr.drive.describe(),
                     t=tr.t, pivot=tr.pivot, theta=tr.theta, dtheta=tr.dtheta,
                     theta_linear=None if lin is None else lin.theta, dtheta_linear=None if lin is None else lin.dtheta,
                     strobe=strobe, summary=self.summary())

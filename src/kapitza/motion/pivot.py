@@ -1,6 +1,6 @@
-"""Where the pivot is: the square-wave acceleration (2.2) and its integrals.
+"""Where the pivot is: a drive's acceleration and its integrals (the paper's square wave (2.2) by default).
 
-The pivot moves vertically with acceleration ``a(t) = +A`` on ``[2kT, (2k+1)T)`` and
+With the square wave the pivot moves vertically with acceleration ``a(t) = +A`` on ``[2kT, (2k+1)T)`` and
 ``-A`` on ``[(2k+1)T, (2k+2)T)``. Its velocity and displacement are the periodic,
 zero-mean integrals of ``a``: the displacement is a parabola in each phase, lowest
 (``-A T^2/8``) at the middle of the hyperbolic phase and highest (``+A T^2/8``) at
@@ -11,13 +11,14 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _validate as _v
-from ._pivot import _acceleration, _checked, _displacement, _stroke_checked, _velocity
+from ..drives import as_drive
+from ._pivot import _checked, _stroke_checked
 
 __all__ = ["pivot_acceleration", "pivot_velocity", "pivot_displacement", "pivot_stroke"]
 
 
 @_v.shapes_named
-def pivot_acceleration(t, T, A):
+def pivot_acceleration(t, T, A, *, drive=None):
     """The pivot's acceleration ``a(t)`` [m/s^2] (eq. 2.2).
 
     Parameters
@@ -26,11 +27,14 @@ def pivot_acceleration(t, T, A):
         Times [s] (any real; the drive is periodic).
     T, A : array_like
         Half-period [s] and amplitude [m/s^2], each > 0. All arguments broadcast.
+    drive : Drive or str, optional
+        The pivot's motion (:mod:`kapitza.drives`); the paper's square wave by default.
 
     Returns
     -------
     ndarray
-        ``+A`` on ``[2kT, (2k+1)T)``, ``-A`` on ``[(2k+1)T, (2k+2)T)``.
+        ``A s(t/T)`` of the drive's shape ``s``; for the square wave ``+A`` on
+        ``[2kT, (2k+1)T)``, ``-A`` on ``[(2k+1)T, (2k+2)T)``.
 
     Raises
     ------
@@ -43,22 +47,22 @@ def pivot_acceleration(t, T, A):
     >>> pivot_acceleration([0.05, 0.2], 0.15, 100.0)
     array([ 100., -100.])
     """
-    return _v.scalars(np.asarray(_acceleration(*_checked(t, T, A))))
+    return _v.scalars(np.asarray(as_drive(drive).acceleration(*_checked(t, T, A))))
 
 
 @_v.shapes_named
-def pivot_velocity(t, T, A):
+def pivot_velocity(t, T, A, *, drive=None):
     """The pivot's velocity [m/s]: periodic, zero mean, ``d/dt`` of it is ``a(t)``.
 
     Parameters
     ----------
-    t, T, A : array_like
+    t, T, A, drive
         As in :func:`pivot_acceleration`.
 
     Returns
     -------
     ndarray
-        ``A (t - T/2)`` on the hyperbolic phase, ``-A (t - 3T/2)`` on the elliptic one
+        For the square wave ``A (t - T/2)`` on the hyperbolic phase, ``-A (t - 3T/2)`` on the elliptic one
         (``t`` taken modulo ``2T``).
 
     Raises
@@ -72,22 +76,22 @@ def pivot_velocity(t, T, A):
     >>> pivot_velocity([0.0, 0.075, 0.15], 0.15, 100.0)
     array([-7.5,  0. ,  7.5])
     """
-    return _v.scalars(np.asarray(_velocity(*_checked(t, T, A))))
+    return _v.scalars(np.asarray(as_drive(drive).velocity(*_checked(t, T, A))))
 
 
 @_v.shapes_named
-def pivot_displacement(t, T, A):
+def pivot_displacement(t, T, A, *, drive=None):
     """The pivot's height [m] above its mean position: periodic, zero mean, piecewise parabolic.
 
     Parameters
     ----------
-    t, T, A : array_like
+    t, T, A, drive
         As in :func:`pivot_acceleration`.
 
     Returns
     -------
     ndarray
-        ``A (t - T/2)^2 / 2 - A T^2/8`` on ``[0, T)`` and ``A T^2/8 - A (t - 3T/2)^2 / 2``
+        For the square wave ``A (t - T/2)^2 / 2 - A T^2/8`` on ``[0, T)`` and ``A T^2/8 - A (t - 3T/2)^2 / 2``
         on ``[T, 2T)`` (``t`` modulo ``2T``); continuous with a continuous first
         derivative, second derivative ``a(t)``.
 
@@ -107,17 +111,19 @@ def pivot_displacement(t, T, A):
     >>> pivot_displacement([0.075, 0.225], 0.15, 100.0)
     array([-0.2812...,  0.2812...])
     """
-    return _v.scalars(np.asarray(_displacement(*_checked(t, T, A))))
+    return _v.scalars(np.asarray(as_drive(drive).displacement(*_checked(t, T, A))))
 
 
 @_v.shapes_named
-def pivot_stroke(T, A):
-    """Peak-to-peak travel of the pivot, ``A T^2 / 4`` [m].
+def pivot_stroke(T, A, *, drive=None):
+    """Peak-to-peak travel of the pivot [m]: ``A T^2 / 4`` for the square wave.
 
     Parameters
     ----------
     T, A : array_like
         Each > 0; broadcast together.
+    drive : Drive or str, optional
+        As in :func:`pivot_acceleration`.
 
     Returns
     -------
@@ -138,4 +144,4 @@ def pivot_stroke(T, A):
     T = _v.positive("T", T)
     A = _v.positive("A", A)
     _stroke_checked(T, A)
-    return _v.scalars(np.asarray(0.25 * A * T * T))
+    return _v.scalars(np.asarray(as_drive(drive)._stroke_coefficient * A * T * T))

@@ -18,7 +18,8 @@ from .. import _validate as _v
 from .._normal_form import _normal_coordinate, _normal_form, _stable_arnold, _taylor
 from ..parameters import G_EARTH, to_physical
 from ._elliptic import _phase_step
-from ._maps import bound_ensemble, phases
+from ..drives import SquareWave
+from ._maps import bound_ensemble, step_plan
 from .nonlinear import MAX_PERIODS
 
 __all__ = ["RotationRun", "measured_rotation_number"]
@@ -129,7 +130,7 @@ def measured_rotation_number(eps, mu, r, *, periods=4000):
     w = nf.w
     lam = np.exp(1j * w)
     T, A = to_physical(eps, mu, 1.0, G_EARTH)
-    plan = phases(T, A, 1.0, G_EARTH)
+    plan = step_plan(SquareWave(), T, A, 1.0, G_EARTH)  # (the normal form is the square wave's)
     f = _normal_coordinate(M, lam)[2]
     f1, f2 = f[..., 0], f[..., 1]
     th = r.copy()

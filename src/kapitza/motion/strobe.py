@@ -16,8 +16,8 @@ from .. import _validate as _v
 from .._display import Summary, num, span
 from ..parameters import G_EARTH
 from ._integrate import (MAX_PERIODS, MAX_SAMPLES, _add_turns, _budget, _check_speed, _choice, _damping, _drive_of,
-                         _integrated_drive, _integrated_motion, _method, _peak, _physical, _reduce_angle, _tolerances)
-from ._maps import STEPS, bound_ensemble, chunk_results, phases
+                         _integrated_drive, _method, _peak, _physical, _reduce_angle, _tolerances)
+from ._maps import STEPS, bound_ensemble, chunk_results, step_plan
 from .nonlinear import MODELS
 
 __all__ = ["StrobeOrbits", "stroboscopic_map"]
@@ -200,11 +200,7 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     _choice("model", model, MODELS)
     c = _v.one("c", _damping(c))
     drive = _drive_of(drive)
-    if drive is not None and not hasattr(drive, "levels"):
-        if method == "exact":
-            raise _v.KapitzaValueError(f"method='exact' needs a piecewise-constant drive; got {drive.describe()}")
-        method = "dop853"
-    method = _method(method, c)
+    method = _method(method, c, drive)
     chunk = _v.bounded_count("chunk", chunk, 10**7, minimum=1)
     _v.bounded_count("workers", workers, 1024, minimum=1)
     shape = theta0.shape
@@ -218,7 +214,7 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
                     what="states held in memory")
     record = _record_list(periods, every)
     if method == "exact" and model == "nonlinear":
-        _check_speed(om0, [s_ for s_, _ in (phases(T, A, l, g) if drive is None else drive.phases(T, A, l, g))])
+        _check_speed(om0, [s_ for s_, _ in step_plan(drive, T, A, l, g)])
     if method == "dop853":
         _budget(2.0 * T * periods, T, A, l, g, c, method, _peak(drive), om0)
     else:
@@ -228,14 +224,10 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
         th0, turns = _reduce_angle(th0)
     if method == "dop853":
         rtol, atol = _tolerances(rtol, atol)
-        if drive is not None:
-            th, om = _integrated_drive(2.0 * T * record[:, None], th0[None, :], om0[None, :], T, A, l, g, c,
-                                       rtol, atol, model == "linear", drive)
-        else:
-            th, om = _integrated_motion(2.0 * T * record[:, None], th0[None, :], om0[None, :], T, A, l, g, c,
-                                        rtol, atol, linear=(model == "linear"))
+        th, om = _integrated_drive(2.0 * T * record[:, None], th0[None, :], om0[None, :], T, A, l, g, c,
+                                   rtol, atol, model == "linear", drive)
     else:
-        plan = phases(T, A, l, g) if drive is None else drive.phases(T, A, l, g)
+        plan = step_plan(drive, T, A, l, g)
         bounds = [(a, min(a + chunk, th0.size)) for a in range(0, th0.size, chunk)]
         th = np.empty((record.size, th0.size))
         om = np.empty((record.size, th0.size))

@@ -36,6 +36,7 @@ import numpy as np
 
 from ..drives import as_drive, parse_drive
 from ..drives._api import zeta_of
+from ..motion._maps import step_plan
 from ..motion._periods import _ExactPeriod, _IntegratedPeriod
 from ..motion.basins import survival_chunk, exact_path
 from ..parameters import to_arnold, to_physical
@@ -77,7 +78,7 @@ def period_step(T, A, l, g, c, drive, tol):
     piecewise-constant drive, otherwise DOP853 (:mod:`kapitza.motion.basins`)."""
     if exact_path(drive, c):
         plan = [(np.asarray(s, float) * np.ones_like(T), np.asarray(d, float) * np.ones_like(T))
-                for s, d in drive.phases(T, A, l, g)]
+                for s, d in step_plan(drive, T, A, l, g)]
         return _ExactPeriod(plan, tol, "nonlinear", SCALED_STEP)
     return _IntegratedPeriod(T, A, l, g, c, drive, tol, "nonlinear")
 
