@@ -46,7 +46,7 @@ def _refused(fn, *needles):
     (lambda: K.basin(0.15, 100.0, n_theta=10**12, n_dtheta=2), "n_theta"),
     (lambda: nonlinear_motion(1e300, 0.1, 0.0, 0.15, 100.0), "t / (2 T)"),
     (lambda: simulate(0.1, 0.0, 0.15, 100.0, periods=1e9), "periods * points_per_period"),
-    (lambda: simulate(0.1, 0.0, 0.15, 100.0, c=1e6), "stiff"),
+    (lambda: simulate(0.1, 0.0, 0.15, 100.0, damping=3e4), "stiff"),
     (lambda: mathieu.characteristic_a(10**6, 1.0), "rows of the truncated matrix"),
     (lambda: mathieu.characteristic_a(2, 1e300), "q must satisfy"),
 ])
@@ -112,10 +112,10 @@ def test_starts_too_fast_for_a_double_are_refused_by_name(call):
 
 
 def test_a_damped_motion_decays_past_1e_150_without_the_solver_stopping():
-    orb = stroboscopic_map(0.1, 0.0, 0.15, 100.0, periods=600, c=5.0, every=100)
+    orb = stroboscopic_map(0.1, 0.0, 0.15, 100.0, periods=600, damping=5.0, every=100)
     assert np.all(np.isfinite(orb.theta))
     assert abs(orb.theta[-1]) < 1e-150
-    traj = simulate(0.1, 0.0, 0.15, 100.0, periods=600, points_per_period=4, c=5.0)
+    traj = simulate(0.1, 0.0, 0.15, 100.0, periods=600, points_per_period=4, damping=5.0)
     assert np.all(np.isfinite(traj.theta)) and abs(traj.theta[-1]) < 1e-150
     # the decay is the damped Floquet rate all the way down, also where the state is rescaled (below
     # 1e-100): a complex pair of modulus exp(-c T) per period (det M = exp(-2 c T)), so the log-amplitude

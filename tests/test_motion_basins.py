@@ -108,9 +108,11 @@ def test_basin_workers_agree():
     (dict(tol=0.0), "tol must lie in"),
     (dict(periods=0), "periods must be an integer >= 1"),
     (dict(model="averaged"), "model must be one of"),
-    (dict(c=-0.5), "c must be"),
-    (dict(c=float("nan")), "c must be"),
-    (dict(c=[0.1, 0.2]), "c must be a single"),
+    (dict(damping=-0.5), "damping must be"),
+    (dict(damping=float("nan")), "damping must be"),
+    (dict(damping=[0.1, 0.2]), "damping must be a single"),
+    (dict(zeta=-0.1), "zeta must be"),
+    (dict(damping=0.1, zeta=0.1), "not both"),
 ])
 def test_survival_validates(kwargs, needle):
     with pytest.raises(KapitzaValueError, match=needle):
@@ -151,7 +153,7 @@ def test_damped_survival_agrees_with_an_independent_integration(drive):
     rng = np.random.default_rng(3)
     th0 = rng.uniform(-0.3, 0.3, 12)
     om0 = -8.0 * th0 + rng.uniform(-1.5, 1.5, 12)
-    got = survival(th0, om0, T, A, L, G, periods=periods, tol=tol, c=c, drive=drive)
+    got = survival(th0, om0, T, A, L, G, periods=periods, tol=tol, damping=c, drive=drive)
     ref = [survived_periods(a, b, T, A, periods, tol, c=c, drive=drive, l=L, g=G) for a, b in zip(th0, om0)]
     for n, (m, gap) in zip(got, ref):
         assert n == m or gap < 2e-5, (n, m, gap)
@@ -162,7 +164,7 @@ def test_damping_keeps_more_of_the_basin():
     """Inside zone 0 viscous damping only drains energy from the small motions: the damped basin
     holds the undamped one's core and more."""
     b0 = basin(0.15, A, L, G, periods=10, tol=0.5, n_theta=15, n_dtheta=15)
-    b1 = basin(0.15, A, L, G, periods=10, tol=0.5, n_theta=15, n_dtheta=15, c=3.0)
+    b1 = basin(0.15, A, L, G, periods=10, tol=0.5, n_theta=15, n_dtheta=15, damping=3.0)
     assert b1.c == 3.0 and b1.summary()["c"] == 3.0 and "damping c = 3 1/s" in str(b1)
     assert b1.fraction >= b0.fraction
 
@@ -178,4 +180,4 @@ def test_hermite_peak_finds_the_turning_point():
 
 def test_integrated_work_is_bounded():
     with pytest.raises(KapitzaValueError, match="KAPITZA_ALLOW_LARGE"):
-        survival(np.zeros(10**6), 0.0, 0.15, A, periods=100, c=0.1)
+        survival(np.zeros(10**6), 0.0, 0.15, A, periods=100, damping=0.1)

@@ -74,7 +74,7 @@ def test_sine_motion_against_a_direct_integration():
 
 def test_damped_linear_motion_of_a_drive_decays_like_its_multipliers():
     d = kd.RectangularWave(0.4)
-    tr = K.simulate(0.1, 0.0, T, A, periods=40, points_per_period=4, drive=d, c=1.0, model="linear")
+    tr = K.simulate(0.1, 0.0, T, A, periods=40, points_per_period=4, drive=d, damping=1.0, model="linear")
     rep = K.analyze(T=T, A=A, drive=d, damping=1.0)
     assert rep.stable and rep.growth < 0
     # the states at t = 2kT are the powers of the damped monodromy applied to the start

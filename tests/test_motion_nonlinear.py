@@ -107,7 +107,7 @@ def test_energy_is_conserved_within_each_undamped_phase():
 def test_energy_decreases_within_each_damped_phase():
     T = STABLE["T"]
     c = 0.8
-    tr = simulate(1.0, 3.0, **STABLE, periods=3, points_per_period=400, c=c, rtol=1e-11, atol=1e-13)
+    tr = simulate(1.0, 3.0, **STABLE, periods=3, points_per_period=400, damping=c, rtol=1e-11, atol=1e-13)
     assert tr.method == "dop853"
     E = tr.energy
     j = np.floor(tr.t / T)
@@ -187,8 +187,8 @@ def test_stroboscopic_map_chunks_and_workers_give_identical_results():
 
 
 def test_stroboscopic_map_damped_uses_dop853():
-    orb = stroboscopic_map([0.1, 0.2], 0.0, **STABLE, periods=3, c=0.5)
-    ref = simulate(0.2, 0.0, **STABLE, t=2 * STABLE["T"] * np.arange(4), c=0.5)
+    orb = stroboscopic_map([0.1, 0.2], 0.0, **STABLE, periods=3, damping=0.5)
+    ref = simulate(0.2, 0.0, **STABLE, t=2 * STABLE["T"] * np.arange(4), damping=0.5)
     np.testing.assert_allclose(orb.theta[-1, 1], ref.theta[-1], rtol=1e-8)
 
 
@@ -197,12 +197,23 @@ def test_linear_map_overflow_is_reported_not_nan():
         stroboscopic_map(0.1, 0.0, T=2.0, A=100.0, periods=200, model="linear")
 
 
+def test_damping_is_given_as_c_or_as_zeta_with_one_meaning():
+    l, g = 0.5, 9.81
+    z = 0.05
+    a = simulate(0.2, 0.0, 0.15, 100.0, l, g, periods=3, zeta=z)
+    b = simulate(0.2, 0.0, 0.15, 100.0, l, g, periods=3, damping=2.0 * z * np.sqrt(g) / np.sqrt(l))
+    assert a.c == b.c and a.method == "dop853"
+    np.testing.assert_array_equal(a.theta, b.theta)
+    th, _ = nonlinear_motion(a.t, 0.2, 0.0, 0.15, 100.0, l, g, zeta=z)
+    np.testing.assert_allclose(th, a.theta, atol=1e-9)
+
+
 # ------------------------------------------------------------------ validation and imports
 @pytest.mark.parametrize("kwargs,needle", [
     (dict(T=-1.0, A=100.0), "T must be finite and > 0"),
     (dict(T=0.1, A=0.0), "A must be finite and > 0"),
-    (dict(T=0.1, A=100.0, c=-1.0), "c must be finite and >= 0"),
-    (dict(T=0.1, A=100.0, c=0.5, method="exact"), "method='exact' solves the undamped"),
+    (dict(T=0.1, A=100.0, damping=-1.0), "damping must be finite and >= 0"),
+    (dict(T=0.1, A=100.0, zeta=0.05, method="exact"), "method='exact' solves the undamped"),
     (dict(T=0.1, A=100.0, method="rk4"), "method must be one of"),
     (dict(T=0.1, A=100.0, method="dop853", rtol=1e-16), "rtol must lie in"),
 ])

@@ -198,7 +198,7 @@ def cmd_simulate(args):
     count("--strobe-periods", args.strobe_periods, 100_000)
     model = "nonlinear" if args.model == "both" else args.model
     pair = motion_pair(args.theta0, args.dtheta0, T, A, l, g, model=model, compare_linear=args.model == "both",
-                       periods=args.periods, points_per_period=args.points_per_period, c=args.damping,
+                       periods=args.periods, points_per_period=args.points_per_period, damping=args.damping,
                        method=args.method, rtol=args.rtol, atol=args.atol, drive=args.drive_obj)
     traj, linear, linear_note = pair.motion, pair.linear, pair.linear_note
     summary = _noted(pair.summary(rep), args)
@@ -211,7 +211,7 @@ def cmd_simulate(args):
         reach = max(abs(args.theta0), 0.6) if args.theta0 else 0.6
         th_ens = np.linspace(reach / args.orbits, reach, args.orbits)
         orbits = stroboscopic_map(th_ens, 0.0, T, A, l, g, periods=args.strobe_periods, every=1,
-                                  model=model, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
+                                  model=model, damping=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
                                   drive=args.drive_obj)
         cols = [np.repeat(np.arange(args.orbits), orbits.n.size), np.tile(orbits.n, args.orbits),
                 orbits.theta.T.ravel(), orbits.dtheta.T.ravel()]
@@ -275,7 +275,7 @@ def cmd_animate(args):
     args.periods = 10.0 if args.periods is None else args.periods
 
     T, A, l, g, rep = _physical_from(args)
-    common = dict(periods=args.periods, c=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
+    common = dict(periods=args.periods, damping=args.damping, method=args.method, rtol=args.rtol, atol=args.atol,
                   drive=args.drive_obj)
     traj = simulate(args.theta0, args.dtheta0, T, A, l, g, model=args.model, **common)
     linear = None
@@ -317,10 +317,10 @@ def cmd_basin(args):
         bar = ProgressBar(f"basin ({m})", enabled=not args.quiet)
         basins.append(basin(T, A, l, g, periods=args.periods, tol=args.tol, theta_max=args.theta_max,
                             dtheta_max=args.dtheta_max, n_theta=args.resolution, n_dtheta=args.resolution, model=m,
-                            c=args.damping, workers=args.workers, progress=bar, drive=args.drive_obj))
+                            damping=args.damping, workers=args.workers, progress=bar, drive=args.drive_obj))
     # The demonstration: a small tilt from rest, a tenth of the window.
     probe = 0.1 * args.tol
-    demo = {m: int(survival(probe, 0.0, T, A, l, g, periods=args.periods, tol=args.tol, model=m, c=args.damping,
+    demo = {m: int(survival(probe, 0.0, T, A, l, g, periods=args.periods, tol=args.tol, model=m, damping=args.damping,
                             drive=args.drive_obj)) for m in models}
     stem = out_stem(args.out)
     fig = basin_figure(basins)

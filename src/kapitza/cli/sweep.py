@@ -220,7 +220,7 @@ def _draw(ds, spec, stem):
             continue
         fig = sweep_figure(ds[xn].values, ds[yn].values, ds[name].values, plane=spec.plane, label=label, what=what,
                            periods=spec.periods, tol=spec.tol, l=spec.l, g=spec.g,
-                           drive=drive, c=spec.c, exact=spec.exact)
+                           drive=drive, damping=spec.c, exact=spec.exact)
         paths += save(fig, f"{stem}{suffix}")
         plt.close(fig)
     return paths

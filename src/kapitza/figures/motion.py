@@ -61,9 +61,9 @@ def _broken(theta, other, jump=np.pi):
     return np.insert(theta, cut, np.nan), np.insert(other, cut, np.nan)
 
 
-def parameter_label(T, A, l, g, drive=None, c=0.0):
+def parameter_label(T, A, l, g, drive=None, damping=0.0):
     """One-line parameter description with the stability verdict of the upright."""
-    rep = analyze(T=T, A=A, l=l, g=g, drive=drive, damping=c)
+    rep = analyze(T=T, A=A, l=l, g=g, drive=drive, damping=damping)
     return (f"T = {T:g} s, A = {A:g} m/s², l = {l:g} m, g = {g:g} m/s² "
             f"(ε = {rep.eps:.4g}, μ = {rep.mu:.4g}): upright {rep.verdict}")
 
@@ -411,7 +411,7 @@ def phase_portrait_figure(traj, *, title=None):
     plot_phase_portrait(traj, ax)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=8, frameon=False)
     fig.suptitle(title or "Phase portrait", fontsize=10)
-    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, getattr(traj, "drive", None), traj.c)
+    caption(fig, parameter_label(traj.T, traj.A, traj.l, traj.g, traj.drive, traj.c)
             + f". {traj.periods:g} periods 2T; dots: the "
             "state once per period (t = 2kT), i.e. the stroboscopic map. θ' jumps in slope, not in value, at the "
             "switches.")

@@ -38,7 +38,7 @@ def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60, c=0.0):
 
 
 def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, drive=None, label=None,
-                   cmap="viridis", colorbar=True, edges=True, c=0.0):
+                   cmap="viridis", colorbar=True, edges=True, damping=0.0):
     """Draw a sweep's map ``values[y, x]`` with the exact zone edges on top.
 
     Parameters
@@ -48,8 +48,8 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
     values : array_like, shape ``(y.size, x.size)``
     plane : {'arnold', 'physical'}
     ax : matplotlib Axes, optional
-    l, g, drive, c :
-        The pendulum, drive and viscous damping [1/s] of the sweep (for the edges,
+    l, g, drive, damping :
+        The pendulum, drive and viscous damping ``c`` [1/s] of the sweep (for the edges,
         :func:`kapitza.zone_edges` / :func:`kapitza.period_edges`).
     label : str, optional
         Colour-bar label.
@@ -71,7 +71,7 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
     if colorbar:
         drawn["colorbar"] = ax.figure.colorbar(mesh, ax=ax, label=label)
     if edges:
-        for n, yy, lo, hi in _edges(plane, (y.min(), y.max()), x.max(), l, g, drive, c=c):
+        for n, yy, lo, hi in _edges(plane, (y.min(), y.max()), x.max(), l, g, drive, c=float(damping)):
             lo_style, hi_style = (EDGE_2T, EDGE_4T) if edge_kinds(n)[0] == "2T" else (EDGE_4T, EDGE_2T)
             a = ax.plot(lo, yy, **lo_style, label="2T-periodic edge" if n == 0 else None)
             b = ax.plot(hi, yy, **hi_style, label="4T-periodic edge" if n == 0 else None)
@@ -86,18 +86,18 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
 
 
 def sweep_figure(x, y, values, *, plane="arnold", label, what, periods, tol, l=1.0, g=G_EARTH, drive=None,
-                 title=None, c=0.0, exact=True):
+                 title=None, damping=0.0, exact=True):
     """A captioned figure of one sweep variable (see :func:`plot_sweep_map`); ``exact``: whether the
     sweep followed the motion exactly or by DOP853 (the caption says which)."""
     fig = new_figure(7.0, 5.0, caption_lines=3)
     ax = fig.add_subplot()
-    drawn = plot_sweep_map(x, y, values, plane=plane, ax=ax, l=l, g=g, drive=drive, label=label, c=c)
+    drawn = plot_sweep_map(x, y, values, plane=plane, ax=ax, l=l, g=g, drive=drive, label=label, damping=damping)
     if drawn["edges"]:
         place_legend(ax, inside=True, loc="upper right")
     ax.set_title(title or f"{what}: {periods} periods, window $|\\theta| \\leq$ {tol:g} rad", fontsize=10)
     caption(fig, f"Colour: {what} of the full (nonlinear) pendulum: starts that keep $|\\theta| \\leq$ {tol:g} rad "
                  f"for {periods} drive periods $2T$"
-                 + (f", damping $c$ = {c:g} 1/s" if c else "")
+                 + (f", damping $c$ = {damping:g} 1/s" if damping else "")
                  + (", checked on the continuous motion" if exact else
                     ", followed by DOP853 and checked at sampled instants") + ". Lines: the exact edges of the "
                  "linear stability zones (solid: a 2T-periodic solution, dashed: a 4T-periodic one). Inside a zone the "

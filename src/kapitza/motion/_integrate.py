@@ -22,11 +22,10 @@ def _choice(name, value, allowed):
     return value
 
 
-def _damping(c):
-    c = _v.finite("c", c)
-    if np.any(c < 0):
-        raise _v.KapitzaValueError(f"c must be finite and >= 0 (0 <= c < inf); got {c[c < 0].flat[0]!r}")
-    return c
+def _damping(damping, zeta, l, g):
+    """The damping coefficient ``c`` [1/s] of the motion, given as ``damping`` (``c``) or as ``zeta``
+    (the ratio ``c / (2 sqrt(g/l))``), not both: :func:`kapitza._validate.damping`."""
+    return _v.damping(damping, zeta, l, g)[0]
 
 
 def _tolerances(rtol, atol):

@@ -96,7 +96,7 @@ def _run_chunks(theta, dtheta, period, periods, tol, chunk, workers, progress):
 
 @_v.shapes_named
 def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5,
-             model="nonlinear", c=0.0, chunk=4096, workers=1, progress=None, drive=None):
+             model="nonlinear", damping=None, zeta=None, chunk=4096, workers=1, progress=None, drive=None):
     """How many whole drive periods each motion stays within ``tol`` of the upright.
 
     Parameters
@@ -114,9 +114,9 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
         Half-width of the window about the upright [rad], ``0 < tol < pi``.
     model : {'nonlinear', 'linear'}
         The full equation ``theta'' = s sin(theta) - c theta'`` or its linearisation (2.3).
-    c : float, optional
-        Viscous damping [1/s], ``>= 0`` (as in :func:`kapitza.motion.stroboscopic_map`); the
-        damping ratio is ``zeta = c / (2 sqrt(g/l))``.
+    damping, zeta : float, optional
+        Viscous damping as ``c`` [1/s] or as the ratio ``zeta = c / (2 sqrt(g/l))``, not both (as in
+        :func:`kapitza.motion.stroboscopic_map`).
     chunk, workers, progress
         As in :func:`kapitza.motion.stroboscopic_map`.
     drive : Drive or str, optional
@@ -160,7 +160,7 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     dtheta0 = _v.finite("dtheta0", dtheta0)
     theta0, dtheta0 = np.broadcast_arrays(theta0, dtheta0)
     T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
-    c = _v.one("c", _damping(c))
+    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
     periods = _v.bounded_count("periods", periods, MAX_PERIODS, minimum=1)
     tol = _tolerance(tol)
     _choice("model", model, MODELS)
@@ -320,7 +320,8 @@ class Basin(Summary):
 
 @_v.shapes_named
 def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5, theta_max=None,
-          dtheta_max=None, n_theta=121, n_dtheta=121, model="nonlinear", c=0.0, chunk=4096, workers=1, progress=None,
+          dtheta_max=None, n_theta=121, n_dtheta=121, model="nonlinear", damping=None, zeta=None, chunk=4096, workers=1,
+          progress=None,
           drive=None) -> Basin:
     """The basin of the upright on a grid of initial states.
 
@@ -344,8 +345,8 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     n_theta, n_dtheta : int, optional
         Grid points (>= 2 each).
     model : {'nonlinear', 'linear'}
-    c : float, optional
-        Viscous damping [1/s], ``>= 0``; ``c > 0`` follows the motion by DOP853 (:func:`survival`).
+    damping, zeta : float, optional
+        As in :func:`survival`; damping follows the motion by DOP853.
     chunk, workers, progress, drive
         As in :func:`survival`.
 
@@ -375,13 +376,14 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     n_dtheta = _v.bounded_count("n_dtheta", n_dtheta, MAX_GRID, minimum=2)
     _v.bounded_work("n_theta * n_dtheta", n_theta * n_dtheta, 25_000_000, what="grid points held in memory")
     d = as_drive(drive)
-    if model == "nonlinear" and exact_path(d, _v.one("c", _damping(c))):
+    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
+    if model == "nonlinear" and exact_path(d, c):
         # the window's corner speed starts a motion: refuse it here, by this function's name for it
         plan = step_plan(d, T, A, l, g)
         _check_speed(np.asarray(dtheta_max), [s_ for s_, _ in plan], name="dtheta_max")
     th = np.linspace(-theta_max, theta_max, n_theta)
     om = np.linspace(-dtheta_max, dtheta_max, n_dtheta)
-    grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model, c=c,
+    grid = survival(th[None, :], om[:, None], T, A, l, g, periods=periods, tol=tol, model=model, damping=c,
                     chunk=chunk, workers=workers, progress=progress, drive=drive)
     return Basin(theta0=th, dtheta0=om, periods_survived=grid, periods=int(periods), tol=tol, model=model,
-                 T=T, A=A, l=l, g=g, drive=d, c=float(_v.one("c", _damping(c))))
+                 T=T, A=A, l=l, g=g, drive=d, c=c)

@@ -132,8 +132,8 @@ def _check_speed_pointwise(dtheta, s):
 
 
 @_v.shapes_named
-def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, c=0.0, method=None,
-                     rtol=1e-10, atol=1e-12, drive=None):
+def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, damping=None,
+                     zeta=None, method=None, rtol=1e-10, atol=1e-12, drive=None):
     """Motion of the full equation ``theta'' = (g + a(t))/l sin(theta) - c theta'``.
 
     Parameters
@@ -150,8 +150,9 @@ def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, ep
     eps, mu : float, optional
         Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
         ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
-    c : float, optional
-        Linear damping coefficient [1/s], ``>= 0``.
+    damping, zeta : float, optional
+        The damping, as ``c`` [1/s] (``theta'' + c theta' = ...``) or as the ratio
+        ``zeta = c / (2 sqrt(g/l))``, not both.
     method : {None, 'exact', 'dop853'}
         ``'exact'``: closed-form phase maps (``c = 0`` and a piecewise-constant drive only).
         ``'dop853'``: scipy's DOP853 restarted at every switch (scalar parameters only).
@@ -193,7 +194,7 @@ def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, ep
     theta0 = _v.finite("theta0", theta0)
     dtheta0 = _v.finite("dtheta0", dtheta0)
     T, A, l, g = _physical(T, A, l, g, eps, mu)
-    c = _damping(c)
+    c = _damping(damping, zeta, l, g)
     _v.shape_check(t=t, theta0=theta0, dtheta0=dtheta0, T=T, A=A, l=l, g=g)
     drive = _drive_of(drive)
     plan = step_plan(drive, T, A, l, g)
@@ -505,8 +506,8 @@ def _motion(model, method, t, theta0, dtheta0, T, A, l, g, c, rtol, atol, drive)
 
 @_v.shapes_named
 def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=20.0,
-             points_per_period=200, t=None, model="nonlinear", c=0.0, method=None, rtol=1e-10, atol=1e-12,
-             drive=None) -> Trajectory:
+             points_per_period=200, t=None, model="nonlinear", damping=None, zeta=None, method=None, rtol=1e-10,
+             atol=1e-12, drive=None) -> Trajectory:
     """Simulate one motion from ``(theta0, dtheta0)`` and sample it.
 
     Parameters
@@ -527,8 +528,8 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     model : {'nonlinear', 'linear'}
         The full equation, or its linearisation (2.3) (exact:
         :func:`kapitza.linear_motion`).
-    c : float, optional
-        Damping [1/s], ``>= 0`` (then ``method='dop853'``).
+    damping, zeta : float, optional
+        As in :func:`nonlinear_motion` (then ``method='dop853'``).
     method : {None, 'exact', 'dop853'}
         As in :func:`nonlinear_motion`.
     rtol, atol : float, optional
@@ -557,7 +558,7 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     theta0 = _v.one("theta0", _v.finite("theta0", theta0))
     dtheta0 = _v.one("dtheta0", _v.finite("dtheta0", dtheta0))
     T, A, l, g = (_v.one(name, v) for name, v in zip("TAlg", _physical(T, A, l, g, eps, mu)))
-    c = _v.one("c", _damping(c))
+    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
     _choice("model", model, MODELS)
     drive = _drive_of(drive)
     method = _method(method, c, drive)

@@ -98,7 +98,7 @@ def motion_pair(theta0, dtheta0, T, A, l=1.0, g=G_EARTH, *, model="nonlinear", c
     compare_linear : bool
         Also simulate the linear equation (2.3) on the same samples (when ``model`` is nonlinear).
     **kwargs :
-        ``periods``, ``points_per_period``, ``c``, ``method``, ``rtol``, ``atol``, ``drive`` of
+        ``periods``, ``points_per_period``, ``damping``, ``zeta``, ``method``, ``rtol``, ``atol``, ``drive`` of
         :func:`kapitza.simulate`.
 
     Returns

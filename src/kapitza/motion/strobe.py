@@ -124,9 +124,8 @@ def _map_chunk(theta, dtheta, plan, record, model):
 
 @_v.shapes_named
 def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=1, every=None,
-                     model="nonlinear",
-                     c=0.0, method=None, rtol=1e-10, atol=1e-12, chunk=16384, workers=1, progress=None,
-                     drive=None):
+                     model="nonlinear", damping=None, zeta=None, method=None, rtol=1e-10, atol=1e-12, chunk=16384,
+                     workers=1, progress=None, drive=None):
     """Map an ensemble of initial states over ``periods`` drive periods ``2T``.
 
     Parameters
@@ -146,8 +145,9 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
         :func:`kapitza.figures.plot_strobe` shows the islands and chains a map exists to show;
         for ensembles too large to hold every period the smallest ``every`` that fits in memory.
     model : {'nonlinear', 'linear'}
-    c : float, optional
-        Damping [1/s]; ``c > 0`` uses DOP853 (``method='dop853'``).
+    damping, zeta : float, optional
+        The damping, as ``c`` [1/s] (``theta'' + c theta' = ...``) or as the ratio
+        ``zeta = c / (2 sqrt(g/l))``, not both; damping uses DOP853 (``method='dop853'``).
     method : {None, 'exact', 'dop853'}
         As in :func:`kapitza.motion.nonlinear_motion`.
     rtol, atol : float, optional
@@ -198,7 +198,7 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     if every is not None:
         every = _v.bounded_count("every", every, MAX_PERIODS, minimum=1)
     _choice("model", model, MODELS)
-    c = _v.one("c", _damping(c))
+    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
     drive = _drive_of(drive)
     method = _method(method, c, drive)
     chunk = _v.bounded_count("chunk", chunk, 10**7, minimum=1)

@@ -10,7 +10,6 @@ from .. import _validate as _v
 from ..drives import as_drive, parse_drive
 from ..parameters import G_EARTH
 from ..motion.basins import INTEGRATED_STEP_COST, MAX_INTEGRATED_STATE_PERIODS, exact_path, integrated_work
-from ..motion._integrate import _damping
 from .kernel import QUANTITIES
 
 __all__ = ["SweepSpec", "PLANES", "MAX_POINTS", "MAX_INTEGRATED_SWEEP"]
@@ -124,7 +123,7 @@ class SweepSpec:
         s(self, "g", _v.one("g", _v.positive("g", self.g)))
         d = parse_drive(self.drive) if isinstance(self.drive, str) else as_drive(self.drive)
         s(self, "drive", d.text())
-        s(self, "c", float(_v.one("c", _damping(self.c))))
+        s(self, "c", float(_v.one("c", _v.nonnegative("c", self.c))))
         s(self, "periods", _v.bounded_count("periods", self.periods, 1_000_000, minimum=1))
         s(self, "tol", _v.one("tol", _v.in_range("tol", self.tol, 0.0, np.pi)))
         s(self, "quantities", _v.choices("quantities", self.quantities, tuple(QUANTITIES)))

@@ -1007,7 +1007,8 @@ def _motion(T, A, eps, mu, l, g, drive, zeta, theta0, dtheta0, periods, points_p
     _bounded("periods * points_per_period", periods * points_per_period, LIMITS["motion_samples"])
     d = _drive(drive)
     c = _damping(zeta, l, g)
-    pair = motion_pair(theta0, dtheta0, T, A, l, g, periods=periods, points_per_period=points_per_period, c=c, drive=d)
+    pair = motion_pair(theta0, dtheta0, T, A, l, g, periods=periods, points_per_period=points_per_period, damping=c,
+                       drive=d)
     return pair, d
 
 
