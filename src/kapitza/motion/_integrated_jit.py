@@ -66,6 +66,8 @@ import numpy as np
 from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _dc
 
+from ._survival_jit import ray_step
+
 __all__ = ["drive_table", "pack_plan", "ray_radii_compiled", "survival_compiled", "advance"]
 
 _jit = njit(cache=True, nogil=True, error_model="numpy")
@@ -399,13 +401,17 @@ def periods_inside(th, om, p, T2s, As, Ms, XS, SA, SB, SD, l, g, c, linear, rtol
 
 
 @_jit
+def workspace(segments):
+    """One state's scratch arrays for :func:`one_period`: the step sizes carried from period to period
+    on each of the drive's ``segments``, the DOP853 stages of both components and their dense-output
+    coefficients."""
+    return np.zeros(segments), np.zeros(NSE), np.zeros(NSE), np.zeros(7), np.zeros(7)
+
+
+@_jit
 def survival_kernel(theta, dtheta, point, T2s, As, Ms, XS, SA, SB, SD, l, g, c, linear, rtol, atol, periods, tol,
                     out):
-    hs = np.zeros(SA.size)
-    K0 = np.zeros(NSE)
-    K1 = np.zeros(NSE)
-    F0 = np.zeros(7)
-    F1 = np.zeros(7)
+    hs, K0, K1, F0, F1 = workspace(SA.size)
     for i in range(theta.size):
         out[i] = periods_inside(theta[i], dtheta[i], point[i], T2s, As, Ms, XS, SA, SB, SD, l, g, c, linear, rtol,
                                 atol, periods, tol, hs, K0, K1, F0, F1)
@@ -413,11 +419,7 @@ def survival_kernel(theta, dtheta, point, T2s, As, Ms, XS, SA, SB, SD, l, g, c, 
 
 @_jit
 def advance_kernel(theta, dtheta, point, T2s, As, Ms, XS, SA, SB, SD, l, g, c, linear, rtol, atol, periods):
-    hs = np.zeros(SA.size)
-    K0 = np.zeros(NSE)
-    K1 = np.zeros(NSE)
-    F0 = np.zeros(7)
-    F1 = np.zeros(7)
+    hs, K0, K1, F0, F1 = workspace(SA.size)
     for i in range(theta.size):
         th = theta[i]
         om = dtheta[i]
@@ -436,35 +438,14 @@ def advance_kernel(theta, dtheta, point, T2s, As, Ms, XS, SA, SB, SD, l, g, c, l
 @_jit
 def ray_radii_kernel(point, cos, sin_omega, T2s, As, Ms, XS, SA, SB, SD, l, g, c, linear, rtol, atol, periods, tol,
                      accuracy, floor, out):
-    hs = np.zeros(SA.size)
-    K0 = np.zeros(NSE)
-    K1 = np.zeros(NSE)
-    F0 = np.zeros(7)
-    F1 = np.zeros(7)
+    hs, K0, K1, F0, F1 = workspace(SA.size)
     for i in range(point.size):
-        p = point[i]
-        lo = 0.0
-        hi = np.inf
-        scanning = True
-        r = tol
-        while True:
-            got = periods_inside(r * cos[i], r * sin_omega[i], p, T2s, As, Ms, XS, SA, SB, SD, l, g, c, linear, rtol,
-                                 atol, periods, tol, hs, K0, K1, F0, F1)
-            if got < 0:
+        r, lo, hi, scanning, done = tol, 0.0, np.inf, True, False
+        while not done:
+            got = periods_inside(r * cos[i], r * sin_omega[i], point[i], T2s, As, Ms, XS, SA, SB, SD, l, g, c, linear,
+                                 rtol, atol, periods, tol, hs, K0, K1, F0, F1)
+            if got < 0:  # the solver failed: flagged for the caller
                 lo = -1.0
                 break
-            if got >= periods:
-                lo = r
-                scanning = False
-            elif scanning:
-                hi = r
-                r = 0.5 * r
-                if r < floor:
-                    break
-                continue
-            else:
-                hi = r
-            if lo >= tol or hi - lo <= accuracy * lo:
-                break
-            r = 0.5 * (lo + hi)
+            done, r, lo, hi, scanning = ray_step(got >= periods, r, lo, hi, scanning, tol, accuracy, floor)
         out[i] = lo

@@ -282,28 +282,33 @@ def survival_kernel(theta, dtheta, point, S, H, CNT, periods, tol, out):
         out[i] = periods_inside(theta[i], dtheta[i], S, H, CNT, point[i], periods, tol, work)
 
 @_jit
+def ray_step(inside, r, lo, hi, scanning, tol, accuracy, floor):
+    """One step of the search for the largest start radius along a ray that stays inside (both compiled
+    kernels' ``ray_radii_kernel``): from ``r = tol`` halve ``r`` until a start stays inside (none above
+    ``floor``: the radius is 0), then bisect ``[lo, hi]`` to the relative ``accuracy``. ``inside``:
+    whether the start at ``r`` stayed. Returns ``(done, r, lo, hi, scanning)`` with the next ``r``;
+    the radius is ``lo`` when done."""
+    if inside:
+        lo = r
+        scanning = False
+    elif scanning:
+        hi = r
+        r = 0.5 * r
+        return r < floor, r, lo, hi, scanning
+    else:
+        hi = r
+    if lo >= tol or hi - lo <= accuracy * lo:
+        return True, r, lo, hi, scanning
+    return False, 0.5 * (lo + hi), lo, hi, scanning
+
+
+@_jit
 def ray_radii_kernel(point, cos, sin_omega, S, H, CNT, periods, tol, accuracy, floor, out):
     work = np.empty(18)
     for i in range(point.size):
-        p = point[i]
-        lo = 0.0
-        hi = np.inf
-        scanning = True
-        r = tol
-        while True:
-            if periods_inside(r * cos[i], r * sin_omega[i], S, H, CNT, p, periods, tol, work) >= periods:
-                lo = r
-                scanning = False
-            elif scanning:
-                hi = r
-                r = 0.5 * r
-                if r < floor:
-                    break
-                continue
-            else:
-                hi = r
-            if lo >= tol or hi - lo <= accuracy * lo:
-                break
-            r = 0.5 * (lo + hi)
+        r, lo, hi, scanning, done = tol, 0.0, np.inf, True, False
+        while not done:
+            inside = periods_inside(r * cos[i], r * sin_omega[i], S, H, CNT, point[i], periods, tol, work) >= periods
+            done, r, lo, hi, scanning = ray_step(inside, r, lo, hi, scanning, tol, accuracy, floor)
         out[i] = lo
 
