@@ -80,6 +80,12 @@ def rig_window(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, around
         Not checked: :func:`rig_zone_curves` checks the window (``l``, ``g`` and ``around`` are
         checked here).
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``l`` or ``g`` is not finite and positive, or ``around`` is not a pair of finite
+        positive numbers.
+
     Examples
     --------
     >>> from kapitza.rig_plane import rig_window

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..curves import DriveCurves, drive_curves
+from .. import _validate as _v
 from . import _style
 from ._style import Drawn
 
@@ -39,6 +40,11 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
         ``"fills"``, ``"edges"``, ``"averaging"`` (lists of artists) and ``"legend"``, with
         ``.ax`` and ``.data`` (the curves).
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``legend`` is not one of its three choices (checked before anything is drawn).
+
     Examples
     --------
     >>> import numpy as np
@@ -54,6 +60,10 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
     """
     import matplotlib.pyplot as plt
 
+    if legend is True:
+        legend = "inside"
+    if legend not in (None, False, "inside", "outside"):
+        raise _v.KapitzaValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
     if ax is None:
         _, ax = plt.subplots()
     out = Drawn(ax, {"fills": [], "edges": [], "averaging": []}, data=list(curves))
@@ -81,10 +91,6 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
     ax.set_ylim(*mu_range)
     ax.set_xlabel(r"$\varepsilon = T\sqrt{A/(8l)}$")
     ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
-    if legend is True:
-        legend = "inside"
-    if legend not in (None, False, "inside", "outside"):
-        raise ValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
     if legend:
         out["legend"] = _style.place_legend(ax, inside=(legend == "inside"), fontsize=7)
     return out
