@@ -53,6 +53,15 @@ class ZoneCurves:
     """Edge curves of the zones visible in a window: for zone ``n[i]``,
     ``eps_lo[i]``, ``eps_hi[i]`` sampled at ``mu`` (arrays ``(zones, points)``).
 
+    Attributes
+    ----------
+    n : ndarray of int, shape (zones,)
+        The zones' indices.
+    mu : ndarray, shape (points,)
+        The samples of Arnold's ``mu``.
+    eps_lo, eps_hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in ``eps`` at each ``mu``.
+
     Examples
     --------
     >>> from kapitza.curves import zone_curves
@@ -366,6 +375,17 @@ class PhysicalZoneCurves:
     """Zone edges in the physical plane: for zone ``n[i]``, the half-periods
     ``T_lo[i]``, ``T_hi[i]`` at the amplitudes ``A`` (arrays ``(zones, points)``).
 
+    Attributes
+    ----------
+    n : ndarray of int, shape (zones,)
+        The zones' indices.
+    A : ndarray, shape (points,)
+        The samples of the acceleration scale [m/s^2].
+    T_lo, T_hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in the half-period ``T`` [s] at each ``A``.
+    l, g : float
+        The rod length [m] and gravity [m/s^2] of the plane.
+
     Examples
     --------
     >>> from kapitza.curves import physical_zone_curves
@@ -459,6 +479,21 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
 @dataclass(frozen=True)
 class DriveCurves:
     """Zone edges of one drive at the ``mu`` samples: ``lo[k]``, ``hi[k]`` for ``zones[k]``.
+
+    Attributes
+    ----------
+    drive : str
+        The drive's label.
+    zeta : float
+        The damping ratio.
+    mu : ndarray, shape (points,)
+        The samples of Arnold's ``mu``.
+    zones : ndarray of int, shape (zones,)
+        The zones' indices.
+    lo, hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in ``eps`` (NaN where the zone misses that ``mu``).
+    averaging : ndarray, shape (points,)
+        The averaging criterion's ``eps`` at each ``mu`` (:func:`kapitza.averaging_threshold`).
 
     Examples
     --------

@@ -119,6 +119,19 @@ class RigZoneCurves:
     """Zone ``n[i]`` is ``f_lo[i, j] < f < f_hi[i, j]`` at the stroke ``stroke[j]`` [m]; NaN where the
     zone misses that stroke in the window, ``-inf``/``inf`` where an edge lies beyond it.
 
+    Attributes
+    ----------
+    n : ndarray of int, shape (zones,)
+        The zones' indices.
+    stroke : ndarray, shape (points,)
+        The samples of the stroke [m] (peak-to-peak pivot travel).
+    f_lo, f_hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in the drive frequency [Hz] at each stroke.
+    l, g : float
+        The equivalent length [m] and gravity [m/s^2].
+    frequency_range, stroke_range : (float, float)
+        The window [Hz], [m] (:func:`rig_window`).
+
     Examples
     --------
     >>> from kapitza.rig_plane import rig_zone_curves
