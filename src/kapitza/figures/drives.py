@@ -113,6 +113,12 @@ def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``curves`` is empty or holds something other than :class:`~kapitza.curves.DriveCurves`,
+        or ``eps_max`` or either end of ``zoom`` is not a positive number; no figure is made then.
+
     Examples
     --------
     >>> import numpy as np
@@ -126,6 +132,16 @@ def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    curves = list(curves)
+    if not curves or not all(isinstance(c, DriveCurves) for c in curves):
+        raise _v.KapitzaValueError("curves must be one or more kapitza.curves.DriveCurves (drive_curves); got "
+                                   + (", ".join(sorted({type(c).__name__ for c in curves})) or "none"))
+    eps_max = _v.one("eps_max", _v.positive("eps_max", eps_max))
+    try:
+        zoom_eps, zoom_mu = zoom
+    except (TypeError, ValueError):
+        raise _v.KapitzaValueError(f"zoom must be a pair (eps, mu); got {_v._short(zoom)}") from None
+    zoom = (_v.one("zoom eps", _v.positive("zoom eps", zoom_eps)), _v.one("zoom mu", _v.positive("zoom mu", zoom_mu)))
     fig = _style.new_figure(width=11.0, height=5.0, caption_lines=3)
     ax1, ax2 = fig.subplots(1, 2)
     plot_drive_comparison(curves, ax1, eps_range=(0.0, eps_max), legend=None)
