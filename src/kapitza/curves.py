@@ -37,7 +37,12 @@ def edge_kinds(n) -> tuple[str, str]:
     Returns
     -------
     lower, upper : str
-        ``"2T"`` or ``"4T"``. ``n`` is not checked.
+        ``"2T"`` or ``"4T"``.
+
+    Raises
+    ------
+    KapitzaValueError
+        If ``n`` is not a whole number ``>= 0``.
 
     Examples
     --------
@@ -45,7 +50,8 @@ def edge_kinds(n) -> tuple[str, str]:
     >>> edge_kinds(0), edge_kinds(1)
     (('2T', '4T'), ('4T', '2T'))
     """
-    return ("2T", "4T") if int(n) % 2 == 0 else ("4T", "2T")
+    n = _v.bounded_count("n", n, 2**61)
+    return ("2T", "4T") if n % 2 == 0 else ("4T", "2T")
 
 
 @dataclass(frozen=True)
@@ -312,12 +318,20 @@ def physical_window(T_range=None, A_range=None, l=1.0, g=G_EARTH, drive=None):
     -------
     ((float, float), (float, float))
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``l`` or ``g`` is not a positive number or ``drive`` is not a drive kapitza knows (the
+        window itself is not checked here).
+
     Examples
     --------
     >>> from kapitza.curves import physical_window
     >>> physical_window(None, (None, 200.0), l=1.0, g=9.81)
     ((0.0, 0.7981...), (9.81, 200.0))
     """
+    l = _v.one("l", _v.positive("l", l))
+    g = _v.one("g", _v.positive("g", g))
     T0, T1 = (None, None) if T_range is None else T_range
     A0, A1 = (None, None) if A_range is None else A_range
     return ((0.0 if T0 is None else float(T0), 2.5 * float(np.sqrt(l / g)) if T1 is None else float(T1)),
