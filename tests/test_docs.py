@@ -9,6 +9,7 @@
   Python are made offline from ``docs/_intersphinx/``, which lists every object of theirs the pages name.
 * ``test_docstring_examples_run``: every ``Examples`` section of the package's docstrings is a doctest
   and passes.
+* ``test_gallery_script_runs_and_draws``: each gallery script runs and draws its figure.
 * ``test_tutorial_notebook_runs``: each tutorial notebook runs top to bottom in a fresh kernel
   (nbclient) and shows what it says it shows.
 """
@@ -225,6 +226,32 @@ def test_docstring_examples_run():
 
     plt.close("all")
     assert not failures, "\n".join(failures)
+
+
+@pytest.mark.parametrize("script", sorted(p.name for p in (DOCS / "gallery_src").glob("plot_*.py")))
+def test_gallery_script_runs_and_draws(script, tmp_path, monkeypatch):
+    """Each gallery script runs as a reader would run it and draws its figure (the full site build,
+    which runs them too, is marked slow; this keeps a broken gallery example out of the default suite)."""
+    import runpy
+    import warnings
+
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    monkeypatch.chdir(tmp_path)
+    plt.close("all")
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*non-interactive.*")  # plt.show() on Agg
+        runpy.run_path(str(DOCS / "gallery_src" / script), run_name="__main__")
+    try:
+        assert plt.get_fignums(), f"{script} drew no figure"
+        assert all(plt.figure(n).axes for n in plt.get_fignums()), f"{script} left an empty figure"
+    finally:
+        plt.close("all")
+    assert not list(tmp_path.iterdir()), f"{script} left files in the working directory"
 
 
 #: Something each notebook must show once run (a result, not only the absence of an error).
