@@ -8,8 +8,9 @@ The site needs no network, and no page loads a script, a font or a stylesheet fr
 Links into the documentation of Python, numpy, scipy, matplotlib, xarray and dask (intersphinx) are
 made from the small inventories in ``_intersphinx/`` (version-1 text: name, role, page), which list
 every object of those projects these pages name (``tests/test_docs.py`` checks that); with
-``KAPITZA_DOCS_ONLINE=1`` the projects' full inventories are fetched from the web instead. ``KAPITZA_DOCS_QUICK=1`` skips running the
-gallery scripts and the tutorial notebooks (the API reference and the guides only).
+``KAPITZA_DOCS_ONLINE=1`` the projects' full inventories are fetched from the web instead.
+``KAPITZA_DOCS_QUICK=1`` skips running the gallery scripts and the tutorial notebooks (the API
+reference and the guides only).
 """
 from __future__ import annotations
 
@@ -41,7 +42,8 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 
-exclude_patterns = ["_build", "_intersphinx", "gallery_src/README.rst", "sg_execution_times.rst", "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store",
+exclude_patterns = ["_build", "_intersphinx", "gallery_src/README.rst", "sg_execution_times.rst",
+                    "**.ipynb_checkpoints", "Thumbs.db", ".DS_Store",
                     "gallery/*.ipynb", "gallery/*.py", "gallery/*.codeobj.json", "gallery/*.zip"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
 root_doc = "index"

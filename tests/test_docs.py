@@ -123,8 +123,9 @@ def _check_api_pages(out):
 
 
 #: A cross-reference role naming an object of another project (whose documentation intersphinx links).
-_EXTERNAL_ROLE = re.compile(r":(?:class|func|meth|attr|exc|mod|obj|data):`[~!]?((?:numpy|scipy|matplotlib|xarray|dask|pathlib)"
-                            r"(?:\.\w+)+|(?!Kapitza)[A-Z]\w*(?:Error|Exception|Warning))`")
+_EXTERNAL_ROLE = re.compile(r":(?:class|func|meth|attr|exc|mod|obj|data):`[~!]?("
+                            r"(?:numpy|scipy|matplotlib|xarray|dask|pathlib)(?:\.\w+)+"
+                            r"|(?!Kapitza)[A-Z]\w*(?:Error|Exception|Warning))`")
 
 
 def _inventories():
@@ -143,13 +144,13 @@ def test_intersphinx_inventories_name_every_object_of_another_project_the_pages_
     """Offline, a reference to numpy, scipy, matplotlib, xarray, dask or Python is linked only if the
     shipped inventory lists it: every such reference in the docstrings and pages is listed."""
     listed = {name for _, name in _inventories()}
-    texts = [*(ROOT / "src" / "kapitza").rglob("*.py"), *DOCS.rglob("*.md"), *DOCS.rglob("*.rst"), *DOCS.rglob("*.ipynb"),
-             *(DOCS / "gallery_src").glob("*.py")]
+    texts = [*(ROOT / "src" / "kapitza").rglob("*.py"), *DOCS.rglob("*.md"), *DOCS.rglob("*.rst"),
+             *DOCS.rglob("*.ipynb"), *(DOCS / "gallery_src").glob("*.py")]
     named = {m.group(1): path for path in texts if "_build" not in path.parts
              for m in _EXTERNAL_ROLE.finditer(path.read_text(errors="replace"))}
     assert len(named) >= 8
     missing = {name: str(path.relative_to(ROOT)) for name, path in named.items() if name not in listed}
-    assert not missing, f"add these to docs/_intersphinx/*.txt (role and page in that project's documentation): {missing}"
+    assert not missing, f"add to docs/_intersphinx/*.txt (role and page in its project's documentation): {missing}"
 
 
 def test_site_builds_offline_with_warnings_as_errors(tmp_path):

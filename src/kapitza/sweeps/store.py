@@ -282,7 +282,8 @@ def done_chunks(grp) -> np.ndarray:
     try:
         flags = grp["chunk_done"]
     except (TypeError, KeyError, AttributeError):
-        raise _v.KapitzaValueError(f"grp must be a sweep store opened by open_store; got {type(grp).__name__}") from None
+        raise _v.KapitzaValueError(f"grp must be a sweep store opened by open_store; got {type(grp).__name__}") \
+            from None
     return np.asarray(flags[...]) == 1
 
 
