@@ -5,8 +5,11 @@
   another host. The default suite builds the guides and the API reference
   (``KAPITZA_DOCS_QUICK=1``); the full build, running the gallery scripts and the notebooks, is marked
   slow.
+* ``test_intersphinx_inventories_*``: the links into numpy, scipy, matplotlib, xarray, dask and
+  Python are made offline from ``docs/_intersphinx/``, which lists every object of theirs the pages name.
 * ``test_docstring_examples_run``: every ``Examples`` section of the package's docstrings is a doctest
   and passes.
+* ``test_gallery_script_runs_and_draws``: each gallery script runs and draws its figure.
 * ``test_tutorial_notebook_runs``: each tutorial notebook runs top to bottom in a fresh kernel
   (nbclient) and shows what it says it shows.
 """
@@ -119,8 +122,48 @@ def _check_api_pages(out):
         assert any(c.exists() for c in candidates), (modname, name)
 
 
+#: A cross-reference role naming an object of another project (whose documentation intersphinx links).
+_EXTERNAL_ROLE = re.compile(r":(?:class|func|meth|attr|exc|mod|obj|data):`[~!]?("
+                            r"(?:numpy|scipy|matplotlib|xarray|dask|pathlib)(?:\.\w+)+"
+                            r"|(?!Kapitza)[A-Z]\w*(?:Error|Exception|Warning))`")
+
+
+def _inventories():
+    """``{(role, name)}`` of the inventories the offline build links other projects with."""
+    out = set()
+    for path in (DOCS / "_intersphinx").glob("*.txt"):
+        lines = path.read_text().splitlines()
+        assert lines[0] == "# Sphinx inventory version 1", path.name
+        for line in lines[3:]:
+            name, role, _ = line.split(None, 2)
+            out.add((role, name))
+    return out
+
+
+def test_intersphinx_inventories_name_every_object_of_another_project_the_pages_name():
+    """Offline, a reference to numpy, scipy, matplotlib, xarray, dask or Python is linked only if the
+    shipped inventory lists it: every such reference in the docstrings and pages is listed."""
+    listed = {name for _, name in _inventories()}
+    texts = [*(ROOT / "src" / "kapitza").rglob("*.py"), *DOCS.rglob("*.md"), *DOCS.rglob("*.rst"),
+             *DOCS.rglob("*.ipynb"), *(DOCS / "gallery_src").glob("*.py")]
+    named = {m.group(1): path for path in texts if "_build" not in path.parts
+             for m in _EXTERNAL_ROLE.finditer(path.read_text(errors="replace"))}
+    assert len(named) >= 8
+    missing = {name: str(path.relative_to(ROOT)) for name, path in named.items() if name not in listed}
+    assert not missing, f"add to docs/_intersphinx/*.txt (role and page in its project's documentation): {missing}"
+
+
 def test_site_builds_offline_with_warnings_as_errors(tmp_path):
     out = _build(tmp_path, quick=True)
+    api = (out / "api" / "index.html").read_text()
+    for url in ("https://docs.python.org/3/library/exceptions.html#ValueError",
+                "https://numpy.org/doc/stable/reference/generated/numpy.ndarray.html#numpy.ndarray",
+                "https://matplotlib.org/stable/api/axes_api.html#matplotlib.axes.Axes",
+                "https://docs.xarray.dev/en/stable/generated/xarray.Dataset.html#xarray.Dataset",
+                "https://docs.dask.org/en/stable/generated/dask.array.Array.html#dask.array.Array"):
+        assert f'href="{url}"' in api, url  # intersphinx links, made offline
+    scipy = 'href="https://docs.scipy.org/doc/scipy/reference/generated/scipy.linalg.expm.html#scipy.linalg.expm"'
+    assert scipy in (out / "api" / "generated" / "kapitza.chain_floquet.html").read_text()
     index = (out / "index.html").read_text()
     assert "explorer.png" in index and "drives-compare.png" in index
     for page in ("getting-started", "theory", "user-guide", "citing", "changelog", "drives", "motion", "nonlinear",
@@ -184,6 +227,32 @@ def test_docstring_examples_run():
 
     plt.close("all")
     assert not failures, "\n".join(failures)
+
+
+@pytest.mark.parametrize("script", sorted(p.name for p in (DOCS / "gallery_src").glob("plot_*.py")))
+def test_gallery_script_runs_and_draws(script, tmp_path, monkeypatch):
+    """Each gallery script runs as a reader would run it and draws its figure (the full site build,
+    which runs them too, is marked slow; this keeps a broken gallery example out of the default suite)."""
+    import runpy
+    import warnings
+
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    monkeypatch.chdir(tmp_path)
+    plt.close("all")
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*non-interactive.*")  # plt.show() on Agg
+        runpy.run_path(str(DOCS / "gallery_src" / script), run_name="__main__")
+    try:
+        assert plt.get_fignums(), f"{script} drew no figure"
+        assert all(plt.figure(n).axes for n in plt.get_fignums()), f"{script} left an empty figure"
+    finally:
+        plt.close("all")
+    assert not list(tmp_path.iterdir()), f"{script} left files in the working directory"
 
 
 #: Something each notebook must show once run (a result, not only the absence of an error).

@@ -273,6 +273,19 @@ class ModeReport(Summary):
     fields of :class:`kapitza.StabilityReport` of that pendulum (``margin`` along ``T`` at fixed
     ``A``; ``T_lo, T_hi`` the mode's nearest zone in ``T`` at this ``A``).
 
+    Attributes
+    ----------
+    index : int
+        The mode's number, 1 to ``N``.
+    l : float
+        The length [m] of the single pendulum this mode moves like.
+    shape : tuple of float
+        The link angles of the mode, the largest ``|theta_j|`` 1.
+    eps, mu, stable, verdict, zone, nearest_zone, margin, growth, multipliers, eps_lo, eps_hi
+        As in :class:`kapitza.StabilityReport`, for that pendulum.
+    T_lo, T_hi : float or None
+        The nearest zone's edges in ``T`` [s] at this ``A``.
+
     Examples
     --------
     >>> import kapitza

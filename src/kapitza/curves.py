@@ -37,7 +37,12 @@ def edge_kinds(n) -> tuple[str, str]:
     Returns
     -------
     lower, upper : str
-        ``"2T"`` or ``"4T"``. ``n`` is not checked.
+        ``"2T"`` or ``"4T"``.
+
+    Raises
+    ------
+    KapitzaValueError
+        If ``n`` is not a whole number ``>= 0``.
 
     Examples
     --------
@@ -45,13 +50,23 @@ def edge_kinds(n) -> tuple[str, str]:
     >>> edge_kinds(0), edge_kinds(1)
     (('2T', '4T'), ('4T', '2T'))
     """
-    return ("2T", "4T") if int(n) % 2 == 0 else ("4T", "2T")
+    n = _v.bounded_count("n", n, 2**61)
+    return ("2T", "4T") if n % 2 == 0 else ("4T", "2T")
 
 
 @dataclass(frozen=True)
 class ZoneCurves:
     """Edge curves of the zones visible in a window: for zone ``n[i]``,
     ``eps_lo[i]``, ``eps_hi[i]`` sampled at ``mu`` (arrays ``(zones, points)``).
+
+    Attributes
+    ----------
+    n : ndarray of int, shape (zones,)
+        The zones' indices.
+    mu : ndarray, shape (points,)
+        The samples of Arnold's ``mu``.
+    eps_lo, eps_hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in ``eps`` at each ``mu``.
 
     Examples
     --------
@@ -303,12 +318,20 @@ def physical_window(T_range=None, A_range=None, l=1.0, g=G_EARTH, drive=None):
     -------
     ((float, float), (float, float))
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``l`` or ``g`` is not a positive number or ``drive`` is not a drive kapitza knows (the
+        window itself is not checked here).
+
     Examples
     --------
     >>> from kapitza.curves import physical_window
     >>> physical_window(None, (None, 200.0), l=1.0, g=9.81)
     ((0.0, 0.7981...), (9.81, 200.0))
     """
+    l = _v.one("l", _v.positive("l", l))
+    g = _v.one("g", _v.positive("g", g))
     T0, T1 = (None, None) if T_range is None else T_range
     A0, A1 = (None, None) if A_range is None else A_range
     return ((0.0 if T0 is None else float(T0), 2.5 * float(np.sqrt(l / g)) if T1 is None else float(T1)),
@@ -365,6 +388,17 @@ def window_range(eps_range, mu_range, mu_top=1.0):
 class PhysicalZoneCurves:
     """Zone edges in the physical plane: for zone ``n[i]``, the half-periods
     ``T_lo[i]``, ``T_hi[i]`` at the amplitudes ``A`` (arrays ``(zones, points)``).
+
+    Attributes
+    ----------
+    n : ndarray of int, shape (zones,)
+        The zones' indices.
+    A : ndarray, shape (points,)
+        The samples of the acceleration scale [m/s^2].
+    T_lo, T_hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in the half-period ``T`` [s] at each ``A``.
+    l, g : float
+        The rod length [m] and gravity [m/s^2] of the plane.
 
     Examples
     --------
@@ -459,6 +493,21 @@ def physical_zone_curves(T_range=None, A_range=None, l=1.0, g=G_EARTH, points=12
 @dataclass(frozen=True)
 class DriveCurves:
     """Zone edges of one drive at the ``mu`` samples: ``lo[k]``, ``hi[k]`` for ``zones[k]``.
+
+    Attributes
+    ----------
+    drive : str
+        The drive's label.
+    zeta : float
+        The damping ratio.
+    mu : ndarray, shape (points,)
+        The samples of Arnold's ``mu``.
+    zones : ndarray of int, shape (zones,)
+        The zones' indices.
+    lo, hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in ``eps`` (NaN where the zone misses that ``mu``).
+    averaging : ndarray, shape (points,)
+        The averaging criterion's ``eps`` at each ``mu`` (:func:`kapitza.averaging_threshold`).
 
     Examples
     --------

@@ -55,6 +55,21 @@ def averaging_threshold(mu, drive=None):
 class ThresholdRow:
     """One drive at one ``mu``: the averaging criterion against the exact lower edge of zone 0.
 
+    Attributes
+    ----------
+    drive, description : str
+        The drive's label and its one-line description.
+    mu : float
+        Arnold's ``mu``.
+    eps_averaging : float
+        The averaging criterion ``<v^2> = g l`` as an ``eps``.
+    eps_exact : float
+        The exact lower edge of zone 0 at this ``mu``.
+    relative_error : float
+        ``eps_averaging / eps_exact - 1``.
+    rms_velocity_shape : float
+        The drive's root-mean-square velocity in units of ``A T``.
+
     Examples
     --------
     >>> import kapitza

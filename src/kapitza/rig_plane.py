@@ -80,6 +80,12 @@ def rig_window(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, around
         Not checked: :func:`rig_zone_curves` checks the window (``l``, ``g`` and ``around`` are
         checked here).
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``l`` or ``g`` is not finite and positive, or ``around`` is not a pair of finite
+        positive numbers.
+
     Examples
     --------
     >>> from kapitza.rig_plane import rig_window
@@ -112,6 +118,19 @@ def rig_window(frequency_range=None, stroke_range=None, l=1.0, g=G_EARTH, around
 class RigZoneCurves:
     """Zone ``n[i]`` is ``f_lo[i, j] < f < f_hi[i, j]`` at the stroke ``stroke[j]`` [m]; NaN where the
     zone misses that stroke in the window, ``-inf``/``inf`` where an edge lies beyond it.
+
+    Attributes
+    ----------
+    n : ndarray of int, shape (zones,)
+        The zones' indices.
+    stroke : ndarray, shape (points,)
+        The samples of the stroke [m] (peak-to-peak pivot travel).
+    f_lo, f_hi : ndarray, shape (zones, points)
+        Each zone's lower and upper edge in the drive frequency [Hz] at each stroke.
+    l, g : float
+        The equivalent length [m] and gravity [m/s^2].
+    frequency_range, stroke_range : (float, float)
+        The window [Hz], [m] (:func:`rig_window`).
 
     Examples
     --------

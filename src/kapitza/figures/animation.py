@@ -327,6 +327,13 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     -------
     AnimationResult
 
+    Raises
+    ------
+    KapitzaValueError
+        If the format is not GIF or MP4, ``fps`` is outside 1 to 60, ``slowdown`` or ``tol`` is not
+        positive, ``dpi`` is not a whole number from 20 to 600, or the frames would exceed 20,000
+        (or a GIF's frames 2 GiB of memory); nothing is written then.
+
     Examples
     --------
     >>> import os, shutil, tempfile

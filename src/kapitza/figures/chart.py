@@ -217,6 +217,11 @@ def zone_chart_axes(fig, count):
     -------
     main, list of panels : matplotlib Axes
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``count`` is not a whole number from 0 to 12.
+
     Examples
     --------
     >>> import matplotlib.pyplot as plt
@@ -226,6 +231,7 @@ def zone_chart_axes(fig, count):
     2
     >>> plt.close("all")
     """
+    count = _v.bounded_count("count", count, 12, what="panels in one row under the chart")
     if count == 0:
         return fig.add_subplot(), []
     gs = fig.add_gridspec(2, count, height_ratios=(2.4, 1.0))

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..curves import DriveCurves, drive_curves
+from .. import _validate as _v
 from . import _style
 from ._style import Drawn
 
@@ -39,6 +40,11 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
         ``"fills"``, ``"edges"``, ``"averaging"`` (lists of artists) and ``"legend"``, with
         ``.ax`` and ``.data`` (the curves).
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``legend`` is not one of its three choices (checked before anything is drawn).
+
     Examples
     --------
     >>> import numpy as np
@@ -54,6 +60,10 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
     """
     import matplotlib.pyplot as plt
 
+    if legend is True:
+        legend = "inside"
+    if legend not in (None, False, "inside", "outside"):
+        raise _v.KapitzaValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
     if ax is None:
         _, ax = plt.subplots()
     out = Drawn(ax, {"fills": [], "edges": [], "averaging": []}, data=list(curves))
@@ -81,10 +91,6 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
     ax.set_ylim(*mu_range)
     ax.set_xlabel(r"$\varepsilon = T\sqrt{A/(8l)}$")
     ax.set_ylabel(r"$\mu = \sqrt{g/A}$")
-    if legend is True:
-        legend = "inside"
-    if legend not in (None, False, "inside", "outside"):
-        raise ValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
     if legend:
         out["legend"] = _style.place_legend(ax, inside=(legend == "inside"), fontsize=7)
     return out
@@ -107,6 +113,12 @@ def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``curves`` is empty or holds something other than :class:`~kapitza.curves.DriveCurves`,
+        or ``eps_max`` or either end of ``zoom`` is not a positive number; no figure is made then.
+
     Examples
     --------
     >>> import numpy as np
@@ -120,6 +132,16 @@ def drive_comparison_figure(curves, eps_max=4.0, zoom=(1.2, 0.6), title=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    curves = list(curves)
+    if not curves or not all(isinstance(c, DriveCurves) for c in curves):
+        raise _v.KapitzaValueError("curves must be one or more kapitza.curves.DriveCurves (drive_curves); got "
+                                   + (", ".join(sorted({type(c).__name__ for c in curves})) or "none"))
+    eps_max = _v.one("eps_max", _v.positive("eps_max", eps_max))
+    try:
+        zoom_eps, zoom_mu = zoom
+    except (TypeError, ValueError):
+        raise _v.KapitzaValueError(f"zoom must be a pair (eps, mu); got {_v._short(zoom)}") from None
+    zoom = (_v.one("zoom eps", _v.positive("zoom eps", zoom_eps)), _v.one("zoom mu", _v.positive("zoom mu", zoom_mu)))
     fig = _style.new_figure(width=11.0, height=5.0, caption_lines=3)
     ax1, ax2 = fig.subplots(1, 2)
     plot_drive_comparison(curves, ax1, eps_range=(0.0, eps_max), legend=None)

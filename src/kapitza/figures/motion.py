@@ -13,6 +13,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
+from .. import _validate as _v
 from ..analysis import analyze
 from ._style import Drawn, caption, new_figure, place_legend
 
@@ -76,6 +77,29 @@ def _model_label(traj):
 
 
 # ------------------------------------------------------------------ plot functions
+def _record(name, value, kind):
+    """``value`` if it is the :mod:`kapitza.motion` record ``kind`` a picture draws, else the message."""
+    from .. import motion
+
+    if not isinstance(value, getattr(motion, kind)):
+        raise _v.KapitzaValueError(f"{name} must be a kapitza.motion.{kind}; got {type(value).__name__}")
+    return value
+
+
+def _legend_choice(legend):
+    if legend not in (None, "inside", "outside"):
+        raise _v.KapitzaValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
+    return legend
+
+
+def _motion_options(traj, linear=None, tol=None):
+    """The checked ``(traj, linear, tol)`` of a time-series picture."""
+    _record("traj", traj, "Trajectory")
+    if linear is not None:
+        _record("linear", linear, "Trajectory")
+    return traj, linear, None if tol is None else _v.one("tol", _v.positive("tol", tol))
+
+
 def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     """``theta(t)`` of a :class:`kapitza.motion.Trajectory` (and a linear one beside it).
 
@@ -95,6 +119,12 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``traj`` (or ``linear``) is not a :class:`~kapitza.motion.Trajectory`, ``tol`` is not a
+        positive number or ``legend`` not one of its choices; nothing is drawn then.
+
     Examples
     --------
     >>> import kapitza
@@ -106,6 +136,8 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    traj, linear, tol = _motion_options(traj, linear, tol)
+    _legend_choice(legend)
     ax = _ax(ax)
     out = Drawn(ax, {"theta": ax.plot(traj.t, traj.theta, label=_model_label(traj), **NONLINEAR_STYLE)[0]}, data=traj)
     lo, hi = float(np.min(traj.theta)), float(np.max(traj.theta))
@@ -137,9 +169,7 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
 
 def _legend(out, legend):
     """Add the legend asked for (``"inside"``, ``"outside"`` or None) to a :class:`Drawn`."""
-    if legend not in (None, "inside", "outside"):
-        raise ValueError(f"legend must be 'inside', 'outside' or None; got {legend!r}")
-    if legend:
+    if _legend_choice(legend):
         out["legend"] = place_legend(out.ax, inside=(legend == "inside"))
     return out
 
@@ -158,6 +188,11 @@ def plot_pivot(traj, ax=None):
     Drawn
         ``{"pivot": line}``, with ``.ax`` and ``.data`` (the trajectory).
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``traj`` is not a :class:`~kapitza.motion.Trajectory`; nothing is drawn then.
+
     Examples
     --------
     >>> import kapitza
@@ -168,6 +203,7 @@ def plot_pivot(traj, ax=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    _record("traj", traj, "Trajectory")
     ax = _ax(ax)
     line = ax.plot(traj.t, 1e3 * traj.pivot, **PIVOT_STYLE)[0]
     ax.set_ylabel("pivot y  (mm)")
@@ -196,6 +232,12 @@ def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None, legend=None):
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``traj`` is not a :class:`~kapitza.motion.Trajectory`, ``strobe`` or ``wrap`` not True or
+        False, or ``legend`` not one of its choices; nothing is drawn then.
+
     Examples
     --------
     >>> import kapitza
@@ -207,6 +249,10 @@ def plot_phase_portrait(traj, ax=None, *, strobe=True, wrap=None, legend=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    _record("traj", traj, "Trajectory")
+    strobe = _v.flag("strobe", strobe)
+    wrap = None if wrap is None else _v.flag("wrap", wrap)
+    _legend_choice(legend)
     ax = _ax(ax)
     if wrap is None:
         wrap = bool(np.max(np.abs(traj.theta)) > np.pi)
@@ -247,6 +293,12 @@ def plot_strobe(orbits, ax=None, *, wrap=True, max_members=200, colorbar=True):
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``orbits`` is not a :class:`~kapitza.motion.StrobeOrbits`, ``max_members`` is not a whole
+        number from 1 to 100,000, or ``wrap`` or ``colorbar`` not True or False; nothing is drawn then.
+
     Examples
     --------
     >>> import numpy as np
@@ -259,6 +311,9 @@ def plot_strobe(orbits, ax=None, *, wrap=True, max_members=200, colorbar=True):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    _record("orbits", orbits, "StrobeOrbits")
+    wrap, colorbar = _v.flag("wrap", wrap), _v.flag("colorbar", colorbar)
+    max_members = _v.bounded_count("max_members", max_members, 100_000, minimum=1)
     ax = _ax(ax)
     th = orbits.theta.reshape(orbits.theta.shape[0], -1)[:, :max_members]
     om = orbits.dtheta.reshape(orbits.dtheta.shape[0], -1)[:, :max_members]
@@ -298,6 +353,12 @@ def plot_basin(basin, ax=None, *, colorbar=True):
     Drawn
         The artists by name, with ``.ax`` and ``.data``.
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``basin`` is not a :class:`~kapitza.motion.Basin` or ``colorbar`` not True or False;
+        nothing is drawn then.
+
     Examples
     --------
     >>> import kapitza
@@ -308,6 +369,8 @@ def plot_basin(basin, ax=None, *, colorbar=True):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    _record("basin", basin, "Basin")
+    colorbar = _v.flag("colorbar", colorbar)
     ax = _ax(ax)
     N = basin.periods
     edges = np.unique(np.concatenate([[0, 1], np.geomspace(1, N, 6).round(), [N, N + 1]])).astype(float)
@@ -355,6 +418,12 @@ def time_series_figure(traj, *, linear=None, tol=None, title=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``traj`` (or ``linear``) is not a :class:`~kapitza.motion.Trajectory` or ``tol`` is not a
+        positive number; no figure is made then.
+
     Examples
     --------
     >>> import kapitza
@@ -365,6 +434,7 @@ def time_series_figure(traj, *, linear=None, tol=None, title=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    traj, linear, tol = _motion_options(traj, linear, tol)
     fig = new_figure(7.5, 5.0, caption_lines=3)
     gs = fig.add_gridspec(2, 1, height_ratios=[3, 1])
     ax = fig.add_subplot(gs[0])
@@ -396,6 +466,11 @@ def phase_portrait_figure(traj, *, title=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``traj`` is not a :class:`~kapitza.motion.Trajectory`; no figure is made then.
+
     Examples
     --------
     >>> import kapitza
@@ -406,6 +481,7 @@ def phase_portrait_figure(traj, *, title=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    _record("traj", traj, "Trajectory")
     fig = new_figure(6.5, 5.2, caption_lines=3)
     ax = fig.add_subplot()
     plot_phase_portrait(traj, ax)
@@ -467,6 +543,12 @@ def strobe_figure(orbits, *, title=None, highlight=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``orbits`` is not a :class:`~kapitza.motion.StrobeOrbits` or ``highlight`` is not a pair
+        of equally long sequences of finite numbers; no figure is made then.
+
     Notes
     -----
     The axes frame the island and the user's orbit (:func:`strobe_window`); only when
@@ -485,6 +567,17 @@ def strobe_figure(orbits, *, title=None, highlight=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
+    _record("orbits", orbits, "StrobeOrbits")
+    if highlight is not None:
+        try:
+            hth, hom = (np.asarray(v, float).ravel() for v in highlight)
+        except (TypeError, ValueError):
+            raise _v.KapitzaValueError(f"highlight must be a pair (theta_k, dtheta_k) of sequences of numbers; "
+                                       f"got {_v._short(highlight)}") from None
+        if hth.size != hom.size:
+            raise _v.KapitzaValueError(f"highlight must be a pair of equally long sequences; got {hth.size} angles "
+                                       f"and {hom.size} rates")
+        _v.finite("highlight", np.concatenate([hth, hom]))
     fig = new_figure(6.5, 5.2, caption_lines=3)
     ax = fig.add_subplot()
     keep = island_members(orbits)
@@ -541,6 +634,12 @@ def basin_figure(basins, *, title=None):
     -------
     matplotlib.figure.Figure
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``basins`` is empty or holds something other than :class:`~kapitza.motion.Basin`; no figure
+        is made then.
+
     Examples
     --------
     >>> import kapitza
@@ -553,7 +652,9 @@ def basin_figure(basins, *, title=None):
     >>> import matplotlib.pyplot as plt
     >>> plt.close("all")
     """
-    basins = list(basins)
+    basins = [_record("basins[]", b, "Basin") for b in basins]
+    if not basins:
+        raise _v.KapitzaValueError("basins must hold at least one kapitza.motion.Basin; got none")
     fig = new_figure(5.2 * len(basins) + 0.8, 4.8, caption_lines=3)
     axes = fig.subplots(1, len(basins), squeeze=False)[0]
     for i, (ax, b) in enumerate(zip(axes, basins)):

@@ -80,6 +80,11 @@ def compute_chunk(spec: SweepSpec, iy: int, ix: int) -> dict:
     dict of str to ndarray
         Each variable of :attr:`SweepSpec.variables`, of the chunk's shape.
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``spec`` is not a :class:`SweepSpec` or ``(iy, ix)`` is not a chunk of its grid.
+
     Examples
     --------
     >>> from kapitza.sweeps import SweepSpec, compute_chunk
@@ -91,6 +96,13 @@ def compute_chunk(spec: SweepSpec, iy: int, ix: int) -> dict:
     array([[ 0,  0],
            [-1,  0]], dtype=int16)
     """
+    if not isinstance(spec, SweepSpec):
+        raise _v.KapitzaValueError(f"spec must be a kapitza.sweeps.SweepSpec; got {type(spec).__name__}")
+    ny, nx = spec.chunk_shape
+    iy, ix = (_v.bounded_count(name, i, 2**61) for name, i in (("iy", iy), ("ix", ix)))  # whole numbers >= 0
+    for name, i, n in (("iy", iy, ny), ("ix", ix, nx)):
+        if i >= n:
+            raise _v.KapitzaValueError(f"{name} must satisfy 0 <= {name} < {n} (the chunks of this sweep); got {i}")
     ys, xs = spec.chunk_slices(iy, ix)
     return block_quantities(spec.x[xs], spec.y[ys], plane=spec.plane, l=spec.l, g=spec.g, drive=spec.drive,
                             periods=spec.periods, tol=spec.tol, quantities=spec.quantities,

@@ -263,6 +263,11 @@ def done_chunks(grp) -> np.ndarray:
     -------
     ndarray of bool
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``grp`` is not a sweep store (no chunk flags).
+
     Examples
     --------
     >>> import os, shutil, tempfile
@@ -274,7 +279,12 @@ def done_chunks(grp) -> np.ndarray:
     (2, 2)
     >>> shutil.rmtree(folder)
     """
-    return np.asarray(grp["chunk_done"][...]) == 1
+    try:
+        flags = grp["chunk_done"]
+    except (TypeError, KeyError, AttributeError):
+        raise _v.KapitzaValueError(f"grp must be a sweep store opened by open_store; got {type(grp).__name__}") \
+            from None
+    return np.asarray(flags[...]) == 1
 
 
 class StoreCheck:
@@ -426,6 +436,11 @@ def to_netcdf(ds, path):
     pathlib.Path
         The file written.
 
+    Raises
+    ------
+    KapitzaValueError
+        If ``ds`` is not an :class:`xarray.Dataset`; nothing is written then.
+
     Examples
     --------
     >>> import os, shutil, tempfile
@@ -442,6 +457,10 @@ def to_netcdf(ds, path):
     ('mu', 'eps') arnold
     >>> shutil.rmtree(folder)
     """
+    import xarray as xr
+
+    if not isinstance(ds, xr.Dataset):
+        raise _v.KapitzaValueError(f"ds must be an xarray.Dataset (open_sweep); got {type(ds).__name__}")
     with atomic_path(path, suffix=".nc") as tmp:
         ds.load().to_netcdf(tmp, engine="scipy")
     return Path(path)

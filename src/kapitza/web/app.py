@@ -326,6 +326,13 @@ def error_detail(exc: BaseException) -> str | None:
 
 
 # ------------------------------------------------------------------ the app
+def _iterable(value):
+    try:
+        return list(value)
+    except TypeError:
+        return [value]
+
+
 def create_app(hosts=None) -> FastAPI:
     """The explorer: the page at ``/``, the JSON API under ``/api``, its schema at ``/openapi.json``.
 
@@ -338,6 +345,11 @@ def create_app(hosts=None) -> FastAPI:
     Returns
     -------
     fastapi.FastAPI
+
+    Raises
+    ------
+    KapitzaValueError
+        If ``hosts`` is a single string or holds something other than strings.
 
     Examples
     --------
@@ -358,6 +370,11 @@ def create_app(hosts=None) -> FastAPI:
     /api/tower/point
     /api/verdict
     """
+    if hosts is not None:
+        if isinstance(hosts, (str, bytes)) or not all(isinstance(h, str) for h in _iterable(hosts)):
+            raise _v.KapitzaValueError(f"hosts must be a sequence of host names (str); got {_v._short(hosts)}")
+        hosts = list(hosts)
+
     @contextlib.asynccontextmanager
     async def lifespan(app):
         # The routes compute with numpy: more threads than CPUs only take turns at the GIL, and

@@ -98,6 +98,10 @@ def host_names(host: str) -> list[str]:
     return names
 
 
+#: uvicorn's log levels
+LOG_LEVELS = ("critical", "error", "warning", "info", "debug", "trace")
+
+
 def serve(sock: socket.socket, log_level: str = "warning", workers: int = 1, host: str | None = None) -> None:
     """Serve the explorer on ``sock`` until interrupted, in ``workers`` processes sharing it.
 
@@ -108,13 +112,20 @@ def serve(sock: socket.socket, log_level: str = "warning", workers: int = 1, hos
     ----------
     sock : socket.socket
         From :func:`bind`.
-    log_level : str
+    log_level : {"critical", "error", "warning", "info", "debug", "trace"}
     workers : int
+        Processes, 1 to 64.
     host : str, optional
 
     Returns
     -------
     None
+
+    Raises
+    ------
+    KapitzaValueError
+        If ``sock`` is not a socket, ``log_level`` not one of its choices or ``workers`` not a whole
+        number from 1 to 64; nothing is served then.
 
     Examples
     --------
@@ -123,6 +134,13 @@ def serve(sock: socket.socket, log_level: str = "warning", workers: int = 1, hos
     >>> from kapitza.web.server import bind, serve
     >>> serve(bind(port=8000))  # doctest: +SKIP
     """
+    from .. import _validate as _v
+
+    if not isinstance(sock, socket.socket):
+        raise _v.KapitzaValueError(f"sock must be a bound socket.socket (bind); got {type(sock).__name__}")
+    if log_level not in LOG_LEVELS:
+        raise _v.KapitzaValueError(f"log_level must be one of {', '.join(map(repr, LOG_LEVELS))}; got {log_level!r}")
+    workers = _v.bounded_count("workers", workers, 64, minimum=1, what="processes of one explorer")
     import uvicorn
 
     if host:

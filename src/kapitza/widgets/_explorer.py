@@ -78,9 +78,24 @@ def _parse(route: str, query) -> dict:
 def answer(url: str, check=None) -> dict:
     """The explorer's answer to ``url`` (``"/api/ROUTE?query"``), as the web API gives it.
 
-    Returns ``{"ok": True, "json": text}`` with the JSON text the route sends, or
-    ``{"ok": False, "detail": message}`` with the one-line message of its 422. ``check()`` is called
-    between blocks of a long chart; it raises to stop one nobody waits for.
+    Parameters
+    ----------
+    url : str
+        A route of the web API with its query, e.g. ``"/api/verdict?eps=0.5&mu=0.3"``.
+    check : callable, optional
+        Called between blocks of a long chart; it raises to stop one nobody waits for.
+
+    Returns
+    -------
+    dict
+        ``{"ok": True, "json": text}`` with the JSON text the route sends, or
+        ``{"ok": False, "detail": message}`` with the one-line message of its 422 (an unknown
+        route or a bad query is answered so, not raised).
+
+    Raises
+    ------
+    Exception
+        What ``check()`` raises, passed on unchanged (the chart is abandoned).
 
     Examples
     --------
@@ -152,6 +167,13 @@ class Explorer(anywidget.AnyWidget):
         The chart's plane.
     theta0 : float
         The start tilt of the motion [rad].
+
+    Raises
+    ------
+    KapitzaValueError
+        If a point, a drive, a damping ratio, a length, gravity, a plane or a tilt is refused (the
+        web API's one-line message), when the explorer is made or when a trait is set later; the
+        trait keeps its value then.
 
     Examples
     --------
@@ -225,6 +247,12 @@ class Explorer(anywidget.AnyWidget):
     def _valid_length(self, proposal):
         name = proposal["trait"].name
         return _v.one(name, _v.positive(name, proposal["value"]))
+
+    @traitlets.validate("theta0")
+    def _valid_theta0(self, proposal):
+        theta0 = float(_v.one("theta0", _v.finite("theta0", proposal["value"])))
+        _app._bounded("|theta0|", abs(theta0), _app.LIMITS["theta0"])
+        return theta0
 
     @traitlets.validate("plane")
     def _valid_plane(self, proposal):
