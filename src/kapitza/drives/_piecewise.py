@@ -51,8 +51,25 @@ def _segments(eps, mu, levels, durations):
     return out
 
 
+def _uniform(kind):
+    """+1, -1 or 0 when every point's segment is of that kind (hyperbolic, elliptic, free flight): the
+    usual case (the kind depends on ``mu`` and the level only), computed without the other kinds'
+    branches; None when the kinds differ."""
+    k0 = kind.flat[0] if kind.size else 0.0
+    return float(k0) if kind.size and bool(np.all(kind == k0)) else None
+
+
 def _factor(kind, w, r, h):
     """Entries (a, b, c, d) of ``e^{-r} S`` (hyperbolic) or ``S`` (otherwise), and log scale."""
+    u = _uniform(kind)
+    if u is not None and u != 0.0:  # (w > 0 there: the same doubles as the general branch below)
+        if u > 0:
+            with np.errstate(over="ignore", under="ignore"):
+                ch = 0.5 * (1.0 + np.exp(-2.0 * r))
+                sn = -0.5 * np.expm1(-2.0 * r)
+            return ch, sn / w, w * sn, ch, r
+        ch, sn = np.cos(r), np.sin(r)
+        return ch, sn / w, -w * sn, ch, np.zeros_like(r)
     hyp = kind > 0
     ell = kind < 0
     ws = np.where(w > 0, w, 1.0)
@@ -101,6 +118,11 @@ def _carry(segs, x, y):
     """Carry the direction (x, y) through the segments; return the total turn."""
     turn = np.zeros(np.shape(x))
     for kind, w, r, h in segs:
+        u = _uniform(kind)
+        if u is not None and u != 0.0:
+            x, y, t = (_carry_hyperbolic if u > 0 else _carry_elliptic)(w, r, x, y)
+            turn = turn + t
+            continue
         ell = kind < 0
         hyp = kind > 0
         psi0 = _angle(x, y)
@@ -132,6 +154,41 @@ def _carry(segs, x, y):
         turn = turn + np.where(ell, elliptic, plain)
         x, y = x1, y1
     return turn
+
+
+def _wrap(a):
+    return np.remainder(a + PI, 2.0 * PI) - PI
+
+
+def _carry_elliptic(w, r, x, y):
+    """:func:`_carry` through one segment where every point's is elliptic (the same doubles)."""
+    psi0 = _angle(x, y)
+    s0 = np.arctan2(-y / w, x)
+    cr, sr = np.cos(r), np.sin(r)
+    x1, y1 = cr * x + sr / w * y, -w * sr * x + cr * y
+    n1 = np.hypot(x1, y1)
+    x1, y1 = x1 / n1, y1 / n1
+    psi1 = _angle(x1, y1)
+    s1 = np.arctan2(-y1 / w, x1)
+    ds = r + _wrap(s1 - s0 - r)
+    return x1, y1, ds + _wrap(psi1 - s1) - _wrap(psi0 - s0)
+
+
+def _carry_hyperbolic(w, r, x, y):
+    """:func:`_carry` through one segment where every point's is hyperbolic (the same doubles)."""
+    psi0 = _angle(x, y)
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        p = x + y / w
+        m = x - y / w
+        lp = np.log(np.abs(p)) + r
+        lm = np.log(np.abs(m)) - r
+        top = np.maximum(lp, lm)
+        P = np.sign(p) * np.exp(lp - top)
+        Mm = np.sign(m) * np.exp(lm - top)
+    x1, y1 = 0.5 * (P + Mm), 0.5 * (P - Mm) * w
+    n1 = np.hypot(x1, y1)
+    x1, y1 = x1 / n1, y1 / n1
+    return x1, y1, _wrap(_angle(x1, y1) - psi0)
 
 
 def floquet_product(eps, mu, levels, durations, certify=True):
