@@ -522,10 +522,11 @@ def point_margin(drive, eps, mu, zeta):
         lv = np.empty(flat.size)
         tau = np.empty(flat.size)
         if todo.any():
-            t, _, theta, st, zn, _ = drive._floquet(flat[todo], np.full(int(todo.sum()), mu),
-                                                    np.broadcast_to(z1, (int(todo.sum()),)), certify)
+            t, _, theta, st, zn, kappa = drive._floquet(flat[todo], np.full(int(todo.sum()), mu),
+                                                        np.broadcast_to(z1, (int(todo.sum()),)), certify)
             lv[todo] = np.where(st, zn + 0.5, np.rint(theta / PI))
-            tau[todo] = t
+            with np.errstate(over="ignore", invalid="ignore"):
+                tau[todo] = t / np.cosh(kappa)   # stable where |tau| < 1, damped or not
             if certify:
                 known.update(zip(flat[todo].tolist(), zip(lv[todo].tolist(), tau[todo].tolist())))
         for i in np.flatnonzero(~todo):
@@ -561,21 +562,19 @@ def point_margin(drive, eps, mu, zeta):
     lo = np.array([eps if r[2] else 0.0 for r in rows])
     hi = np.array([top if r[2] else eps for r in rows])
 
-    guided = zeta == 0.0  # (undamped: the edges are where tau = +-1)
-
     def pred(x, idx, certify=False):
         lv, tau = level(x, certify, True)
         n = n_of[idx][:, None]
         up = upper[idx][:, None]
         ok = np.where(up, lv >= n + 1, lv > n)
-        if certify or not guided:
+        if certify:
             return ok
         # zone n's edges: theta = n pi below (tau = (-1)^n), (n + 1) pi above
         with np.errstate(invalid="ignore", over="ignore"):
             f = np.where(up, tau * _parity(n + 1) - 1.0, 1.0 - tau * _parity(n))
         return ok, f
 
-    a, b = search_bits(pred, lo, hi, certified=lambda x, idx: pred(x, idx, True), guided=guided)
+    a, b = search_bits(pred, lo, hi, certified=lambda x, idx: pred(x, idx, True), guided=True)
     idx = np.arange(len(rows))
     ends = pred(np.stack([a, b], axis=1), idx, True)
     if ends[:, 0].any() or not ends[:, 1].all():
@@ -676,9 +675,10 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
     z1 = np.array([zeta])
 
     def levels(e, m, certify, with_tau=False):
-        tau, _, theta, st, zn, _ = drive._floquet(e, m, np.broadcast_to(z1, e.shape), certify)
+        tau, _, theta, st, zn, kappa = drive._floquet(e, m, np.broadcast_to(z1, e.shape), certify)
         lv = np.where(st, zn + 0.5, np.rint(theta / PI))
-        return (lv, np.asarray(tau, float)) if with_tau else lv
+        with np.errstate(over="ignore", invalid="ignore"):
+            return (lv, np.asarray(tau / np.cosh(kappa), float)) if with_tau else lv   # stable: |tau| < 1
 
     def along_A(A_):
         return T * np.sqrt(A_ / (8.0 * l)), np.sqrt(g / A_)
@@ -720,7 +720,7 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
                       np.where(r == 1, k > n,    # A_lo: first A in it (or beyond)
                                np.where(r == 2, k < n + 1,   # mu_lo: first mu back in the zone or below
                                         k <= n)))            # mu_hi: first mu below the zone
-        if certify or not guided:
+        if certify:
             return ok
         # the edges: tau = (-1)^(n + 1) at the upper one (rows 0, 2), (-1)^n at the lower one (1, 3)
         with np.errstate(invalid="ignore", over="ignore"):
@@ -728,12 +728,10 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
             f = np.where(r == 0, t_up - 1.0, np.where(r == 1, 1.0 - t_lo, np.where(r == 2, 1.0 - t_up, t_lo - 1.0)))
         return ok, f
 
-    guided = zeta == 0.0
-
     # (a search whose answer is not needed gets an empty bracket)
     lo = np.array([0.0, 0.0, 1e-6, 1e-6])
     hi = np.array([top, top, 1e-6 if above else 4.0, 1e-6 if capped else 4.0])
-    a, b = search_bits(pred, lo, hi, certified=lambda x, rows: pred(x, rows, True), guided=guided)
+    a, b = search_bits(pred, lo, hi, certified=lambda x, rows: pred(x, rows, True), guided=True)
     out = dict(A_lo=float(a[1]), A_hi=float(b[0]))
     mu_lo = 1e-6 if above else float(a[2])
     mu_hi = 4.0 if capped else float(b[3])
@@ -944,7 +942,7 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
     ``certified``: the same predicate decided to the last bit (``pred`` may err within a few ulp of
     its change, at a fraction of the cost). The final pair is checked with it; where it is not
     False below and True above, the change is searched with it (by halves: each of its points may
-    cost an extended-precision product) in a window of 64 ulp either side, widened fourfold up to
+    cost an extended-precision product) in a window of 4 ulp either side, widened fourfold up to
     2^20 ulp until it holds the change (a drive given by its shape may err by a thousand ulp where
     its trace is flat), and kept where found there.
     """
@@ -984,7 +982,7 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
     bad = inner[(ends[:, 0] & (a[inner] > lo_i[inner])) | (~ends[:, 1] & (b[inner] < hi_i[inner]))]
     if bad.size:
         rows, wa, wb = bad[:0], a[:0], b[:0]
-        width = 64
+        width = 4
         while bad.size and width <= 1 << 20:
             ca, cb = np.maximum(a[bad] - width, lo_i[bad]), np.minimum(b[bad] + width, hi_i[bad])
             w_ends = np.asarray(certified(np.stack([ca, cb], axis=1).view(np.float64), bad), bool)
