@@ -303,8 +303,11 @@ def _exact_motion_plan(t, theta0, dtheta0, plan):
     order = np.argsort(p_all, kind="stable")
     ps = p_all[order]
     last = int(ps[-1]) if ps.size else 0
-    out_th = np.empty(tf.size)
-    out_om = np.empty(tf.size)
+    # the state at the start of each sample's step, gathered while the steps are taken one after
+    # another; then every sample is one flow from there, all in one call
+    th0 = np.empty(tf.size)
+    om0 = np.empty(tf.size)
+    s0 = np.empty(tf.size)
     lo = 0
     for p in range(last + 1):
         s, d = S[p % K], D[p % K]
@@ -312,15 +315,14 @@ def _exact_motion_plan(t, theta0, dtheta0, plan):
         if hi > lo:
             sel = order[lo:hi]
             kk = ic[sel]
-            th1, om1 = _phase_step(th[kk], om[kk], s[kk], rr[sel])
-            # At a switch itself the state is the boundary state, not a zero-length step of it.
-            at = rr[sel] == 0.0
-            out_th[sel] = np.where(at, th[kk], th1)
-            out_om[sel] = np.where(at, om[kk], om1)
+            th0[sel], om0[sel], s0[sel] = th[kk], om[kk], s[kk]
             lo = hi
         if p < last:
             th, om = _phase_step(th, om, s, d)
-    return out_th.reshape(full), out_om.reshape(full)
+    th1, om1 = _phase_step(th0, om0, s0, rr)
+    # At a switch itself the state is the boundary state, not a zero-length step of it.
+    at = rr == 0.0
+    return np.where(at, th0, th1).reshape(full), np.where(at, om0, om1).reshape(full)
 
 
 # ------------------------------------------------------------------ a trajectory
