@@ -9,8 +9,9 @@ in the same run:
   connection) for: the full chart view the page asks for first (every zone in ``0 <= eps <= 4``,
   ``0 <= mu <= 1`` at 1000 samples; the server keeps recent views, up to 64 MiB of them, so
   repeats of it are answered from memory), the same view moved by 1e-12 at every request (computed every time), a
-  deep-zoom view of zone 2 (1e-5 wide), and the stability report of one point (what
-  ``kapitza stability --json`` prints);
+  deep-zoom view of zone 2 (1e-5 wide), the stability report of one point (what
+  ``kapitza stability --json`` prints), and the motion the page asks for a click (square wave; the
+  server keeps it with the views) and the same moved by 1e-12 at every request;
 * the baseline: the same library call in this process, without HTTP (the chart's curves and
   their JSON; ``analyze``), median over repeats; the ratio of the 1-client p50 to it is the
   cost of the web layer;
@@ -48,6 +49,8 @@ LO2, HI2 = (float(v) for v in kapitza.zone_edges(0.6, 2))
 W2 = HI2 - LO2
 _FRESH = itertools.count(1)
 FULL = dict(plane="arnold", eps_min=0, eps_max=4, mu_min=0, mu_max=1, samples=1000)
+# what the page asks for a click at T = 0.15 s: 27 periods at 60 samples, nonlinear and linear
+MOTION = dict(T=0.15, A=100, l=1, g=9.81, drive="square", zeta=0, theta0=0.1, periods=27, points_per_period=60)
 QUERIES = {
     "chart, full view": ("/api/chart", FULL),
     "chart, full view moved by 1e-12 each request (never cached)": (
@@ -55,6 +58,9 @@ QUERIES = {
     "chart, zone 2 zoomed (1e-5 wide)": ("/api/chart", dict(eps_min=LO2 - 5 * W2, eps_max=HI2 + 5 * W2,
                                                            mu_min=0.6 - 2e-5, mu_max=0.6 + 2e-5, samples=1000)),
     "point (stability report)": ("/api/point", dict(T=0.15, A=100, l=1, g=9.81)),
+    "motion (square wave, the page's request)": ("/api/motion", MOTION),
+    "motion, start moved by 1e-12 each request (never cached)": (
+        "/api/motion", lambda: {**MOTION, "theta0": 0.1 + 1e-12 * next(_FRESH)}),
 }
 
 
@@ -63,6 +69,10 @@ def baseline(name):
     path, q = QUERIES[name]
     if path == "/api/point":
         return lambda: kapitza.analyze(T=0.15, A=100.0).as_dict()
+    if path == "/api/motion":
+        from kapitza.web.app import motion_answer
+
+        return lambda: orjson.dumps(motion_answer(**(q() if callable(q) else q)), option=orjson.OPT_SERIALIZE_NUMPY)
 
     def chart():
         p = q() if callable(q) else q
@@ -131,6 +141,7 @@ def main():
     ap.add_argument("--workers", type=int, default=1, help="server processes (kapitza serve --workers; default 1)")
     ap.add_argument("--mixed-clients", type=int, default=50, help="clients of the mixed load (default 50)")
     ap.add_argument("--only-mixed", action="store_true", help="run the mixed load only")
+    ap.add_argument("--only", default=None, help="run only the queries whose name contains this text (no mixed load)")
     ap.add_argument("--tiny", action="store_true", help="a smoke run: few requests, 1 and 2 clients")
     args = ap.parse_args()
     if args.tiny:
@@ -154,6 +165,8 @@ def main():
     print(f"server: kapitza serve --workers {args.workers}")
     with running_server(*(["--workers", str(args.workers)] if args.workers > 1 else [])) as (base, _, _proc):
         for name, (path, params) in QUERIES.items():
+            if args.only is not None and args.only not in name:
+                continue
             med, lo, hi = median_time(baseline(name), repeats=5 if args.tiny else 21, warmup=1)
             size = len(httpx.get(base + path.lstrip("/"), params=params() if callable(params) else params,
                                  timeout=120).content)
@@ -165,7 +178,8 @@ def main():
                 ratio = f"; p50 / baseline {p50 / (1e3 * med):.2f}x" if c == 1 else ""
                 print(f"  {c:3d} clients: {t.size:4d} requests in {wall:5.1f} s ({t.size / wall:6.1f}/s), "
                       f"p50 {p50:7.1f} ms, p99 {p99:7.1f} ms, errors {err}{ratio}")
-    mixed(args)
+    if args.only is None:
+        mixed(args)
 
 
 def mixed(args):

@@ -155,6 +155,17 @@ def test_motion_is_the_library_simulation(server):
     assert len(d["strobe"]["t"]) == 6
 
 
+def test_a_repeated_motion_is_the_same_answer_and_another_start_another(server):
+    q = dict(T=0.15, A=100, theta0=0.25, periods=3, points_per_period=30)
+    first, again = (server.get("/api/motion", params=q) for _ in range(2))
+    assert first.status_code == again.status_code == 200 and first.content == again.content
+    other = server.get("/api/motion", params={**q, "theta0": 0.26}).json()
+    assert other["theta"][0] == 0.26 and other["theta"] != first.json()["theta"]
+    # a refused request is not kept: it is refused again, with its message
+    bad = dict(q, periods=1000)
+    assert [server.get("/api/motion", params=bad).status_code for _ in range(2)] == [422, 422]
+
+
 def test_motion_of_an_unstable_point_runs_away_in_the_linear_model(server):
     # T = 0.3 s: the linear motion grows like exp(3.07 per period) to ~1e26 rad; the nonlinear one
     # falls and whirls. Both come back (no server error on the huge numbers).
