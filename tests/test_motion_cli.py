@@ -165,3 +165,11 @@ def test_help_names_every_drive_and_the_rig_options(capsys):
         assert form in flat
     for option in ("--drive-file", "--damping", "--frequency", "--rpm", "--stroke", "--amplitude", "--rod"):
         assert option in flat
+
+
+def test_package_docstring_names_every_drive():
+    import kapitza
+    from kapitza.drives import text_forms
+
+    for form in text_forms():
+        assert form in kapitza.__doc__
