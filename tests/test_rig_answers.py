@@ -127,6 +127,9 @@ def test_stability_answers_the_engineer(capsys):
                        capsys)
     assert "raise the frequency to at least 95.9 Hz" in out and "increase the stroke to 11.5-152 mm" in out
     assert "(30.18 g)" in out and "margin" not in out
+    code, out, _ = run(["stability", "--drive", "sine", "--frequency", "50", "--amplitude", "0.003", "--rod", "0.25"],
+                       capsys)
+    assert "frequency > 95.9408 Hz at this amplitude" in out and "stroke" not in out   # the quantity given
 
 
 def test_stability_shows_the_safe_tilt(capsys):
