@@ -33,6 +33,7 @@ API_PAGES = {
     "kapitza": None,  # spread over core, drives, motion, nonlinear
     "kapitza.phase_plane": "core",
     "kapitza.curves": "core",
+    "kapitza.grids": "core",
     "kapitza.drives": "drives",
     "kapitza.mathieu": "drives",
     "kapitza.limits": "drives",

@@ -77,6 +77,7 @@ _LAZY = {
     "limits": ("kapitza.limits", None),
     "system": ("kapitza.system", None),
     "figures": ("kapitza.figures", None),
+    "grids": ("kapitza.grids", None),  # grids as xarray.DataArray (the sweep extra)
     "chain_motion": ("kapitza.motion.chain", "chain_motion"),
     "tower_safe_tilt": ("kapitza.motion.chain", "tower_safe_tilt"),
     "widgets": ("kapitza.widgets", None),  # the explorer in a notebook (the widgets extra)
