@@ -68,6 +68,7 @@ def test_first_load_shows_a_standing_pendulum(site):
     text = page.inner_text("#verdict")
     assert text.startswith("The pendulum stays up") and "stands for starting tilts below" in text
     assert page.query_selector("#will-fall") is None          # 0.1 rad is a safe start in zone 0
+    assert not page.evaluate("kapitza.chart.legendBox.narrow")   # the full legend on a desktop
     page.wait_for_timeout(1200)
     page.screenshot(path=str(SCREENS / "10-first-load-standing.png"))
     assert not errors
@@ -241,6 +242,10 @@ def test_phone_layout_and_pinch_zoom(site):
     page.wait_for_function("kapitza.anim.m !== null", timeout=LONG)
     page.wait_for_timeout(800)
     assert page.evaluate("document.documentElement.scrollWidth") <= 390
+    # the legend leaves the plot visible: the short one, under half the chart's width and a quarter of its height
+    box = page.evaluate("kapitza.chart.legendBox")
+    w, h = page.evaluate("[document.getElementById('chart').clientWidth, document.getElementById('chart').clientHeight]")
+    assert box["narrow"] and box["w"] < 0.5 * w and box["h"] < 0.25 * h
     page.screenshot(path=str(SCREENS / "19-phone-390.png"), full_page=True)
     # two fingers spread apart on the chart zoom the chart, not the page
     before = page.evaluate("kapitza.S.views.arnold")
