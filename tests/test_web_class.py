@@ -192,6 +192,17 @@ def test_rig_mode_for_a_50_hz_shaker(site):
     zone0 = next(z for z in d["zones"] if z["n"] == 0)
     j = int(np.argmin(np.abs(np.array(d["y_values"]) - 0.006)))
     assert zone0["lo"][j] == pytest.approx(95.94 * 0.006 / d["y_values"][j], rel=0.05)
+    # the upper (period-doubling) edge levels off towards its stroke as the frequency grows: drawn
+    # all the way out of the view, not stopped at the last finite sample
+    s_top = min(s for s, f in zip(d["y_values"], zone0["hi"]) if f is not None and f < 1e300)
+    assert v["x1"] > 90 and 0.10 < s_top < 0.16
+    red = page.evaluate("""(([f, s]) => { const c = document.getElementById('chart'), r = c.getBoundingClientRect();
+        const p = kapitza.pixel(f, s), k = c.width / r.width, ctx = c.getContext('2d');
+        const px = ctx.getImageData(Math.round((p.x - r.left) * k) - 6 * k, Math.round((p.y - r.top) * k) - 4 * k,
+                                    12 * k, 8 * k).data;
+        for (let i = 0; i < px.length; i += 4) if (px[i] > 150 && px[i + 1] < 110 && px[i + 2] < 110) return true;
+        return false; })""", [0.97 * v["x1"], s_top])
+    assert red
     page.wait_for_timeout(600)
     page.screenshot(path=str(SCREENS / "16-frequency-stroke-chart.png"))
     assert not errors

@@ -252,10 +252,10 @@ export function mount(root, host = {}) {
         for (const [key, kind] of [["lo", z.lower_edge], ["hi", z.upper_edge]]) {
           ctx.beginPath();
           let on = false;
+          // An edge beyond the view (an asymptote: the rig plane's upper edge as the frequency grows)
+          // is drawn to the same point off the canvas as the shading, so it runs out of the view with it.
           for (const j of run) {
-            const x = z[key][j];
-            if (x > far || (ax.logX && x <= v.x0 / 10)) { on = false; continue; }
-            const X = clampPx(ax.X(x)), Y = clampPx(ax.Y(ys[j]));
+            const X = clampPx(ax.X(val(z[key][j]))), Y = clampPx(ax.Y(ys[j]));
             on ? ctx.lineTo(X, Y) : ctx.moveTo(X, Y); on = true;
           }
           ctx.strokeStyle = style.color ? style.color : kind === "2T" ? COLORS.edge2 : COLORS.edge4;
