@@ -192,7 +192,8 @@ NOTEBOOK_SHOWS = {
     "teacher": ["stays up? False True", "stable (zone 0)",
                 # what section 4 explains: faster at the same A is too weak, slower is period doubling
                 "T = 0.05 s: unstable: the drive is too weak", "T = 0.25 s: unstable: parametric resonance"],
-    "engineer": ["stable: False", "raise the frequency to at least 95.9 Hz"],
+    "engineer": ["stable: False", "raise the frequency to at least 95.9 Hz",
+                 "increase the amplitude to 5.76-75.8 mm"],   # in the quantity the rig was given
     "researcher": ["worst relative difference"],
 }
 

@@ -215,3 +215,13 @@ def test_zones_and_compare_take_a_rigs_damping(capsys):
     assert_one_line_error(code, err, "--damping")
     code, _, err = run(["compare", "--damping", "0.5", "--zeta", "0.1"], capsys)
     assert_one_line_error(code, err, "not both")
+
+
+def test_a_rig_answers_in_the_quantity_it_was_given():
+    rig = K.Rig(K.Pendulum.uniform_rod(0.25), "sine")
+    rep = rig.analyze(frequency=50.0, amplitude=0.003)
+    assert rep.given == "amplitude" and [d["knob"] for d in rep.directions] == ["frequency", "amplitude"]
+    assert "increase the amplitude to 5.76-75.8 mm" in str(rep) and "stroke" not in str(rep)
+    reps = rig.analyze(frequency=[50.0, 60.0], stroke=0.006)
+    assert all(r.given == "stroke" and "increase the stroke to" in r.directions[1]["text"] for r in reps)
+    assert rig.analyze(T=0.01, A=296.0).given is None
