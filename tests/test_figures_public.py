@@ -298,3 +298,18 @@ def test_a_tongue_of_another_drive_or_damped_is_that_drives_zone(drive, zeta):
     assert drawn.data.eps_lo[3] == t.eps_lo[3]
     assert ax.get_xlabel() and ax.get_ylabel()
     plt.close(fig)
+
+
+def test_drive_comparison_legend_says_what_the_dashed_lines_are():
+    import matplotlib.pyplot as plt
+    from kapitza.figures import drive_curves, plot_drive_comparison
+
+    mu = np.linspace(0.05, 0.9, 12)
+    fig, ax = plt.subplots()
+    out = plot_drive_comparison([drive_curves("sine", mu, eps_max=2.0)], ax, eps_range=(0, 2))
+    texts = [t.get_text() for t in out["legend"].get_texts()]
+    assert any("averaging" in t for t in texts) and any("sine" in t for t in texts)
+    fig2, ax2 = plt.subplots()
+    out = plot_drive_comparison([drive_curves("sine", mu, eps_max=2.0)], ax2, eps_range=(0, 2), averaging=False)
+    assert not any("averaging" in t.get_text() for t in out["legend"].get_texts())
+    plt.close("all")
