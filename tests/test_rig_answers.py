@@ -225,3 +225,12 @@ def test_a_rig_answers_in_the_quantity_it_was_given():
     reps = rig.analyze(frequency=[50.0, 60.0], stroke=0.006)
     assert all(r.given == "stroke" and "increase the stroke to" in r.directions[1]["text"] for r in reps)
     assert rig.analyze(T=0.01, A=296.0).given is None
+
+
+def test_directions_write_numbers_out():
+    rep = K.analyze(T=0.2, A=150.0, drive="rectangular:0.3", zeta=0.05)
+    stroke = next(d for d in rep.directions if d["knob"] == "stroke")
+    assert "584-1,130 mm" in stroke["text"] and "e+" not in stroke["text"]
+    assert stroke["hi"] == pytest.approx(1132.76, rel=1e-4)     # the JSON keeps the number itself
+    far = K.analyze(T=0.01, A=296088.132033, l=0.25 * 2 / 3, drive="sine")
+    assert all("e+" not in d["text"] for d in far.directions)   # 288,000 Hz, not 2.88e+05 Hz
