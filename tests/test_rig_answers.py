@@ -234,3 +234,22 @@ def test_directions_write_numbers_out():
     assert stroke["hi"] == pytest.approx(1132.76, rel=1e-4)     # the JSON keeps the number itself
     far = K.analyze(T=0.01, A=296088.132033, l=0.25 * 2 / 3, drive="sine")
     assert all("e+" not in d["text"] for d in far.directions)   # 288,000 Hz, not 2.88e+05 Hz
+
+
+def test_nonlinear_takes_the_rigs_damping_and_names_what_it_cannot_answer(capsys):
+    rig = ["--frequency", "3.3333333333", "--stroke", "0.5625"]
+    code, out, err = run(["nonlinear", *rig, "--rod", "1.5", "--damping", "0.5", "--json"], capsys)
+    d = json.loads(out)
+    rep = K.analyze(T=0.15, A=100.0, l=1.0, damping=0.5)
+    assert code == 0 and d["kind"] == "asymptotically stable" and d["stable"] is True
+    assert d["growth"] == pytest.approx(float(rep.growth), rel=1e-9) and d["growth"] < 0
+    code, out, _ = run(["nonlinear", "--eps", "1.2", "--mu", "0.3", "--zeta", "0.05", "--json"], capsys)
+    assert code == 0 and json.loads(out)["unstable"] is True
+    code, out, _ = run(["nonlinear", "--eps", "0.5", "--mu", "0.3", "--drive", "square", "--json"], capsys)
+    assert code == 0 and json.loads(out)["kind"] == "moser"       # the square wave, named, as before
+    for argv, needle in ((["--eps", "0.5", "--mu", "0.3", "--drive", "sine"], "--drive sine"),
+                         (["--eps", "0.5", "--mu", "0.3", "--duty", "0.3"], "--duty 0.3"),
+                         (["--chart", "--zeta", "0.1"], "--zeta"),
+                         (["--eps", "0.5", "--mu", "0.3", "--damping", "0.3"], "--zeta")):
+        code, _, err = run(["nonlinear", *argv], capsys)
+        assert_one_line_error(code, err, needle)
