@@ -253,3 +253,13 @@ def test_nonlinear_takes_the_rigs_damping_and_names_what_it_cannot_answer(capsys
                          (["--eps", "0.5", "--mu", "0.3", "--damping", "0.3"], "--zeta")):
         code, _, err = run(["nonlinear", *argv], capsys)
         assert_one_line_error(code, err, needle)
+
+
+@pytest.mark.parametrize("command", [["simulate", "--periods", "2"], ["nonlinear"], ["chart", "--plane", "rig", "--points", "30"]])
+def test_an_implausible_amplitude_is_flagged_by_every_command(command, capsys, tmp_path):
+    code, _, err = run([*command, "--frequency", "50", "--amplitude", "3", "--rod", "0.25", "--out",
+                        str(tmp_path / "x")] if command[0] == "chart" else
+                       [*command, "--frequency", "50", "--amplitude", "3", "--rod", "0.25"], capsys)
+    assert code == 0
+    notes = [line for line in err.splitlines() if line.startswith("kapitza: note:")]
+    assert len(notes) == 1 and "24,465 g" in notes[0] and "--amplitude 0.003" in notes[0]

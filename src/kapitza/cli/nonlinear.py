@@ -83,9 +83,9 @@ def _damped(args):
     growth = float(rep.growth)
     if rep.stable:
         kind = "asymptotically stable"
-        verdict = (f"asymptotically stable: with damping both multipliers lie inside the unit circle (growth {growth:.6g} "
-                   "per period 2T), so small motions of the real pendulum decay too (Lyapunov's theorem on stability "
-                   "by the first approximation)")
+        verdict = ("asymptotically stable: with damping both multipliers lie inside the unit circle (growth "
+                   f"{growth:.6g} per period 2T), so small motions of the real pendulum decay too (Lyapunov's "
+                   "theorem on stability by the first approximation)")
     elif growth > 0:
         kind = "linearly unstable"
         verdict = (f"unstable: a multiplier outside the unit circle (growth {growth:.6g} per period 2T), and so is the "
