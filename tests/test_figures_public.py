@@ -279,3 +279,37 @@ def test_physical_chart_magnifies_its_thin_zones():
         np.testing.assert_allclose((x_hi - x_lo) * 10.0**exp, width_T, rtol=1e-9, atol=1e-300)
     finally:
         plt.close(fig)
+
+
+@pytest.mark.parametrize("drive, zeta", [("sine", 0.0), ("rectangular:0.3", 0.0), (None, 0.05)])
+def test_a_tongue_of_another_drive_or_damped_is_that_drives_zone(drive, zeta):
+    import matplotlib.pyplot as plt
+    from kapitza.figures import plot_tongue, tongue_curves
+
+    t = tongue_curves(1, (0.05, 0.6), 12, drive=drive, zeta=zeta)
+    lo, hi = zone_edges(t.mu, 1, drive=drive, zeta=zeta)
+    np.testing.assert_allclose(t.eps_lo, lo, rtol=1e-12)
+    np.testing.assert_allclose(t.eps_hi, hi, rtol=1e-12)
+    square_lo, _ = zone_edges(t.mu, 1)
+    assert np.all(np.abs(t.eps_lo - square_lo) > 1e-6)          # not the square wave's tongue
+    assert np.nanmax(t.hi) < 10.0 and np.nanmax(t.hi) >= 1.0    # scaled to fill the panel
+    fig, ax = plt.subplots()
+    drawn = plot_tongue(1, ax, (0.05, 0.6), points=12, drive=drive, zeta=zeta)
+    assert drawn.data.eps_lo[3] == t.eps_lo[3]
+    assert ax.get_xlabel() and ax.get_ylabel()
+    plt.close(fig)
+
+
+def test_drive_comparison_legend_says_what_the_dashed_lines_are():
+    import matplotlib.pyplot as plt
+    from kapitza.figures import drive_curves, plot_drive_comparison
+
+    mu = np.linspace(0.05, 0.9, 12)
+    fig, ax = plt.subplots()
+    out = plot_drive_comparison([drive_curves("sine", mu, eps_max=2.0)], ax, eps_range=(0, 2))
+    texts = [t.get_text() for t in out["legend"].get_texts()]
+    assert any("averaging" in t for t in texts) and any("sine" in t for t in texts)
+    fig2, ax2 = plt.subplots()
+    out = plot_drive_comparison([drive_curves("sine", mu, eps_max=2.0)], ax2, eps_range=(0, 2), averaging=False)
+    assert not any("averaging" in t.get_text() for t in out["legend"].get_texts())
+    plt.close("all")

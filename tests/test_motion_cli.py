@@ -153,3 +153,23 @@ def test_simulate_linear_blow_up_gives_growth_per_period_not_turns(capsys):
     d = json.loads(out)
     assert d["linear"]["turns"] is None and d["linear"]["growth_per_period"] == pytest.approx(3.06997, rel=1e-4)
     assert isinstance(d["motion"]["turns"], int)  # the nonlinear pendulum does turn over
+
+
+def test_help_names_every_drive_and_the_rig_options(capsys):
+    from kapitza.drives import text_forms
+
+    code, out, _ = run(["--help"], capsys)
+    assert code == 0
+    flat = " ".join(out.split())
+    for form in text_forms():
+        assert form in flat
+    for option in ("--drive-file", "--damping", "--frequency", "--rpm", "--stroke", "--amplitude", "--rod"):
+        assert option in flat
+
+
+def test_package_docstring_names_every_drive():
+    import kapitza
+    from kapitza.drives import text_forms
+
+    for form in text_forms():
+        assert form in kapitza.__doc__

@@ -73,3 +73,11 @@ def test_stability_grid_as_a_dataarray():
     assert da.coords["A"].attrs["units"] == "m/s^2" and da.coords["T"].shape == (40, 50)
     assert da.sel(mu=0.3, eps=0.5, method="nearest").item() is True
     assert "square" in da.attrs["drive"]
+
+
+def test_the_labelled_grid_is_reachable_from_import_kapitza():
+    pytest.importorskip("xarray")
+    import sys
+
+    da = K.grids.stability_grid_da(np.array([0.5, 1.2]), np.array([0.3]), drive="sine")
+    assert "kapitza.grids" in sys.modules and da.shape == (1, 2) and "sine" in da.attrs["drive"]

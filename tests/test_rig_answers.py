@@ -127,6 +127,9 @@ def test_stability_answers_the_engineer(capsys):
                        capsys)
     assert "raise the frequency to at least 95.9 Hz" in out and "increase the stroke to 11.5-152 mm" in out
     assert "(30.18 g)" in out and "margin" not in out
+    code, out, _ = run(["stability", "--drive", "sine", "--frequency", "50", "--amplitude", "0.003", "--rod", "0.25"],
+                       capsys)
+    assert "frequency > 95.9408 Hz at this amplitude" in out and "stroke" not in out   # the quantity given
 
 
 def test_stability_shows_the_safe_tilt(capsys):
@@ -212,3 +215,51 @@ def test_zones_and_compare_take_a_rigs_damping(capsys):
     assert_one_line_error(code, err, "--damping")
     code, _, err = run(["compare", "--damping", "0.5", "--zeta", "0.1"], capsys)
     assert_one_line_error(code, err, "not both")
+
+
+def test_a_rig_answers_in_the_quantity_it_was_given():
+    rig = K.Rig(K.Pendulum.uniform_rod(0.25), "sine")
+    rep = rig.analyze(frequency=50.0, amplitude=0.003)
+    assert rep.given == "amplitude" and [d["knob"] for d in rep.directions] == ["frequency", "amplitude"]
+    assert "increase the amplitude to 5.76-75.8 mm" in str(rep) and "stroke" not in str(rep)
+    reps = rig.analyze(frequency=[50.0, 60.0], stroke=0.006)
+    assert all(r.given == "stroke" and "increase the stroke to" in r.directions[1]["text"] for r in reps)
+    assert rig.analyze(T=0.01, A=296.0).given is None
+
+
+def test_directions_write_numbers_out():
+    rep = K.analyze(T=0.2, A=150.0, drive="rectangular:0.3", zeta=0.05)
+    stroke = next(d for d in rep.directions if d["knob"] == "stroke")
+    assert "584-1,130 mm" in stroke["text"] and "e+" not in stroke["text"]
+    assert stroke["hi"] == pytest.approx(1132.76, rel=1e-4)     # the JSON keeps the number itself
+    far = K.analyze(T=0.01, A=296088.132033, l=0.25 * 2 / 3, drive="sine")
+    assert all("e+" not in d["text"] for d in far.directions)   # 288,000 Hz, not 2.88e+05 Hz
+
+
+def test_nonlinear_takes_the_rigs_damping_and_names_what_it_cannot_answer(capsys):
+    rig = ["--frequency", "3.3333333333", "--stroke", "0.5625"]
+    code, out, err = run(["nonlinear", *rig, "--rod", "1.5", "--damping", "0.5", "--json"], capsys)
+    d = json.loads(out)
+    rep = K.analyze(T=0.15, A=100.0, l=1.0, damping=0.5)
+    assert code == 0 and d["kind"] == "asymptotically stable" and d["stable"] is True
+    assert d["growth"] == pytest.approx(float(rep.growth), rel=1e-9) and d["growth"] < 0
+    code, out, _ = run(["nonlinear", "--eps", "1.2", "--mu", "0.3", "--zeta", "0.05", "--json"], capsys)
+    assert code == 0 and json.loads(out)["unstable"] is True
+    code, out, _ = run(["nonlinear", "--eps", "0.5", "--mu", "0.3", "--drive", "square", "--json"], capsys)
+    assert code == 0 and json.loads(out)["kind"] == "moser"       # the square wave, named, as before
+    for argv, needle in ((["--eps", "0.5", "--mu", "0.3", "--drive", "sine"], "--drive sine"),
+                         (["--eps", "0.5", "--mu", "0.3", "--duty", "0.3"], "--duty 0.3"),
+                         (["--chart", "--zeta", "0.1"], "--zeta"),
+                         (["--eps", "0.5", "--mu", "0.3", "--damping", "0.3"], "--zeta")):
+        code, _, err = run(["nonlinear", *argv], capsys)
+        assert_one_line_error(code, err, needle)
+
+
+@pytest.mark.parametrize("command", [["simulate", "--periods", "2"], ["nonlinear"], ["chart", "--plane", "rig", "--points", "30"]])
+def test_an_implausible_amplitude_is_flagged_by_every_command(command, capsys, tmp_path):
+    code, _, err = run([*command, "--frequency", "50", "--amplitude", "3", "--rod", "0.25", "--out",
+                        str(tmp_path / "x")] if command[0] == "chart" else
+                       [*command, "--frequency", "50", "--amplitude", "3", "--rod", "0.25"], capsys)
+    assert code == 0
+    notes = [line for line in err.splitlines() if line.startswith("kapitza: note:")]
+    assert len(notes) == 1 and "24,465 g" in notes[0] and "--amplitude 0.003" in notes[0]

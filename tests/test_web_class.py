@@ -68,6 +68,7 @@ def test_first_load_shows_a_standing_pendulum(site):
     text = page.inner_text("#verdict")
     assert text.startswith("The pendulum stays up") and "stands for starting tilts below" in text
     assert page.query_selector("#will-fall") is None          # 0.1 rad is a safe start in zone 0
+    assert not page.evaluate("kapitza.chart.legendBox.narrow")   # the full legend on a desktop
     page.wait_for_timeout(1200)
     page.screenshot(path=str(SCREENS / "10-first-load-standing.png"))
     assert not errors
@@ -191,6 +192,17 @@ def test_rig_mode_for_a_50_hz_shaker(site):
     zone0 = next(z for z in d["zones"] if z["n"] == 0)
     j = int(np.argmin(np.abs(np.array(d["y_values"]) - 0.006)))
     assert zone0["lo"][j] == pytest.approx(95.94 * 0.006 / d["y_values"][j], rel=0.05)
+    # the upper (period-doubling) edge levels off towards its stroke as the frequency grows: drawn
+    # all the way out of the view, not stopped at the last finite sample
+    s_top = min(s for s, f in zip(d["y_values"], zone0["hi"]) if f is not None and f < 1e300)
+    assert v["x1"] > 90 and 0.10 < s_top < 0.16
+    red = page.evaluate("""(([f, s]) => { const c = document.getElementById('chart'), r = c.getBoundingClientRect();
+        const p = kapitza.pixel(f, s), k = c.width / r.width, ctx = c.getContext('2d');
+        const px = ctx.getImageData(Math.round((p.x - r.left) * k) - 6 * k, Math.round((p.y - r.top) * k) - 4 * k,
+                                    12 * k, 8 * k).data;
+        for (let i = 0; i < px.length; i += 4) if (px[i] > 150 && px[i + 1] < 110 && px[i + 2] < 110) return true;
+        return false; })""", [0.97 * v["x1"], s_top])
+    assert red
     page.wait_for_timeout(600)
     page.screenshot(path=str(SCREENS / "16-frequency-stroke-chart.png"))
     assert not errors
@@ -241,6 +253,10 @@ def test_phone_layout_and_pinch_zoom(site):
     page.wait_for_function("kapitza.anim.m !== null", timeout=LONG)
     page.wait_for_timeout(800)
     assert page.evaluate("document.documentElement.scrollWidth") <= 390
+    # the legend leaves the plot visible: the short one, under half the chart's width and a quarter of its height
+    box = page.evaluate("kapitza.chart.legendBox")
+    w, h = page.evaluate("[document.getElementById('chart').clientWidth, document.getElementById('chart').clientHeight]")
+    assert box["narrow"] and box["w"] < 0.5 * w and box["h"] < 0.25 * h
     page.screenshot(path=str(SCREENS / "19-phone-390.png"), full_page=True)
     # two fingers spread apart on the chart zoom the chart, not the page
     before = page.evaluate("kapitza.S.views.arnold")

@@ -1,8 +1,9 @@
-"""kapitza: the inverted pendulum on a pivot driven by a square-wave acceleration.
+"""kapitza: the inverted pendulum on a vibrating pivot (square wave, duty cycles, steps, sine, triangle, measured).
 
 Exact stability zones, periodic motions (Csizmadia & Hatvani, Theorems 3.3-3.4,
-Corollary 4.1), Floquet data and exact linear motion, vectorised over numpy
-arrays; other drives (duty cycles, steps, the sine, your own) and damping in :mod:`kapitza.drives`
+Corollary 4.1) for the paper's square-wave acceleration, Floquet data and exact linear motion, vectorised
+over numpy arrays; the other drives (``drive="square"``, ``"rectangular:DUTY"``, ``"steps:LEVELS:FRACTIONS"``,
+``"sine"``, ``"triangle"``, a measured one from samples) and damping in :mod:`kapitza.drives`
 (``docs/drives.md``); nonlinear motion, stroboscopic maps and basins in :mod:`kapitza.motion`.
 See ``docs/theory.md`` for the mathematics, ``docs/architecture.md`` for the layout.
 
@@ -76,6 +77,7 @@ _LAZY = {
     "limits": ("kapitza.limits", None),
     "system": ("kapitza.system", None),
     "figures": ("kapitza.figures", None),
+    "grids": ("kapitza.grids", None),  # grids as xarray.DataArray (the sweep extra)
     "chain_motion": ("kapitza.motion.chain", "chain_motion"),
     "tower_safe_tilt": ("kapitza.motion.chain", "tower_safe_tilt"),
     "widgets": ("kapitza.widgets", None),  # the explorer in a notebook (the widgets extra)

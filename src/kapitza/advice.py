@@ -6,7 +6,7 @@ the frequency at a fixed stroke, the stroke (or amplitude) at a fixed frequency,
 record and one sentence a user can act on::
 
     raise the frequency to at least 95.9 Hz (+92 %), keeping the amplitude
-    increase the amplitude to 5.76-75.9 mm (+92 % to +2.43e+03 %), keeping the frequency
+    increase the amplitude to 5.76-75.9 mm (+92 % to +2,430 %), keeping the frequency
 
 inside a zone the same records say how far each knob may go before stability is lost.
 """
@@ -43,6 +43,16 @@ def _digits(*values):
     return 12
 
 
+def _plain(x, digits):
+    """``x`` to ``digits`` significant digits, written out (``1,130``, ``0.0192``) between 1e-3 and 1e9;
+    in powers of ten beyond (a user reads ``1.13e+03 mm`` badly)."""
+    if x == 0 or not math.isfinite(x) or not 1e-3 <= abs(x) < 1e9:
+        return f"{x:.{digits}g}"
+    r = float(f"{x:.{digits}g}")
+    text = f"{r:,.{max(0, digits - 1 - math.floor(math.log10(abs(r))))}f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text   # as %g: no trailing zeros
+
+
 def _record(knob, value, lo, hi, stable, held, zone, words=("raise", "lower")):
     """One direction: the interval ``(lo, hi)`` of ``knob`` (SI) that is zone ``zone`` with ``held`` fixed."""
     unit, scale, _ = KNOBS[knob]
@@ -52,7 +62,7 @@ def _record(knob, value, lo, hi, stable, held, zone, words=("raise", "lower")):
     dg = _digits(v, a, b)
 
     def _num(x):
-        return f"{x:.{dg}g}"
+        return _plain(x, dg)
 
     rng = f"{_num(a)}-{_num(b)}{u}" if math.isfinite(b) else f"at least {_num(a)}{u}"
     keep = (f", keeping {held}" if held in ("mu", "T", "A") else f", keeping the {held}") if held else ""

@@ -192,11 +192,12 @@ class StabilityReport(Summary):
                 rows.append(("", f"{_fmt(self.A_lo)} < A < {_fmt(self.A_hi)} m/s^2 at this T"))
             if self.frequency_lo is not None:
                 f = self.frequency
+                kept = "amplitude" if self.given == "amplitude" else "stroke"
                 if self.frequency_hi is not None and np.isfinite(self.frequency_hi):
                     rows.append(("", f"{_fmt(self.frequency_lo, 6)} < frequency < {_fmt(self.frequency_hi, 6)} Hz at "
-                                     f"this stroke ({_pct(self.frequency_lo, f)} / {_pct(self.frequency_hi, f)})"))
+                                     f"this {kept} ({_pct(self.frequency_lo, f)} / {_pct(self.frequency_hi, f)})"))
                 else:
-                    rows.append(("", f"frequency > {_fmt(self.frequency_lo, 6)} Hz at this stroke "
+                    rows.append(("", f"frequency > {_fmt(self.frequency_lo, 6)} Hz at this {kept} "
                                      f"({_pct(self.frequency_lo, f)}; no upper limit)"))
             if self.stroke_lo is not None and self.stroke_hi is not None:
                 st, k, word = self.stroke, 1.0, "stroke"

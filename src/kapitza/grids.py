@@ -33,10 +33,12 @@ def stability_grid_da(eps, mu, drive=None, zeta=0.0, *, l=None, g=None):
 
     Examples
     --------
-    >>> import numpy as np, kapitza                                  # doctest: +SKIP
-    >>> da = kapitza.grids.stability_grid_da(np.linspace(0.1, 4, 400), np.linspace(0.01, 0.99, 300))  # doctest: +SKIP
-    >>> da.sel(mu=0.3, eps=0.5, method="nearest").item()            # doctest: +SKIP
+    >>> import numpy as np, kapitza
+    >>> da = kapitza.grids.stability_grid_da(np.linspace(0.1, 4, 400), np.linspace(0.01, 0.99, 300), l=0.5)
+    >>> da.sel(mu=0.3, eps=0.5, method="nearest").item()
     True
+    >>> da.coords["A"].attrs["units"]
+    'm/s^2'
     """
     try:
         import xarray as xr

@@ -89,10 +89,14 @@ class Rig:
             return self.pendulum.analyze(drive=self.drive, **kwargs)
         T, A = self.physical(**kwargs)
         p = self.pendulum
+        # the answers come in the quantity the point was given in (amplitude or stroke, as from the CLI)
+        given = next((k for k in ("stroke", "amplitude") if kwargs.get(k) is not None), None)
+        if given is None and kwargs.get("frequency") is not None:
+            given = "A"
 
         def one(t, a):
             return replace(analyze(T=float(t), A=float(a), l=p.l, g=p.g, drive=self.drive, damping=p.damping),
-                           pendulum=p.describe())
+                           pendulum=p.describe(), given=given)
 
         if np.ndim(T) == 0:
             return one(T, A)

@@ -404,6 +404,9 @@ def stability_grid(eps, mu, out=None, drive=None, zeta=0.0):
         ``grid[i, j] == is_stable(eps[j], mu[i])`` except within about 1e-13
         relative of an edge.
 
+        The same grid with coordinates (``eps``, ``mu``, and ``T``, ``A`` with ``l=``), units and
+        the drive as attributes: :func:`kapitza.grids.stability_grid_da` (an ``xarray.DataArray``).
+
     Raises
     ------
     ValueError

@@ -15,13 +15,17 @@ from .. import __version__
 COMMAND_MODULES = ["engine", "drives", "motion", "nonlinear", "sweep", "paper", "web", "tower"]
 
 DESCRIPTION = """\
-Exact stability of the inverted pendulum whose pivot is shaken up and down with a
-square-wave acceleration of amplitude A and half-period T (period 2T).
+Exact stability of the inverted pendulum whose pivot is shaken up and down with an
+acceleration of amplitude A and half-period T (period 2T), by the paper's square wave
+or another drive, with viscous damping (--damping, --zeta):
+  --drive {drives}
+  --drive-file FILE.csv (a measured drive)
 
 Parameters are given either physically, --T (s) and --A (m/s^2) with --l (m) and
 --g (m/s^2), or in Arnold's dimensionless form --eps = T sqrt(A/(8 l)) and
---mu = sqrt(g/A). The upright position is stable exactly inside the zones
-alpha + n pi < w_e T < beta + n pi (n = 0, 1, ...).
+--mu = sqrt(g/A), or as a rig: --frequency (Hz) or --rpm with --stroke or --amplitude
+(m) and --rod (m). For the square wave the upright position is stable exactly inside
+the zones alpha + n pi < w_e T < beta + n pi (n = 0, 1, ...).
 """
 
 EPILOG = """\
@@ -52,7 +56,9 @@ Run 'kapitza COMMAND --help' for each command's options.
 def build_parser() -> Parser:
     import importlib
 
-    parser = Parser(prog="kapitza", description=DESCRIPTION, epilog=EPILOG)
+    from ..drives import text_forms
+
+    parser = Parser(prog="kapitza", description=DESCRIPTION.format(drives=", ".join(text_forms())), epilog=EPILOG)
     parser.add_argument("--version", action="version", version=f"kapitza {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for name in COMMAND_MODULES:

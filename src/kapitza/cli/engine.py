@@ -1,6 +1,7 @@
 """Commands of the exact engine: stability, periods, zones, chart."""
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -9,8 +10,8 @@ from .. import _io
 from ..analysis import analyze
 from ..periodic import boundary_table
 from .._validate import bounded_work
-from ._common import (CLIError, add_drive, add_parameters, add_zeta_from_rig, count, drive_from, finite_float,
-                      format_table, out_stem, parameters_from, print_json, zeta_from_rig)
+from ._common import (CLIError, _implausible, add_drive, add_parameters, add_zeta_from_rig, count, drive_from,
+                      finite_float, format_table, out_stem, parameters_from, print_json, zeta_from_rig)
 
 
 def register(sub):
@@ -290,6 +291,9 @@ def _chart_rig_options(args):
         raise CLIError("give the mark by --frequency with --stroke/--amplitude, or by --mark-T/--mark-A, not both")
     T, A = drive_from(args).from_rig(args.frequency, stroke=args.stroke, amplitude=args.amplitude)
     args.mark_T, args.mark_A = float(T), float(A)
+    note = _implausible(args, float(A))   # drawn as given, flagged in one line as the other commands do
+    if note:
+        print(f"kapitza: note: {note}", file=sys.stderr)
 
 
 def cmd_chart(args):

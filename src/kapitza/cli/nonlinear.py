@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _io
-from ._common import CLIError, add_parameters, finite_float, out_stem, parameters_from, print_json
+from ._common import CLIError, add_parameters, drive_from, finite_float, out_stem, parameters_from, print_json
 
 
 def register(sub):
@@ -18,13 +18,17 @@ def register(sub):
         "tau: the invariant curve of largest |theta| = r turns rho(r) = w/(2 pi) + tau r^2 times per period.\n\n"
         "For a point: the verdict with its numbers. --chart: the nonlinear chart (zones, 1:3 and 1:4\n"
         "curves, twist zeros) as OUT.png, OUT.svg, OUT.csv and OUT.json. --rotation: the measured\n"
-        "rotation number of long exact runs against rho_0 + tau r^2 at the point, as OUT-rotation.*.",
+        "rotation number of long exact runs against rho_0 + tau r^2 at the point, as OUT-rotation.*.\n\n"
+        "The normal form is the undamped square wave's. With --damping or --zeta the first approximation\n"
+        "decides: multipliers inside the unit circle make the real upright asymptotically stable. Another\n"
+        "--drive is refused (its nonlinear answer: the safe tilt of 'kapitza stability', or 'kapitza sweep').",
         epilog="examples:\n  kapitza nonlinear --eps 0.5 --mu 0.3\n  kapitza nonlinear --T 0.15 --A 100 --json\n"
         "  kapitza nonlinear --frequency 40 --amplitude 0.05 --rod 0.3\n"
+        "  kapitza nonlinear --frequency 40 --amplitude 0.05 --rod 0.3 --damping 0.5\n"
         "  kapitza nonlinear --chart --out nonlinear\n"
         "  kapitza nonlinear --eps 0.5 --mu 0.3 --rotation --out run",
     )
-    add_parameters(p, required=False, units=True)
+    add_parameters(p, required=False, units=True, drive=True, damping=True)
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--chart", action="store_true", help="draw the nonlinear chart (needs no point)")
     p.add_argument("--zones", type=int, default=3, metavar="N", help="zones 0..N-1 on the chart (default 3, at most 6)")
@@ -55,9 +59,59 @@ def _given(args):
                                                              "amplitude"))
 
 
+def _square_and_damped(args):
+    """Whether damping is given; another drive than the square wave is refused (the normal form is its)."""
+    d = drive_from(args)
+    if not d.closed_form(0.0):
+        shown = ("--drive-file" if getattr(args, "drive_file", None) is not None else
+                 f"--duty {args.duty:g}" if getattr(args, "duty", None) is not None else f"--drive {args.drive}")
+        raise CLIError(f"the nonlinear verdict (Birkhoff normal form, Moser's twist) is computed for the square wave "
+                       f"only, not for {shown}: see the safe tilt of 'kapitza stability' or 'kapitza sweep'")
+    damped = bool(args.damping) or bool(args.zeta)
+    if damped and (args.chart or args.rotation):
+        raise CLIError("--chart and --rotation are the undamped pendulum's; drop --damping/--zeta")
+    return damped
+
+
+def _damped(args):
+    """With damping the first approximation decides: multipliers inside the unit circle make the fixed
+    point of the period map asymptotically stable (Lyapunov's theorem on stability by the first
+    approximation), one outside it unstable."""
+    from ..analysis import analyze
+
+    rep = analyze(**parameters_from(args))
+    growth = float(rep.growth)
+    if rep.stable:
+        kind = "asymptotically stable"
+        verdict = ("asymptotically stable: with damping both multipliers lie inside the unit circle (growth "
+                   f"{growth:.6g} per period 2T), so small motions of the real pendulum decay too (Lyapunov's "
+                   "theorem on stability by the first approximation)")
+    elif growth > 0:
+        kind = "linearly unstable"
+        verdict = (f"unstable: a multiplier outside the unit circle (growth {growth:.6g} per period 2T), and so is the "
+                   "real upright (Lyapunov's theorem on instability by the first approximation)")
+    else:
+        kind = "edge"
+        verdict = "undecided: on a zone edge (a multiplier on the unit circle) the linearisation does not decide"
+    record = {"eps": float(rep.eps), "mu": float(rep.mu), "kind": kind, "stable": bool(rep.stable),
+              "unstable": kind == "linearly unstable", "verdict": verdict, "trace": float(rep.trace),
+              "growth": growth, "zeta": float(rep.zeta), "damping": rep.damping}
+    if args.json:
+        print_json(record)
+    else:
+        print(f"eps = {float(rep.eps):.12g}, mu = {float(rep.mu):.12g}, damping ratio zeta = {float(rep.zeta):.6g}")
+        print(f"verdict          {verdict}")
+        print(f"trace tr M       {float(rep.trace):.12g}")
+    return 0
+
+
 def cmd_nonlinear(args):
     if not args.chart and not _given(args):
         raise CLIError("give a point (--T and --A, or --eps and --mu), or --chart")
+    if _square_and_damped(args):
+        if not _given(args):
+            raise CLIError("give a point (--T and --A, or --eps and --mu) with --damping/--zeta")
+        return _damped(args)
     if args.rotation and not _given(args):
         raise CLIError("--rotation needs a point (--T and --A, or --eps and --mu)")
     if args.chart:  # refuse bad chart options before anything is printed

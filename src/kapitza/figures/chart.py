@@ -265,7 +265,7 @@ class TongueCurves:
     scale: float
 
 
-def tongue_curves(n, mu_range=(0.0, 1.0), points=400):
+def tongue_curves(n, mu_range=(0.0, 1.0), points=400, *, drive=None, zeta=0.0):
     """The edges of zone ``n`` relative to its own midpoint, scaled so the tongue fills a panel.
 
     Parameters
@@ -273,9 +273,14 @@ def tongue_curves(n, mu_range=(0.0, 1.0), points=400):
     n : int
         Zone index, ``>= 0``.
     mu_range : (float, float)
-        ``0 <= mu_min < mu_max <= 1``.
+        ``0 <= mu_min < mu_max <= 1`` (for another drive, up to its :func:`kapitza.curves.mu_top`).
     points : int
         Samples of ``mu`` (>= 2).
+    drive : Drive or str, optional
+        The pivot's motion (``"sine"``, ``"rectangular:0.3"``, ...); the paper's square wave by default.
+    zeta : float, optional
+        Damping ratio (0: undamped). With another drive or damping the edges are
+        :func:`kapitza.zone_edges`' root solves (NaN where the drive has no such zone).
 
     Returns
     -------
@@ -306,19 +311,30 @@ def tongue_curves(n, mu_range=(0.0, 1.0), points=400):
     m0, m1 = (float(v) for v in mu_range)
     if not (0.0 <= m0 < m1 <= 1.0):
         raise _v.KapitzaValueError(f"mu range must satisfy 0 <= mu_min < mu_max <= 1; got ({m0:g}, {m1:g})")
+    from ..drives import as_drive
+
+    general = as_drive(drive)
+    zeta = _v.damping_ratio(zeta)
     tiny = 1e-9
-    mu = np.clip(np.linspace(m0, m1, points), tiny, 1.0 - tiny)
-    lo, hi = _edges_eps(mu, n)
+    if general.closed_form(zeta):
+        mu = np.clip(np.linspace(m0, m1, points), tiny, 1.0 - tiny)
+        lo, hi = _edges_eps(mu, n)
+    else:
+        from ..zones import zone_edges
+
+        top = min(1.0, mu_top(general))
+        mu = np.clip(np.linspace(m0, m1, points), 1e-3, (1.0 - 1e-6) * top)
+        lo, hi = (np.asarray(v, dtype=float) for v in zone_edges(mu, n, drive=general, zeta=zeta))
     mid = 0.5 * (lo + hi)
     half = 0.5 * (hi - lo)
-    top = float(np.max(half))
+    top = float(np.nanmax(half)) if np.any(np.isfinite(half)) else 0.0
     exponent = int(np.floor(np.log10(top))) if top > 0 else 0
     scale = 10.0**exponent
     return TongueCurves(n=n, mu=mu, eps_mid=mid, eps_lo=lo, eps_hi=hi, lo=-half / scale, hi=half / scale,
                         exponent=exponent, scale=scale)
 
 
-def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physical=None):
+def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physical=None, *, drive=None, zeta=0.0):
     """Draw zone ``n`` magnified (see :func:`tongue_curves`): both edges, the stable tongue between.
 
     Parameters
@@ -334,6 +350,8 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     physical : (l, g), optional
         Draw in the physical plane of a rod ``l`` under ``g`` instead: ``T - T_mid(A)`` [s],
         in the power of ten shown, against ``A = g / mu^2`` (log axis).
+    drive, zeta : optional
+        The drive and the damping ratio, as in :func:`tongue_curves` (the square wave, undamped, by default).
 
     Returns
     -------
@@ -356,7 +374,7 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     """
     import matplotlib.pyplot as plt
 
-    t = tongue_curves(n, mu_range, points)
+    t = tongue_curves(n, mu_range, points, drive=drive, zeta=zeta)
     if ax is None:
         _, ax = plt.subplots(layout="constrained")
     lower_2t = t.n % 2 == 0
@@ -372,7 +390,7 @@ def plot_tongue(n, ax=None, mu_range=(0.0, 1.0), points=400, title=True, physica
     out["fill"] = ax.fill_betweenx(y, x_lo, x_hi, color=ZONE_FILL, linewidth=0)
     out["lower"] = ax.plot(x_lo, y, **(EDGE_2T if lower_2t else EDGE_4T))[0]
     out["upper"] = ax.plot(x_hi, y, **(EDGE_4T if lower_2t else EDGE_2T))[0]
-    w = 1.15 * max(float(np.max(x_hi)), 1e-300)
+    w = 1.15 * max(float(np.nanmax(x_hi)) if np.any(np.isfinite(x_hi)) else 1.0, 1e-300)
     ax.set_xlim(-w, w)
     ax.axvline(0.0, color="0.8", linewidth=0.6, zorder=0)
     ax.tick_params(labelsize=7)

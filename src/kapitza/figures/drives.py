@@ -87,6 +87,9 @@ def plot_drive_comparison(curves, ax=None, eps_range=(0.0, 4.0), mu_range=(0.0, 
         if averaging and c.drive not in drawn:  # the criterion does not depend on the damping
             drawn.add(c.drive)
             out["averaging"] += ax.plot(c.averaging, c.mu, color=colour, linewidth=1.0, linestyle=(0, (4, 3)))
+    if out["averaging"]:  # one legend row says what the dashed lines are (each in its drive's colour)
+        out["averaging"] += ax.plot([], [], color="0.35", linewidth=1.0, linestyle=(0, (4, 3)),
+                                    label=r"averaging criterion $\langle v^2\rangle = g\,l$ (dashed)")
     ax.set_xlim(*eps_range)
     ax.set_ylim(*mu_range)
     ax.set_xlabel(r"$\varepsilon = T\sqrt{A/(8l)}$")

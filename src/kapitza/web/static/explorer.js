@@ -252,10 +252,10 @@ export function mount(root, host = {}) {
         for (const [key, kind] of [["lo", z.lower_edge], ["hi", z.upper_edge]]) {
           ctx.beginPath();
           let on = false;
+          // An edge beyond the view (an asymptote: the rig plane's upper edge as the frequency grows)
+          // is drawn to the same point off the canvas as the shading, so it runs out of the view with it.
           for (const j of run) {
-            const x = z[key][j];
-            if (x > far || (ax.logX && x <= v.x0 / 10)) { on = false; continue; }
-            const X = clampPx(ax.X(x)), Y = clampPx(ax.Y(ys[j]));
+            const X = clampPx(ax.X(val(z[key][j]))), Y = clampPx(ax.Y(ys[j]));
             on ? ctx.lineTo(X, Y) : ctx.moveTo(X, Y); on = true;
           }
           ctx.strokeStyle = style.color ? style.color : kind === "2T" ? COLORS.edge2 : COLORS.edge4;
@@ -447,38 +447,49 @@ export function mount(root, host = {}) {
       }
     });
   }
-  function legendRows() {
+  // A narrow chart (a phone) gets the short legend in a smaller font: the full one would hide a
+  // third of the plot. The plain words stay first.
+  const narrowChart = (ax) => ax.right - ax.left < 420;
+  function legendRows(narrow) {
     if (isTower()) {
-      const d = chart.tower, rows = [["fill", COLORS.fill, `shaded: the ${S.links}-link tower stands (every mode stable)`],
-        ["blank", "#fff", "white: it falls"],
-        ["line", COLORS.edge2, "mode k falls below this edge (2T)"], ["dash", COLORS.edge4, "mode k doubles its period beyond (4T)"]];
-      if (S.point) rows.push(["star", COLORS.point, "chosen point"]);
+      const d = chart.tower, rows = narrow
+        ? [["fill", COLORS.fill, `stands (${S.links} links)`], ["blank", "#fff", "falls"],
+           ["line", COLORS.edge2, "mode k: 2T edge"], ["dash", COLORS.edge4, "mode k: 4T edge"]]
+        : [["fill", COLORS.fill, `shaded: the ${S.links}-link tower stands (every mode stable)`],
+           ["blank", "#fff", "white: it falls"],
+           ["line", COLORS.edge2, "mode k falls below this edge (2T)"], ["dash", COLORS.edge4, "mode k doubles its period beyond (4T)"]];
+      if (S.point) rows.push(["star", COLORS.point, narrow ? "point" : "chosen point"]);
       return rows;
     }
-    const rows = [["fill", COLORS.fill, `shaded: stays up (stable zone n${chart.data ? `, ${shortDrive(chart.data.drive)}${S.zeta > 0 ? `, ζ = ${S.zeta}` : ""}` : ""})`],
-      ["blank", "#fff", "white: falls"],
-      ["line", COLORS.edge2, "edge: 2T-periodic motion (Tₙ)"], ["dash", COLORS.edge4, "edge: period doubling, 4T (T̃ₙ)"]];
-    if (chart.overlay) rows.push(["line", COLORS.overlay, `overlay: ${shortDrive(chart.overlay.drive)}`]);
-    if (S.point) rows.push(["star", COLORS.point, "chosen point"]);
+    const rows = narrow
+      ? [["fill", COLORS.fill, "stays up (zone n)"], ["blank", "#fff", "falls"],
+         ["line", COLORS.edge2, "edge: 2T (Tₙ)"], ["dash", COLORS.edge4, "edge: 4T (T̃ₙ)"]]
+      : [["fill", COLORS.fill, `shaded: stays up (stable zone n${chart.data ? `, ${shortDrive(chart.data.drive)}${S.zeta > 0 ? `, ζ = ${S.zeta}` : ""}` : ""})`],
+         ["blank", "#fff", "white: falls"],
+         ["line", COLORS.edge2, "edge: 2T-periodic motion (Tₙ)"], ["dash", COLORS.edge4, "edge: period doubling, 4T (T̃ₙ)"]];
+    if (chart.overlay) rows.push(["line", COLORS.overlay, `${narrow ? "" : "overlay: "}${shortDrive(chart.overlay.drive)}`]);
+    if (S.point) rows.push(["star", COLORS.point, narrow ? "point" : "chosen point"]);
     return rows;
   }
+  const legendFont = (narrow) => `${narrow ? 11 : 12.5}px DejaVu Sans, sans-serif`;
   function legendBox(ctx, ax) {
-    const rows = legendRows();
-    ctx.font = "12.5px DejaVu Sans, sans-serif";
-    const w = Math.max(...rows.map((r) => ctx.measureText(r[2]).width)) + 46, h = rows.length * 19 + 10;
-    return { x: ax.right - w - 8, y: ax.top + 8, w, h };
+    const narrow = narrowChart(ax), rows = legendRows(narrow), step = narrow ? 15 : 19;
+    ctx.font = legendFont(narrow);
+    const w = Math.max(...rows.map((r) => ctx.measureText(r[2]).width)) + (narrow ? 40 : 46), h = rows.length * step + (narrow ? 6 : 10);
+    return { x: ax.right - w - (narrow ? 4 : 8), y: ax.top + (narrow ? 4 : 8), w, h, narrow, step };
   }
   function legend(ctx, ax) {
-    const rows = legendRows(), B = legendBox(ctx, ax), wd = B.w, ht = B.h, x = B.x, y = B.y;
-    ctx.font = "12.5px DejaVu Sans, sans-serif";
+    const B = legendBox(ctx, ax), rows = legendRows(B.narrow), wd = B.w, ht = B.h, x = B.x, y = B.y;
+    const key = B.narrow ? 20 : 26, gap = B.narrow ? 34 : 40;
+    ctx.font = legendFont(B.narrow);
     ctx.fillStyle = "rgba(255,255,255,0.93)"; ctx.fillRect(x, y, wd, ht); ctx.strokeStyle = "#c9d1dc"; ctx.lineWidth = 1; ctx.strokeRect(x, y, wd, ht);
     rows.forEach(([kind, col, text], i) => {
-      const yy = y + 14 + i * 19;
-      if (kind === "fill") { ctx.fillStyle = col; ctx.fillRect(x + 8, yy - 6, 26, 12); }
-      else if (kind === "blank") { ctx.fillStyle = col; ctx.fillRect(x + 8, yy - 6, 26, 12); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1; ctx.strokeRect(x + 8, yy - 6, 26, 12); }
-      else if (kind === "star") star(ctx, x + 21, yy, 7);
-      else { ctx.beginPath(); ctx.moveTo(x + 8, yy); ctx.lineTo(x + 34, yy); ctx.strokeStyle = col; ctx.lineWidth = 2; ctx.setLineDash(kind === "dash" ? [7, 4] : []); ctx.stroke(); ctx.setLineDash([]); }
-      ctx.fillStyle = COLORS.axis; ctx.textAlign = "left"; ctx.textBaseline = "middle"; ctx.fillText(text, x + 40, yy);
+      const yy = y + (B.narrow ? 11 : 14) + i * B.step;
+      if (kind === "fill") { ctx.fillStyle = col; ctx.fillRect(x + 8, yy - 6, key, 12); }
+      else if (kind === "blank") { ctx.fillStyle = col; ctx.fillRect(x + 8, yy - 6, key, 12); ctx.strokeStyle = "#b8c2cf"; ctx.lineWidth = 1; ctx.strokeRect(x + 8, yy - 6, key, 12); }
+      else if (kind === "star") star(ctx, x + 8 + key / 2, yy, B.narrow ? 6 : 7);
+      else { ctx.beginPath(); ctx.moveTo(x + 8, yy); ctx.lineTo(x + 8 + key, yy); ctx.strokeStyle = col; ctx.lineWidth = 2; ctx.setLineDash(kind === "dash" ? [7, 4] : []); ctx.stroke(); ctx.setLineDash([]); }
+      ctx.fillStyle = COLORS.axis; ctx.textAlign = "left"; ctx.textBaseline = "middle"; ctx.fillText(text, x + gap, yy);
     });
   }
   const shortDrive = (d) => (d || "").replace(/ \(.*\)$/, "");
