@@ -31,6 +31,14 @@ def stability_grid_da(eps, mu, drive=None, zeta=0.0, *, l=None, g=None):
         Boolean, dims ``("mu", "eps")``, named ``"stable"``; ``attrs`` say the drive, the damping ratio
         and what the values mean.
 
+    Raises
+    ------
+    ValueError
+        As :func:`kapitza.stability_grid` (a :class:`kapitza.KapitzaValueError` naming the argument,
+        its value and the allowed range), and for ``l`` or ``g`` not finite and > 0.
+    ImportError
+        Without xarray (the ``sweep`` extra).
+
     Examples
     --------
     >>> import numpy as np, kapitza
