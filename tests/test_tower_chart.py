@@ -106,6 +106,28 @@ def test_plot_returns_what_it_drew(tmp_path):
     plt.close("all")
 
 
+def test_every_modes_edges_are_labelled_inside_the_window():
+    """Both edges of every mode carry their label ("k falls", "k doubles"), inside the panel, even
+    where a long mode's upper edge runs near the top of the shared window."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from kapitza.figures.tower import tower_chart_figure, tower_family
+
+    fig, drawn = tower_chart_figure(tower_family(0.2, n_max=4))
+    for d in drawn:
+        n = d.data.n_links
+        texts = sorted(t.get_text() for t in d["labels"])
+        assert texts == sorted([f"{k} falls" for k in range(1, n + 1)] + [f"{k} doubles" for k in range(1, n + 1)])
+        (x0, x1), (y0, y1) = d.ax.get_xlim(), d.ax.get_ylim()
+        for t in d["labels"]:
+            x, y = t.xy
+            assert x0 < x < x1 and y0 < y < y1, (n, t.get_text(), t.xy)
+    plt.close("all")
+
+
 def test_cli_tower_writes_chart_and_data(tmp_path, capsys):
     stem = tmp_path / "t"
     code, out, err = run(["tower", "--chain", "0.2,0.2", "--frequency", "200", "--stroke", "0.005", "--grid", "30",
