@@ -260,6 +260,32 @@ def test_animate_chain_mp4_or_the_gif_beside_it(tmp_path, capsys):
     assert "wrote" in out
 
 
+def test_animate_chain_mp4_is_a_video_of_every_frame(tmp_path, capsys):
+    """With ffmpeg present, ``--out x.mp4`` is an H.264 MP4 holding every frame of the fall and the
+    second after it (read back by ffprobe), at an odd pixel size too."""
+    import shutil
+    import subprocess
+
+    from kapitza.figures.animation import ffmpeg_available
+
+    if not ffmpeg_available() or shutil.which("ffprobe") is None:
+        pytest.skip("ffmpeg (with ffprobe) is not installed")
+    path = tmp_path / "fall.mp4"
+    code, out, err = run(["animate", "--chain", "0.2,0.2", "--frequency", "20", "--stroke", "0.02", "--periods", "12",
+                          "--fps", "10", "--dpi", "81", "--quiet", "--json", "--out", str(path)], capsys)
+    assert code == 0, err
+    s = json.loads(out)
+    assert s["format"] == "mp4" and s["file"] == str(path) and s["motion"]["toppled"] is True
+    assert not list(tmp_path.glob("*.gif"))
+    probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                            "stream=codec_name,nb_read_frames,width,height", "-of", "json", str(path)],
+                           capture_output=True, text=True, check=True)
+    stream = json.loads(probe.stdout)["streams"][0]
+    assert stream["codec_name"] == "h264"
+    assert int(stream["nb_read_frames"]) == s["frames"] == int((s["motion"]["duration"] + 1.0) * 10) + 1
+    assert stream["width"] > 100 and stream["height"] > 100
+
+
 def test_animate_chain_out_must_be_an_animation(tmp_path, capsys):
     code, _, err = run(["animate", "--chain", "0.2", "--T", "0.01", "--A", "1000", "--out", str(tmp_path / "x.png")],
                        capsys)
