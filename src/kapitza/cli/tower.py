@@ -102,7 +102,8 @@ def add_band_options(group):
     group.add_argument("--amplitude-axis", action="store_true",
                        help="vertical axis in displacement amplitude, not stroke")
     group.add_argument("--grid", type=int, default=None, metavar="N",
-                       help="grid points per axis of the band (default 200, at most 2000)")
+                       help="grid points per axis of the band (default 200, at most 2000; with --joint-damping "
+                            "60, at most 400: each point a 2N monodromy)")
 
 
 def add_tower_start(group):
@@ -146,7 +147,8 @@ def band_chart(chain, drive, g, *, only=False, amplitude=False, frequency_range=
     from ..chain import tower_curves
 
     count("--points", points, 20_000, minimum=2)
-    grid = count("--grid", 200 if grid is None else grid, 2000, minimum=2)
+    # None: the library's default (200, or 60 with joint friction: each point a 2N monodromy)
+    grid = None if grid is None else count("--grid", grid, 400 if chain.joint_damping > 0 else 2000, minimum=2)
     chains = [chain] if only or chain.n == 1 else tower_family(
         chain.lengths, chain.masses, links=chain.links, joint_damping=chain.joint_damping, n_max=chain.n)
     fr, sr = band_window(chains, drive, g, frequency_range, stroke_range, mark)
