@@ -139,7 +139,8 @@ def _tower(args, command):
         return getattr(tower, command)
     for name in ("theta0", "dtheta0"):
         if isinstance(getattr(args, name), tuple):
-            raise CLIError(f"--{name} takes one number for the single pendulum; a list, one per link, goes with --chain")
+            raise CLIError(f"--{name} takes one number for the single pendulum; a list, one per link, goes with "
+                           "--chain")
     tower.refuse_tower_options(args)
     return None
 

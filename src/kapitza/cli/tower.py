@@ -229,8 +229,9 @@ def tower_motion(chain, drive, report, g, *, theta0, dtheta0=0.0, along_mode=Fal
         periods = max(1.0, DEFAULT_DURATION / (2.0 * report.T))
     if points_per_period is None:
         points_per_period = max(8, min(200, int(2000 / periods) + 1))
-    return chain_motion(chain, start_tilt(chain, theta0, along_mode), per_link(chain, "dtheta0", dtheta0), T=report.T, A=report.A, g=g, drive=drive,
-                        periods=periods, points_per_period=points_per_period, tol=math.pi / 2 if tol is None else tol,
+    return chain_motion(chain, start_tilt(chain, theta0, along_mode), per_link(chain, "dtheta0", dtheta0),
+                        T=report.T, A=report.A, g=g, drive=drive, periods=periods,
+                        points_per_period=points_per_period, tol=math.pi / 2 if tol is None else tol,
                         rtol=rtol, atol=atol)
 
 
@@ -485,8 +486,6 @@ def _motion_of(args, chain, drive, report):
 
 
 def _motion_json(args, chain, drive, report, motion):
-    import numpy as np
-
     out = _header(chain, drive, args.g)
     out["parameters"] = {"T": report.T, "A": report.A, "frequency": report.frequency, "stroke": report.stroke,
                          "given": args.given}
