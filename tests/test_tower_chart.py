@@ -86,6 +86,33 @@ def test_friction_band_on_a_coarse_grid():
     assert kapitza.chain_floquet(ch, T=0.5 / c.frequency[j], A=c.stroke[i] / (0.25 * (0.5 / c.frequency[j]) ** 2)).stable
 
 
+def test_friction_band_grid_is_as_asked_and_bounded():
+    """With friction the grid asked for is the grid drawn (60 by default, at most 400), never a silent cap."""
+    ch = Chain([0.2, 0.2], joint_damping=0.5)
+    window = dict(frequency_range=(10, 1000), stroke_range=(1e-3, 0.1), points=20)
+    assert tower_curves(ch, grid=80, **window).stable.shape == (80, 80)
+    assert tower_curves(ch, grid=None, **window).stable.shape == (60, 60)
+    assert tower_curves(Chain([0.2, 0.2]), **window).stable.shape == (200, 200)
+    with pytest.raises(ValueError, match="grid"):
+        tower_curves(ch, grid=401, **window)
+
+
+def test_one_link_band_with_friction_is_the_damped_pendulums():
+    """A one-link tower with joint friction c is the pendulum with damping c / I: its band is the
+    damped one, which differs from the free band near its edges."""
+    ch = Chain([0.2], joint_damping=0.2)
+    window = dict(frequency_range=(5, 500), stroke_range=(1e-3, 0.3), points=20, grid=24)
+    c = tower_curves(ch, **window)
+    free = tower_curves(Chain([0.2]), **window)
+    differ = np.argwhere(c.stable != free.stable)
+    assert len(differ) >= 3
+    rod = kapitza.Pendulum.uniform_rod(0.2)
+    for i, j in differ:
+        T = 0.5 / c.frequency[j]
+        A = c.stroke[i] / (0.25 * T * T)
+        assert kapitza.analyze(T=T, A=A, l=rod.l, damping=0.2 / ch.pivot_inertia).stable == c.stable[i, j]
+
+
 def test_plot_returns_what_it_drew(tmp_path):
     import matplotlib
 
@@ -103,6 +130,28 @@ def test_plot_returns_what_it_drew(tmp_path):
     assert len(drawn) == 4 and "stable" in fig.kapitza_caption
     import matplotlib.pyplot as plt
 
+    plt.close("all")
+
+
+def test_every_modes_edges_are_labelled_inside_the_window():
+    """Both edges of every mode carry their label ("k falls", "k doubles"), inside the panel, even
+    where a long mode's upper edge runs near the top of the shared window."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from kapitza.figures.tower import tower_chart_figure, tower_family
+
+    fig, drawn = tower_chart_figure(tower_family(0.2, n_max=4))
+    for d in drawn:
+        n = d.data.n_links
+        texts = sorted(t.get_text() for t in d["labels"])
+        assert texts == sorted([f"{k} falls" for k in range(1, n + 1)] + [f"{k} doubles" for k in range(1, n + 1)])
+        (x0, x1), (y0, y1) = d.ax.get_xlim(), d.ax.get_ylim()
+        for t in d["labels"]:
+            x, y = t.xy
+            assert x0 < x < x1 and y0 < y < y1, (n, t.get_text(), t.xy)
     plt.close("all")
 
 

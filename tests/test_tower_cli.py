@@ -163,6 +163,27 @@ def test_simulate_chain_is_chain_motion_and_writes_its_files(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run-series.png", "run-series.svg", "run.csv", "run.json"]
 
 
+def test_simulate_chain_starts_link_by_link(capsys):
+    """--theta0 and --dtheta0 as one value per link: the motion is chain_motion's from those angles and
+    rates, and the summary names them."""
+    code, out, err = run(["simulate", "--chain", "0.2,0.15,0.1", "--frequency", "150", "--stroke", "0.008",
+                          "--theta0", "0.1,-0.05,0.2", "--dtheta0", "0,0.5,-1", "--periods", "30",
+                          "--points-per-period", "10", "--json"], capsys)
+    assert code == 0, err
+    s = json.loads(out)
+    assert s["start"]["theta0"] == [0.1, -0.05, 0.2] and s["start"]["dtheta0"] == [0.0, 0.5, -1.0]
+    ch = Chain([0.2, 0.15, 0.1])
+    rep = ch.analyze(frequency=150, stroke=0.008)
+    ref = kapitza.chain_motion(ch, [0.1, -0.05, 0.2], [0.0, 0.5, -1.0], T=rep.T, A=rep.A, periods=30,
+                               points_per_period=10)
+    assert s["motion"]["largest_tilt"] == pytest.approx(float(np.max(np.abs(ref.theta))), rel=1e-15)
+    assert s["motion"]["final"]["theta"] == pytest.approx(list(ref.theta[:, -1]), rel=1e-15)
+    code, out, err = run(["simulate", "--chain", "0.2,0.15,0.1", "--frequency", "150", "--stroke", "0.008",
+                          "--theta0", "0.1,-0.05,0.2", "--periods", "30"], capsys)
+    assert code == 0, err
+    assert "theta0 = (0.1, -0.05, 0.2) rad (link by link)" in out
+
+
 def test_simulate_chain_topples_below_the_band_along_the_mode(capsys):
     code, out, err = run(["simulate", "--chain", "0.2,0.2", "--T", "0.025", "--A", "128", "--along-mode", "--theta0",
                           "0.2", "--periods", "12", "--json"], capsys)
@@ -214,6 +235,12 @@ def test_simulate_chain_default_duration_and_drives(capsys):
     (["--chain", "0.2", "--T", "10", "--A", "1e9"], ["T, A and g"]),
     (["--along-mode", "--T", "0.1", "--A", "100"], ["--along-mode", "--chain"]),
     (["--masses", "1", "--T", "0.1", "--A", "100"], ["--masses", "--chain"]),
+    (["--chain", "0.2,0.2", "--T", "0.01", "--A", "1000", "--theta0", "0.1,0.2,0.3"], ["--theta0", "one per link", "2"]),
+    (["--chain", "0.2,0.2", "--T", "0.01", "--A", "1000", "--dtheta0", "1,2,3"], ["--dtheta0", "one per link"]),
+    (["--chain", "0.2,0.2", "--T", "0.01", "--A", "1000", "--theta0", "0.1,x"], ["--theta0", "not a number"]),
+    (["--chain", "0.2,0.2", "--T", "0.01", "--A", "1000", "--theta0", "0.1,0.2", "--along-mode"],
+     ["--along-mode", "--theta0"]),
+    (["--T", "0.1", "--A", "100", "--theta0", "0.1,0.2"], ["--theta0", "--chain"]),
 ])
 @pytest.mark.parametrize("command", ["simulate", "animate"])
 def test_motion_chain_bad_input_is_one_line(command, argv, needles, tmp_path, capsys):
@@ -247,17 +274,42 @@ def test_animate_chain_writes_the_tower_standing_and_fallen(tmp_path, capsys):
     _check_png(tmp_path / "last.png")
 
 
-def test_animate_chain_mp4_or_the_gif_beside_it(tmp_path, capsys):
-    from kapitza.figures.animation import ffmpeg_available
+def test_animate_chain_mp4_without_ffmpeg_is_the_gif_beside_it(tmp_path, capsys, monkeypatch):
+    from kapitza.figures import animation
 
+    monkeypatch.setattr(animation, "ffmpeg_available", lambda: False)  # whether or not this machine has it
     code, out, err = run(["animate", "--chain", "0.2", "--T", "0.01", "--A", "1000", "--periods", "5", "--quiet",
                           "--out", str(tmp_path / "one.mp4")], capsys)
     assert code == 0, err
-    if ffmpeg_available():
-        assert (tmp_path / "one.mp4").stat().st_size > 0
-    else:
-        assert (tmp_path / "one.gif").stat().st_size > 0 and "ffmpeg" in err and len(err.strip().splitlines()) == 1
-    assert "wrote" in out
+    assert (tmp_path / "one.gif").stat().st_size > 0 and not (tmp_path / "one.mp4").exists()
+    assert "ffmpeg" in err and len(err.strip().splitlines()) == 1
+    assert "wrote" in out and "one.gif" in out
+
+
+def test_animate_chain_mp4_is_a_video_of_every_frame(tmp_path, capsys):
+    """With ffmpeg present, ``--out x.mp4`` is an H.264 MP4 holding every frame of the fall and the
+    second after it (read back by ffprobe), at an odd pixel size too."""
+    import shutil
+    import subprocess
+
+    from kapitza.figures.animation import ffmpeg_available
+
+    if not ffmpeg_available() or shutil.which("ffprobe") is None:
+        pytest.skip("ffmpeg (with ffprobe) is not installed")
+    path = tmp_path / "fall.mp4"
+    code, out, err = run(["animate", "--chain", "0.2,0.2", "--frequency", "20", "--stroke", "0.02", "--periods", "12",
+                          "--fps", "10", "--dpi", "81", "--quiet", "--json", "--out", str(path)], capsys)
+    assert code == 0, err
+    s = json.loads(out)
+    assert s["format"] == "mp4" and s["file"] == str(path) and s["motion"]["toppled"] is True
+    assert not list(tmp_path.glob("*.gif"))
+    probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                            "stream=codec_name,nb_read_frames,width,height", "-of", "json", str(path)],
+                           capture_output=True, text=True, check=True)
+    stream = json.loads(probe.stdout)["streams"][0]
+    assert stream["codec_name"] == "h264"
+    assert int(stream["nb_read_frames"]) == s["frames"] == int((s["motion"]["duration"] + 1.0) * 10) + 1
+    assert stream["width"] > 100 and stream["height"] > 100
 
 
 def test_animate_chain_out_must_be_an_animation(tmp_path, capsys):

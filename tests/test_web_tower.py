@@ -95,6 +95,13 @@ def test_tower_motion_is_chain_motion(server):
     ("motion", dict(chain="0.2,0.2", frequency=200, stroke=0.005, theta0=9), "theta0"),
     ("motion", dict(chain="0.2,0.2", frequency=200, stroke=0.005, periods=1e5), "periods"),
     ("motion", dict(chain="0.2,0.2", frequency=200, stroke=0.005, points_per_period=10**6), "points_per_period"),
+    ("point", dict(chain="0.2,0.2", frequency=200, stroke=0.005, joint_damping=-0.01), "joint_damping"),
+    ("chart", dict(chain="0.2,0.2", joint_damping="nan"), "joint_damping"),
+    # a light, short tower with strong friction: a stiff motion, refused by its decay rate
+    ("motion", dict(chain="0.01,0.01", masses="0.001,0.001", frequency=200, stroke=0.005, joint_damping=1),
+     "joint_damping"),
+    ("chart", dict(chain="0.2,0.2", joint_damping=0.002, grid=120), "grid"),
+    ("chart", dict(chain="0.2,0.2", joint_damping=0.002, drive="sine", grid=40), "grid"),
 ])
 def test_tower_bad_input_is_a_422_naming_the_parameter(server, route, params, name):
     r = server.get(f"/api/tower/{route}", params=params)
@@ -112,3 +119,49 @@ def test_tower_band_of_the_sine_drive(server):
     assert d["stroke_coefficient"] == pytest.approx(2 / np.pi ** 2, rel=1e-15)
     r = server.get("/api/tower/chart", params=dict(q, grid=100))
     assert r.status_code == 422 and "grid" in r.json()["detail"] and "80" in r.json()["detail"]
+
+
+# ---------------------------------------------------------------- joint friction
+def test_tower_with_joint_friction_is_the_2n_monodromy(server):
+    """With ``joint_damping`` the point's verdict, multipliers and growth are the library's damped
+    tower's (the 2N monodromy), and differ from the frictionless tower's."""
+    tower = kapitza.Chain([0.2, 0.15], [1.0, 0.5], joint_damping=0.004)
+    q = dict(chain="0.2,0.15", masses="1,0.5", T=0.003, A=3000.0)
+    r = server.get("/api/tower/point", params=dict(q, joint_damping=0.004)).json()
+    ref = tower.analyze(T=0.003, A=3000.0)
+    assert r["stable"] is ref.stable is True and r["verdict"] == ref.verdict
+    assert r["joint_damping"] == 0.004 and r["method"] == ref.method != "modes"
+    assert r["growth"] == pytest.approx(ref.growth, rel=1e-12) and r["growth"] < 0
+    assert len(r["multipliers"]) == 4
+    free = server.get("/api/tower/point", params=q).json()
+    assert free["method"] == "modes" and free["growth"] == 0.0
+
+
+def test_tower_band_with_joint_friction_is_the_library_band(server):
+    q = dict(chain="0.2,0.2", f_min=10, f_max=1000, stroke_min=1e-3, stroke_max=0.1, grid=20, points=40)
+    d = server.get("/api/tower/chart", params=dict(q, joint_damping=0.5)).json()
+    tower = kapitza.Chain([0.2, 0.2], joint_damping=0.5)
+    ref = kapitza.tower_curves(tower, frequency_range=(10, 1000), stroke_range=(1e-3, 0.1), points=40, grid=20)
+    assert d["band_method"] == "2N monodromy" and d["joint_damping"] == 0.5
+    np.testing.assert_array_equal(np.array(d["band"]["stable"], dtype=bool), ref.stable)
+    free = server.get("/api/tower/chart", params=q).json()
+    assert free["band_method"] == "modes"
+    # strong friction widens the band: the damped upright stands at points where the free one does not
+    stable, free_stable = np.array(d["band"]["stable"], dtype=bool), np.array(free["band"]["stable"], dtype=bool)
+    assert (stable & ~free_stable).sum() >= 10
+    # the default grid of a damped band
+    d = server.get("/api/tower/chart", params=dict(chain="0.2,0.2", joint_damping=0.01, points=40)).json()
+    assert len(d["band"]["stable"]) == 60
+
+
+def test_tower_motion_with_joint_friction_is_chain_motion(server):
+    q = dict(chain="0.2,0.2", frequency=200.0, stroke=0.005, theta0=0.05, periods=40, points_per_period=10,
+             joint_damping=0.01)
+    m = server.get("/api/tower/motion", params=q).json()
+    tower = kapitza.Chain([0.2, 0.2], joint_damping=0.01)
+    T, A = kapitza.SquareWave().from_rig(200.0, stroke=0.005)
+    ref = kapitza.chain_motion(tower, 0.05, T=T, A=A, periods=40, points_per_period=10)
+    np.testing.assert_allclose(m["theta"], ref.theta, rtol=0, atol=1e-12)
+    assert m["joint_damping"] == 0.01
+    free = kapitza.chain_motion(kapitza.Chain([0.2, 0.2]), 0.05, T=T, A=A, periods=40, points_per_period=10)
+    assert np.max(np.abs(ref.theta - free.theta)) > 1e-4

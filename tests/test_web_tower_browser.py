@@ -142,3 +142,54 @@ def test_three_link_tower_stands_in_its_band(site):
     page.wait_for_function("/^The pendulum/.test(document.getElementById('verdict').innerText)", timeout=90000)
     assert not page.is_disabled("#plane-arnold") and page.is_visible("#zeta")
     assert errors == []
+
+
+def test_tower_with_joint_friction(site):
+    """A user sets joint friction on a two-link tower: the band is the damped tower's (the 2N
+    monodromy's, said in the caption), a click gives the damped verdict and motion, and the address
+    bar keeps the friction."""
+    base, context = site
+    page = context.new_page()
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(base)
+    page.wait_for_function("document.getElementById('chart').dataset.fetches >= 1", timeout=90000)
+    _settle(page)
+    page.select_option("#links", "2")
+    page.wait_for_function("document.getElementById('chart').dataset.tower === '2'", timeout=90000)
+    _settle(page)
+    free = page.evaluate("kapitza.chart.tower")
+    assert free["band_method"] == "modes" and free["joint_damping"] == 0
+
+    page.fill("#link-c", "0.5")
+    page.press("#link-c", "Tab")
+    page.wait_for_function("kapitza.chart.tower && kapitza.chart.tower.joint_damping === 0.5", timeout=120000)
+    _settle(page)
+    band = page.evaluate("kapitza.chart.tower")
+    tower = kapitza.Chain([0.2, 0.2], joint_damping=0.5)
+    assert band["band_method"] == "2N monodromy" and len(band["band"]["stable"]) == 60
+    v = band["view"]
+    ref = kapitza.tower_curves(tower, frequency_range=(v["f_min"], v["f_max"]),
+                               stroke_range=(v["stroke_min"], v["stroke_max"]), points=300, grid=60)
+    stable = np.array(band["band"]["stable"], dtype=bool)
+    np.testing.assert_array_equal(stable, ref.stable)
+    assert "Joint friction c = 0.5 N m s/rad" in page.inner_text("#caption")
+
+    # a click in the damped band: the 2N monodromy's verdict (motions decay) and the damped motion
+    i, j = _deep_inside(stable)
+    f, s = band["band"]["frequency"][j], band["band"]["stroke"][i]
+    p = page.evaluate(f"kapitza.pixel({f!r}, {s!r})")
+    page.mouse.click(p["x"], p["y"])
+    page.wait_for_function("(document.getElementById('verdict').dataset.verdict || '').startsWith('stable')",
+                           timeout=120000)
+    assert "multipliers inside the unit circle" in page.evaluate("document.getElementById('verdict').dataset.verdict")
+    page.wait_for_function("kapitza.anim.m && kapitza.anim.m.tower === true && kapitza.anim.m.joint_damping === 0.5",
+                           timeout=120000)
+    assert "joint_damping=0.5" in page.url
+    assert page.evaluate("kapitza.chart.tower && kapitza.chart.tower.joint_damping") == 0.5  # the band still shown
+    page.mouse.move(5, 990)
+    page.wait_for_timeout(1500)
+    page.screenshot(path=str(SCREENS / "tower-05-friction.png"))
+    page.locator("#tower-fields").scroll_into_view_if_needed()
+    page.locator(".controls").screenshot(path=str(SCREENS / "tower-06-friction-field.png"))
+    assert errors == []

@@ -333,5 +333,9 @@ def test_the_tower_routes_are_answered_in_the_kernel():
     assert band["n_links"] == 3 and len(band["modal_lengths"]) == 3 and band["band"]
     motion = json.loads(answer("/api/tower/motion?chain=0.2,0.2&frequency=150&stroke=0.01&periods=20")["json"])
     assert motion["n_links"] == 2 and len(motion["theta"]) == 2 and motion["periods"] == 20
+    damped = json.loads(answer("/api/tower/point?chain=0.2,0.15&masses=1,0.5&T=0.003&A=3000&joint_damping=0.004")["json"])
+    want = web_app.tower_point_answer(chain="0.2,0.15", masses="1,0.5", T=0.003, A=3000.0, joint_damping=0.004)
+    assert damped["joint_damping"] == 0.004 and damped["method"] == want["method"] != "modes"
+    assert damped["growth"] == want["growth"] < 0
     bad = answer("/api/tower/point?chain=0.2,-1&frequency=150&stroke=0.01")
     assert not bad["ok"] and bad["detail"].startswith("chain must lie within") and "\n" not in bad["detail"]

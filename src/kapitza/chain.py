@@ -1185,7 +1185,7 @@ def default_window(chain, drive=None, g=G_EARTH):
     return (f_c / 5.0, 30.0 * f_c), (s_top / 100.0, 5.0 * s_top)
 
 
-def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_range=None, points=600, grid=200):
+def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_range=None, points=600, grid=None):
     """The tower's band on the rig plane: each mode's zone-0 edges and the verdict on a grid.
 
     Parameters
@@ -1198,9 +1198,9 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
         The window [Hz], [m]; :func:`default_window` by default.
     points : int
         ``mu`` samples per edge curve (2 .. 20000).
-    grid : int
-        Grid points per axis for the band (2 .. 2000; with joint friction each point is a 2N
-        monodromy, so the grid is capped at 60 there).
+    grid : int, optional
+        Grid points per axis for the band: 200 by default (2 .. 2000); with joint friction each
+        point is a ``2N`` monodromy, so 60 by default there (2 .. 400).
 
     Returns
     -------
@@ -1235,7 +1235,10 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
     d = as_drive(drive)
     g = _v.one("g", _v.in_range("g", g, 1e-3, 1e3, lo_open=False, hi_open=False))
     points = int(_v.bounded_count("points", points, 20_000, minimum=2))
-    grid = int(_v.bounded_count("grid", grid, 2000, minimum=2))
+    coupled = chain.joint_damping > 0  # one link too: the damped pendulum's verdict, not the free one's
+    if grid is None:
+        grid = 60 if coupled else 200
+    grid = int(_v.bounded_count("grid", grid, 400 if coupled else 2000, minimum=2))
     fr0, sr0 = default_window(chain, d, g)
     fr = fr0 if frequency_range is None else _window("frequency_range", frequency_range)
     sr = sr0 if stroke_range is None else _window("stroke_range", stroke_range)
@@ -1255,10 +1258,8 @@ def tower_curves(chain, drive=None, g=G_EARTH, frequency_range=None, stroke_rang
     for l in chain.modal_lengths:
         (f1, s1), (f2, s2) = _mode_edges(d, l, g, mu)
         F_lo.append(f1), S_lo.append(s1), F_hi.append(f2), S_hi.append(s2)
-    coupled = chain.joint_damping > 0 and chain.n > 1
-    ng = min(grid, 60) if coupled else grid
-    f = np.geomspace(fr[0], fr[1], ng)
-    s = np.geomspace(sr[0], sr[1], ng)
+    f = np.geomspace(fr[0], fr[1], grid)
+    s = np.geomspace(sr[0], sr[1], grid)
     Fg, Sg = np.meshgrid(f, s)
     Tg = 0.5 / Fg
     Ag = Sg / (k_s * Tg * Tg)

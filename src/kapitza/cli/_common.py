@@ -39,6 +39,13 @@ def finite_float(text: str) -> float:
     return v
 
 
+def angles(text: str):
+    """One finite number, or a comma-separated list of them (one per link of a tower) as a tuple."""
+    if "," not in text:
+        return finite_float(text)
+    return tuple(finite_float(x) for x in text.split(","))
+
+
 def positive_float(text: str) -> float:
     """An option's value that must be a finite number > 0."""
     v = finite_float(text)

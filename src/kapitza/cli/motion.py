@@ -9,8 +9,8 @@ from .. import _io
 from .. import _validate as _v
 from ..analysis import analyze
 from ..motion.pair import parameters_summary
-from ._common import (add_parameters, count, finite_float, format_table, out_stem, parameters_from, positive_float,
-                      print_json)
+from ._common import (CLIError, add_parameters, angles, count, finite_float, format_table, out_stem, parameters_from,
+                      positive_float, print_json)
 
 
 def register(sub):
@@ -116,9 +116,11 @@ def register(sub):
 
 def _add_start(p):
     g = p.add_argument_group("initial state (at t = 0, the start of a hyperbolic phase)")
-    g.add_argument("--theta0", type=finite_float, default=0.1, metavar="RAD",
-                   help="angle from the upright, counter-clockwise (default 0.1)")
-    g.add_argument("--dtheta0", type=finite_float, default=0.0, metavar="RAD/S", help="angular velocity (default 0)")
+    g.add_argument("--theta0", type=angles, default=0.1, metavar="RAD",
+                   help="angle from the upright, counter-clockwise (default 0.1; with --chain every link's, or "
+                        "one per link: A1,A2,...)")
+    g.add_argument("--dtheta0", type=angles, default=0.0, metavar="RAD/S",
+                   help="angular velocity (default 0; with --chain every link's, or one per link)")
 
 
 def _add_chain(p):
@@ -135,6 +137,10 @@ def _tower(args, command):
 
     if args.chain is not None:
         return getattr(tower, command)
+    for name in ("theta0", "dtheta0"):
+        if isinstance(getattr(args, name), tuple):
+            raise CLIError(f"--{name} takes one number for the single pendulum; a list, one per link, goes with "
+                           "--chain")
     tower.refuse_tower_options(args)
     return None
 

@@ -7,7 +7,8 @@ from __future__ import annotations
 import math
 
 from .. import _io
-from ._common import CLIError, add_drive, count, drive_from, finite_float, out_stem, positive_float, print_json
+from ._common import (CLIError, add_drive, angles, count, drive_from, finite_float, out_stem, positive_float,
+                      print_json)
 
 DESCRIPTION = """\
 The tower: N linked pendulums (uniform rods or point masses) standing on one pivot shaken
@@ -101,7 +102,8 @@ def add_band_options(group):
     group.add_argument("--amplitude-axis", action="store_true",
                        help="vertical axis in displacement amplitude, not stroke")
     group.add_argument("--grid", type=int, default=None, metavar="N",
-                       help="grid points per axis of the band (default 200, at most 2000)")
+                       help="grid points per axis of the band (default 200, at most 2000; with --joint-damping "
+                            "60, at most 400: each point a 2N monodromy)")
 
 
 def add_tower_start(group):
@@ -145,7 +147,8 @@ def band_chart(chain, drive, g, *, only=False, amplitude=False, frequency_range=
     from ..chain import tower_curves
 
     count("--points", points, 20_000, minimum=2)
-    grid = count("--grid", 200 if grid is None else grid, 2000, minimum=2)
+    # None: the library's default (200, or 60 with joint friction: each point a 2N monodromy)
+    grid = None if grid is None else count("--grid", grid, 400 if chain.joint_damping > 0 else 2000, minimum=2)
     chains = [chain] if only or chain.n == 1 else tower_family(
         chain.lengths, chain.masses, links=chain.links, joint_damping=chain.joint_damping, n_max=chain.n)
     fr, sr = band_window(chains, drive, g, frequency_range, stroke_range, mark)
@@ -184,13 +187,34 @@ def _header(chain, drive, g):
 
 
 # ------------------------------------------------------------------ the full motion
+def per_link(chain, name, value):
+    """``--theta0`` or ``--dtheta0`` as one value per link: one number for every link, or a list of
+    one per link (:func:`kapitza.cli._common.angles`)."""
+    import numpy as np
+
+    if not isinstance(value, tuple):
+        return np.full(chain.n, float(value))
+    if len(value) != chain.n:
+        raise CLIError(f"--{name} must be one number or one per link ({chain.n} for --chain "
+                       f"{','.join(f'{x:g}' for x in chain.lengths)}); got {len(value)}")
+    return np.array(value, dtype=float)
+
+
+def angles_text(value):
+    """``--theta0``/``--dtheta0`` as given: ``0.1`` or ``(0.1, -0.05)``."""
+    return f"({', '.join(f'{x:g}' for x in value)})" if isinstance(value, tuple) else f"{value:g}"
+
+
 def start_tilt(chain, theta0, along_mode):
-    """The starting angles: every link at ``theta0``, or the longest mode's shape scaled so that its
-    most tilted link is at ``theta0``."""
+    """The starting angles: every link at ``theta0`` (or each its own, a list), or the longest
+    mode's shape scaled so that its most tilted link is at ``theta0``."""
     import numpy as np
 
     if not along_mode:
-        return np.full(chain.n, float(theta0))
+        return per_link(chain, "theta0", theta0)
+    if isinstance(theta0, tuple):
+        raise CLIError("--along-mode scales the longest mode's shape to one --theta0; a list of angles, one per "
+                       "link, goes without it")
     v = chain.mode_shapes[:, 0]
     return theta0 * v / np.max(np.abs(v))
 
@@ -205,8 +229,9 @@ def tower_motion(chain, drive, report, g, *, theta0, dtheta0=0.0, along_mode=Fal
         periods = max(1.0, DEFAULT_DURATION / (2.0 * report.T))
     if points_per_period is None:
         points_per_period = max(8, min(200, int(2000 / periods) + 1))
-    return chain_motion(chain, start_tilt(chain, theta0, along_mode), dtheta0, T=report.T, A=report.A, g=g, drive=drive,
-                        periods=periods, points_per_period=points_per_period, tol=math.pi / 2 if tol is None else tol,
+    return chain_motion(chain, start_tilt(chain, theta0, along_mode), per_link(chain, "dtheta0", dtheta0),
+                        T=report.T, A=report.A, g=g, drive=drive, periods=periods,
+                        points_per_period=points_per_period, tol=math.pi / 2 if tol is None else tol,
                         rtol=rtol, atol=atol)
 
 
@@ -221,7 +246,8 @@ def motion_summary(motion):
 
 
 def motion_outcome(motion, theta0, along_mode):
-    start = f"a tilt of {theta0:g} rad" + (" along mode 1" if along_mode else " (every link)")
+    start = f"a tilt of {angles_text(theta0)} rad" + (
+        " along mode 1" if along_mode else " (link by link)" if isinstance(theta0, tuple) else " (every link)")
     state = (f"toppled at t = {motion.t_topple:.4g} s" if motion.toppled else
              f"stands (every link within {motion.tol:.3g} rad for {motion.t[-1]:.4g} s)")
     return f"full motion from {start}: {state}"
@@ -283,8 +309,8 @@ def register(sub):
     c.add_argument("--points", type=int, default=600, help="samples per edge curve (default 600, at most 20000)")
     c.add_argument("--no-chart", action="store_true", help="no chart (the point's verdict and motion only)")
     m = p.add_argument_group("the full (nonlinear) motion at the point")
-    m.add_argument("--theta0", type=finite_float, default=0.1, metavar="RAD",
-                   help="starting tilt at rest, every link (default 0.1)")
+    m.add_argument("--theta0", type=angles, default=0.1, metavar="RAD",
+                   help="starting tilt at rest, every link (default 0.1), or one per link: A1,A2,...")
     add_tower_start(m)
     m.add_argument("--duration", type=positive_float, default=DEFAULT_DURATION, metavar="S",
                    help=f"seconds of motion (default {DEFAULT_DURATION:g})")
@@ -460,14 +486,12 @@ def _motion_of(args, chain, drive, report):
 
 
 def _motion_json(args, chain, drive, report, motion):
-    import numpy as np
-
     out = _header(chain, drive, args.g)
     out["parameters"] = {"T": report.T, "A": report.A, "frequency": report.frequency, "stroke": report.stroke,
                          "given": args.given}
     out["report"] = report.as_dict()
     th0 = start_tilt(chain, args.theta0, args.along_mode)
-    out["start"] = {"theta0": th0.tolist(), "dtheta0": np.full(chain.n, args.dtheta0).tolist(),
+    out["start"] = {"theta0": th0.tolist(), "dtheta0": per_link(chain, "dtheta0", args.dtheta0).tolist(),
                     "along_mode": bool(args.along_mode)}
     out["motion"] = motion_summary(motion)
     if args.rig_note:
@@ -479,14 +503,16 @@ def _motion_lines(args, chain, report, motion):
     rig = ""
     if args.given in ("stroke", "amplitude"):
         rig = f"{report.frequency:.6g} Hz, {args.given} {1e3 * getattr(args, args.given):.6g} mm; "
-    start = "every link" if not args.along_mode else "along mode 1, " + ", ".join(
+    start = ("link by link" if isinstance(args.theta0, tuple) else "every link") if not args.along_mode \
+        else "along mode 1, " + ", ".join(
         f"{x:+.4g}" for x in start_tilt(chain, args.theta0, True))
     return [f"tower        {chain.describe()}",
             f"parameters   {rig}T = {report.T:.6g} s, A = {report.A:.6g} m/s^2 ({report.A / args.g:.4g} g), "
             f"g = {args.g:g} m/s^2",
             f"drive        {report.drive}",
             f"upright      {report.verdict}",
-            f"start        theta0 = {args.theta0:g} rad ({start}), dtheta0 = {args.dtheta0:g} rad/s",
+            f"start        theta0 = {angles_text(args.theta0)} rad ({start}), "
+            f"dtheta0 = {angles_text(args.dtheta0)} rad/s",
             "outcome      " + motion_outcome(motion, args.theta0, args.along_mode).split(": ", 1)[1]
             + f"; largest tilt {float(abs(motion.theta).max()):.4g} rad"]
 

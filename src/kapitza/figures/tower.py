@@ -153,21 +153,30 @@ def plot_tower_chart(chain=None, drive=None, g=9.81, ax=None, frequency_range=No
 
 def _edge_labels(ax, curves, k, colour, mm, fr, sr):
     """Short labels on a mode's two edges where they run inside the window: ``k falls`` on the
-    lower edge, ``k doubles`` on the upper one."""
+    lower edge, ``k doubles`` on the upper one. A label goes on the side of its line where the
+    mode fails (under a solid edge, above a dashed one), or on the other side where the window
+    leaves no room there (a long mode's upper edge near the top of the window)."""
     out = []
     for F, S, text, where in ((curves.frequency_lo[k], curves.stroke_lo[k], f"{k + 1} falls", 0.25),
                               (curves.frequency_hi[k], curves.stroke_hi[k], f"{k + 1} doubles", 0.75)):
-        # room for the text: above a dashed edge, below a solid one, and right of the left axis
-        room_lo, room_hi = (2.0, 1.3) if text.endswith("falls") else (1.3, 2.0)
-        inside = (np.isfinite(F) & np.isfinite(S) & (F > fr[0] * 1.5) & (F < fr[1] / 1.6) & (S > sr[0] * room_lo)
-                  & (S < sr[1] / room_hi))
-        idx = np.flatnonzero(inside)
-        if idx.size == 0:
+        falls = text.endswith("falls")
+        visible = np.isfinite(F) & np.isfinite(S) & (F > fr[0] * 1.5) & (F < fr[1] / 1.6)
+        for below in ((True, False) if falls else (False, True)):
+            # room for the text under the line (and over the axis) or over it (and under the top)
+            room_lo, room_hi = (2.0, 1.1) if below else (1.1, 2.0)
+            idx = np.flatnonzero(visible & (S > sr[0] * room_lo) & (S < sr[1] / room_hi))
+            if idx.size:
+                break
+        else:
             continue
-        # a point part-way along the visible piece, spread by mode so that labels do not pile up
-        j = idx[int((where + 0.12 * k) % 1.0 * (idx.size - 1))]
-        # "falls" under its solid line (the side where the mode falls), "doubles" above its dashed one
-        below = text.endswith("falls")
+        if below == falls:
+            # a point part-way along the visible piece, spread by mode so that labels do not pile up
+            j = idx[int((where + 0.12 * k) % 1.0 * (idx.size - 1))]
+        else:
+            # on the other side: where the edge runs level (three quarters along in log frequency),
+            # clear of the shorter modes' labels crowding the low frequencies
+            logf = np.log(F[idx])
+            j = idx[int(np.argmin(np.abs(logf - (logf.min() + where * (logf.max() - logf.min())))))]
         out.append(ax.annotate(text, (F[j], mm * S[j]), fontsize=7, color=colour, ha="right" if below else "left",
                                va="top" if below else "bottom", xytext=(-2, -2) if below else (2, 2),
                                textcoords="offset points"))

@@ -73,6 +73,10 @@ LIMITS: dict[str, Any] = dict(
     tower_frequency=(1e-3, 1e6),  # [Hz] the rig plane's frequency window
     tower_stroke=(1e-6, 100.0),   # [m] ... and its stroke window
     tower_periods=600.0,   # drive periods 2T of a tower's motion (DOP853 with N links)
+    chain_friction_rate=1e3,  # [1/s] the fastest decay rate of joint friction (largest eigenvalue of M^-1 C):
+                              # the motion's DOP853 steps grow with it
+    tower_friction_grid=60,   # grid points per axis of a damped tower's band (each point a 2N monodromy)
+    tower_friction_general_grid=24,  # ... with a smooth drive (each point an integrated period)
 )
 
 Plane = Literal["arnold", "physical", "rig"]
@@ -546,6 +550,8 @@ def create_app(hosts=None) -> FastAPI:
                                               "each 0.01 .. 10 m")
     masses_q = Query(None, description="link masses [kg], comma-separated, one per link (default: equal)")
     links_q = Query("rod", description="rod: uniform rods; point: point masses on massless rods")
+    friction_q = Query(0.0, description="viscous friction c at every joint, the pivot included [N m s/rad] "
+                                        "(0: none; its fastest decay rate at most 1000 1/s)")
 
     @app.get("/api/tower/chart", response_class=_JSON, summary="the tower's stable band on the rig plane")
     async def tower_chart(request: Request, chain: str = chain_q, masses: str | None = masses_q,
@@ -558,14 +564,17 @@ def create_app(hosts=None) -> FastAPI:
                           grid: int | None = Query(None, description="grid points per axis of the band (default 120, "
                                                                      "at most 200; sine: 50, at most 80)"),
                           points: int | None = Query(None, description="samples per mode edge (default 300, at most "
-                                                                       "600; sine: 120, at most 200)")):
+                                                                       "600; sine: 120, at most 200)"),
+                          joint_damping: float = friction_q):
         """The tower of linked pendulums (``kapitza.tower_curves``): each mode ``k`` (equivalent length
         ``l``) has a lower edge of zone 0 (below it in frequency the mode falls) and an upper one (beyond
         it the mode doubles its period), as ``frequency`` and ``stroke`` along the edge; ``band`` is the
         tower's verdict on a grid (``stable[i][j]`` at ``stroke[i]``, ``frequency[j]``; 1: every mode
-        stable). Without a window, the tower's whole band."""
+        stable). Without a window, the tower's whole band. With ``joint_damping`` the modes couple: the
+        band is the full ``2N`` monodromy's verdict on a coarser grid (default and at most 60; a smooth
+        drive: 20, at most 24), the edges drawn the frictionless modes'."""
         return Response(await _worker(request, lambda *a: _tower_chart_json(*a[:-1]), chain, masses, links, drive, g,
-                                      f_min, f_max, stroke_min, stroke_max, grid, points),
+                                      f_min, f_max, stroke_min, stroke_max, grid, points, joint_damping),
                         media_type="application/json")
 
     @app.get("/api/tower/point", response_class=_JSON, summary="the tower's verdict and report at one point")
@@ -575,12 +584,14 @@ def create_app(hosts=None) -> FastAPI:
                           frequency: float | None = Query(None, description="drive frequency [Hz], with stroke or "
                                                                             "amplitude"),
                           stroke: float | None = Query(None, description="peak-to-peak travel of the pivot [m]"),
-                          amplitude: float | None = Query(None, description="displacement amplitude [m]")):
+                          amplitude: float | None = Query(None, description="displacement amplitude [m]"),
+                          joint_damping: float = friction_q):
         """What ``kapitza tower --json`` gives as ``report`` (``kapitza.analyze_chain``): ``stable``, the
         ``verdict`` (which mode fails first and how), the modal lengths, each mode's zone and margin,
         the band through the point; with ``lines``, the rows of its table."""
         return await _worker(request, lambda check: _JSON(tower_point_answer(chain, masses, links, drive, g, T, A,
-                                                                             frequency, stroke, amplitude)))
+                                                                             frequency, stroke, amplitude,
+                                                                             joint_damping)))
 
     @app.get("/api/tower/motion", response_class=_JSON, summary="the tower's full motion, sampled for animation")
     async def tower_motion(request: Request, chain: str = chain_q, masses: str | None = masses_q,
@@ -590,12 +601,13 @@ def create_app(hosts=None) -> FastAPI:
                            theta0: float = Query(0.1, description="starting tilt of every link, at rest [rad]"),
                            periods: float | None = Query(None, description="drive periods 2T (default: about 1.5 s, "
                                                                            "at most 600)"),
-                           points_per_period: int | None = None):
+                           points_per_period: int | None = None, joint_damping: float = friction_q):
         """The nonlinear motion of the tower (``kapitza.chain_motion``) from every link tilted by
         ``theta0``: ``theta[k]`` the angle of link ``k+1`` from the upright [rad] at the times ``t``,
         ``pivot`` the pivot's height [m]; ``toppled`` and ``t_topple`` when a link passed pi/2."""
         return await _worker(request, lambda check: _JSON(tower_motion_answer(
-            chain, masses, links, drive, g, T, A, frequency, stroke, amplitude, theta0, periods, points_per_period)))
+            chain, masses, links, drive, g, T, A, frequency, stroke, amplitude, theta0, periods, points_per_period,
+            joint_damping)))
 
     # -------------------------------------------------------------- exports
     @app.get("/api/export/chart.{fmt}", summary="the chart as kapitza chart writes it: PNG, SVG or its CSV",
@@ -1053,9 +1065,12 @@ def _numbers(name, text):
     return vals
 
 
-def _chain(chain, masses=None, links="rod"):
-    """The :class:`kapitza.Chain` of the explorer's ``chain`` (lengths [m]), ``masses`` [kg] and
-    ``links``, each length and mass within the explorer's ranges."""
+def _chain(chain, masses=None, links="rod", joint_damping=0.0):
+    """The :class:`kapitza.Chain` of the explorer's ``chain`` (lengths [m]), ``masses`` [kg],
+    ``links`` and ``joint_damping`` [N m s/rad], each length and mass within the explorer's ranges
+    and the friction's fastest decay rate at most ``LIMITS['chain_friction_rate']``."""
+    import scipy.linalg
+
     from ..chain import Chain
 
     lengths = _numbers("chain", chain)
@@ -1073,7 +1088,17 @@ def _chain(chain, masses=None, links="rod"):
             masses = vals
     if links not in ("rod", "point"):
         raise _v.KapitzaValueError(f"links must be one of 'rod', 'point'; got {links!r}")
-    return Chain(lengths, None if masses in (None, "") else masses, links=links)
+    c = float(_v.one("joint_damping", _v.nonnegative("joint_damping", joint_damping)))
+    out = Chain(lengths, None if masses in (None, "") else masses, links=links, joint_damping=c)
+    if c > 0:
+        rate = float(scipy.linalg.eigh(out.damping_matrix(), out.mass_matrix(), eigvals_only=True)[-1])
+        top = LIMITS["chain_friction_rate"]
+        if not rate <= top:
+            raise _v.KapitzaValueError(
+                f"joint_damping must be at most {c * top / rate:.3g} N m s/rad for this tower in the explorer (its "
+                f"fastest friction decay rate, the largest eigenvalue of M^-1 C, <= {top:g} 1/s); got {c:g}, "
+                f"a rate of {rate:.3g} 1/s")
+    return out
 
 
 def _tower_T_A(d, T, A, frequency, stroke, amplitude):
@@ -1110,22 +1135,32 @@ def _tower_window(chain, d, g, f_min, f_max, stroke_min, stroke_max):
 
 
 def tower_chart_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="square", g=G_EARTH, f_min=None,
-                       f_max=None, stroke_min=None, stroke_max=None, grid=None, points=None) -> bytes:
+                       f_max=None, stroke_min=None, stroke_max=None, grid=None, points=None,
+                       joint_damping=0.0) -> bytes:
     """The JSON body of ``/api/tower/chart`` (bytes): the tower's band on the rig plane."""
-    return _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, stroke_max, grid, points)
+    return _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, stroke_max, grid, points,
+                             joint_damping)
 
 
 @functools.lru_cache(maxsize=32)
-def _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, stroke_max, grid, points):
+def _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, stroke_max, grid, points,
+                      joint_damping=0.0):
     from ..chain import tower_curves
 
-    c = _chain(chain, masses, links)
+    c = _chain(chain, masses, links, joint_damping)
     d = _drive(drive)
     g = float(_v.one("g", _v.in_range("g", g, 1e-3, 1e3, lo_open=False, hi_open=False)))
     closed = d.closed_form(0.0)
-    grid = (120 if closed else 50) if grid is None else grid
+    coupled = c.joint_damping > 0 and c.n > 1  # the band is the 2N monodromy's verdict, point by point
+    piecewise = getattr(d, "levels", None) is not None
+    if coupled:
+        top = LIMITS["tower_friction_grid" if piecewise else "tower_friction_general_grid"]
+        grid = (top if piecewise else 20) if grid is None else grid
+    else:
+        top = LIMITS["tower_grid" if closed else "tower_general_grid"]
+        grid = (120 if closed else 50) if grid is None else grid
     points = (300 if closed else 120) if points is None else points
-    _bounded("grid", grid, LIMITS["tower_grid" if closed else "tower_general_grid"], 2)
+    _bounded("grid", grid, top, 2)
     _bounded("points", points, LIMITS["tower_points" if closed else "tower_general_points"], 2)
     fr, sr = _tower_window(c, d, g, f_min, f_max, stroke_min, stroke_max)
     b = tower_curves(c, drive=d, g=g, frequency_range=fr, stroke_range=sr, points=int(points), grid=int(grid))
@@ -1138,6 +1173,8 @@ def _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, 
                   upper=curve(b.frequency_hi[k], b.stroke_hi[k])) for k, l in enumerate(b.modal_lengths)]
     return _json_bytes(dict(plane="rig", x="frequency", y="stroke", chain=c.describe(), lengths=list(c.lengths),
                             masses=list(c.masses), links=c.links, n_links=c.n, modal_lengths=list(b.modal_lengths),
+                            joint_damping=c.joint_damping,
+                            band_method="2N monodromy" if coupled else "modes",
                             drive=d.describe(), mu_max=d.mu_max, g=g, stroke_coefficient=stroke_coefficient(d),
                             view=dict(f_min=fr[0], f_max=fr[1], stroke_min=sr[0], stroke_max=sr[1]), modes=modes,
                             band=dict(frequency=b.frequency, stroke=b.stroke,
@@ -1145,10 +1182,10 @@ def _tower_chart_json(chain, masses, links, drive, g, f_min, f_max, stroke_min, 
 
 
 def tower_point_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="square", g=G_EARTH, T=None, A=None,
-                       frequency=None, stroke=None, amplitude=None) -> dict:
+                       frequency=None, stroke=None, amplitude=None, joint_damping=0.0) -> dict:
     """What ``/api/tower/point`` answers: the tower's report (``kapitza tower --json``'s ``report``)
     with ``lines``, the rows of its table."""
-    c = _chain(chain, masses, links)
+    c = _chain(chain, masses, links, joint_damping)
     d = _drive(drive)
     g = float(_v.one("g", _v.positive("g", g)))
     T, A = _tower_T_A(d, T, A, frequency, stroke, amplitude)
@@ -1159,12 +1196,12 @@ def tower_point_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="squ
 
 def tower_motion_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="square", g=G_EARTH, T=None, A=None,
                         frequency=None, stroke=None, amplitude=None, theta0=0.1, periods=None,
-                        points_per_period=None) -> dict:
+                        points_per_period=None, joint_damping=0.0) -> dict:
     """What ``/api/tower/motion`` answers: the tower's full (nonlinear) motion from every link tilted
     by ``theta0`` at rest, sampled for animation (``kapitza.chain_motion``)."""
     from ..motion.chain import chain_motion
 
-    c = _chain(chain, masses, links)
+    c = _chain(chain, masses, links, joint_damping)
     d = _drive(drive)
     g = float(_v.one("g", _v.positive("g", g)))
     T, A = _tower_T_A(d, T, A, frequency, stroke, amplitude)
@@ -1184,4 +1221,5 @@ def tower_motion_answer(chain="0.2,0.2,0.2", masses=None, links="rod", drive="sq
                                 links=c.links, n_links=c.n, T=T, A=A, g=g, frequency=0.5 / T, theta0=theta0,
                                 periods=float(periods), points_per_period=int(points_per_period),
                                 toppled=bool(m.toppled), t_topple=m.t_topple, tol=m.tol, stable=bool(rep.stable),
-                                verdict=rep.verdict, chain=c.describe(), drive=d.describe()))
+                                verdict=rep.verdict, chain=c.describe(), drive=d.describe(),
+                                joint_damping=c.joint_damping))

@@ -86,7 +86,7 @@ export function mount(root, host = {}) {
     point: null, theta0: 0.1, speed: 0.25, views: DEFAULT_VIEWS(1, 9.81),
     rig: false, rod: 1.5, rodKind: "rod", given: "amplitude", dampUnit: "zeta", k: null,
     // the tower: from 2 links on the chart is its band on the rig plane (views.tower: null = its whole band)
-    links: 1, chain: [0.2, 0.2, 0.2, 0.2], masses: [1, 1, 1, 1], linkKind: "rod", towerNew: false,
+    links: 1, chain: [0.2, 0.2, 0.2, 0.2], masses: [1, 1, 1, 1], linkKind: "rod", jointDamping: 0, towerNew: false,
   };
   // The tower's routes (/api/tower/...) are the web API's; a host answering requests itself says it knows them.
   const towerOK = !host.getJSON || !!host.tower;
@@ -108,9 +108,9 @@ export function mount(root, host = {}) {
     if (!S.views.tower) S.views.tower = { ...rigView(towerHeight(), S.g, null), auto: true };  // until the band's own window comes
     return S.views.tower;
   };
-  // What the tower's routes are told: the links, their masses and kind, the drive and g.
+  // What the tower's routes are told: the links, their masses and kind, the joint friction, the drive and g.
   const towerBase = () => ({ chain: S.chain.slice(0, S.links).join(","), masses: S.masses.slice(0, S.links).join(","),
-    links: S.linkKind, drive: driveText(), g: S.g });
+    links: S.linkKind, joint_damping: S.jointDamping > 0 ? S.jointDamping : null, drive: driveText(), g: S.g });
 
   function qs(obj) {
     const p = new URLSearchParams();
@@ -130,7 +130,7 @@ export function mount(root, host = {}) {
     if (S.rig) { o.rig = 1; o.rod = S.rod; o.rod_kind = S.rodKind; o.given = S.given; o.damp_unit = S.dampUnit; }
     const dp = driveParam();
     if (dp) o[dp.name] = paramValue();
-    if (S.links > 1) { o.links = S.links; o.chain = S.chain.slice(0, S.links).join(","); o.masses = S.masses.slice(0, S.links).join(","); o.link_kind = S.linkKind; }
+    if (S.links > 1) { o.links = S.links; o.chain = S.chain.slice(0, S.links).join(","); o.masses = S.masses.slice(0, S.links).join(","); o.link_kind = S.linkKind; if (S.jointDamping > 0) o.joint_damping = S.jointDamping; }
     if (S.point) { o.T = S.point.T; o.A = S.point.A; }
     history.replaceState(null, "", "?" + qs(o));
   }
@@ -164,6 +164,7 @@ export function mount(root, host = {}) {
       list("chain").forEach((x, i) => { if (i < 4 && x > 0) S.chain[i] = x; });
       list("masses").forEach((x, i) => { if (i < 4 && x > 0) S.masses[i] = x; });
       if (["rod", "point"].includes(p.get("link_kind"))) S.linkKind = p.get("link_kind");
+      if (num("joint_damping") > 0) S.jointDamping = num("joint_damping");
       S.views.tower = v.every((x) => x !== null) && v[0] > 0 && v[2] > 0 ? { x0: v[0], x1: v[1], y0: v[2], y1: v[3] } : null;
     }
   }
@@ -452,10 +453,10 @@ export function mount(root, host = {}) {
   const narrowChart = (ax) => ax.right - ax.left < 420;
   function legendRows(narrow) {
     if (isTower()) {
-      const d = chart.tower, rows = narrow
-        ? [["fill", COLORS.fill, `stands (${S.links} links)`], ["blank", "#fff", "falls"],
+      const d = chart.tower, damped = d && d.joint_damping > 0, rows = narrow
+        ? [["fill", COLORS.fill, `stands (${S.links} links${damped ? ", damped" : ""})`], ["blank", "#fff", "falls"],
            ["line", COLORS.edge2, "mode k: 2T edge"], ["dash", COLORS.edge4, "mode k: 4T edge"]]
-        : [["fill", COLORS.fill, `shaded: the ${S.links}-link tower stands (every mode stable)`],
+        : [["fill", COLORS.fill, `shaded: the ${S.links}-link tower stands (${damped ? "damped: every multiplier inside the unit circle" : "every mode stable"})`],
            ["blank", "#fff", "white: it falls"],
            ["line", COLORS.edge2, "mode k falls below this edge (2T)"], ["dash", COLORS.edge4, "mode k doubles its period beyond (4T)"]];
       if (S.point) rows.push(["star", COLORS.point, narrow ? "point" : "chosen point"]);
@@ -562,6 +563,9 @@ export function mount(root, host = {}) {
       $("caption").textContent = !d ? "" : `Shaded: the tower of ${d.chain} stands upright (${d.drive}, g = ${d.g} m/s²); white: it falls. ` +
         `Without friction it moves as ${d.n_links} single pendulums, its modes, of equivalent lengths ` +
         `${d.modal_lengths.map((x) => fmt(x, 4)).join(", ")} m; it stands where every mode does. ` +
+        (d.joint_damping > 0 ? `Joint friction c = ${fmt(d.joint_damping, 4)} N m s/rad couples the modes: the shading is the ` +
+          `full ${2 * d.n_links}-dimensional monodromy's verdict on a ${d.band.frequency.length} × ${d.band.stroke.length} grid, ` +
+          "the edges drawn are the frictionless modes'. " : "") +
         "Solid blue: a mode's lower edge (at lower frequency it falls; mode 1, the longest, sets the tower's); " +
         "dashed red: its upper edge (at larger stroke it doubles its period; the shortest mode's comes first). Click a point: the tower's verdict and its motion.";
       return;
@@ -865,7 +869,7 @@ export function mount(root, host = {}) {
     $("rig-mode").checked = S.rig; shell.classList.toggle("rig-on", S.rig);
     $("rig-rod").value = S.rod; $("rig-kind").value = S.rodKind; $("rig-given").value = S.given; $("damp-unit").value = S.dampUnit;
     setDampInput();
-    $("links").value = String(S.links); $("link-kind").value = S.linkKind;
+    $("links").value = String(S.links); $("link-kind").value = S.linkKind; $("link-c").value = S.jointDamping;
     for (let k = 1; k <= 4; k++) { $(`link-L${k}`).value = S.chain[k - 1]; $(`link-m${k}`).value = S.masses[k - 1]; }
     syncTower();
     setPointInputs();
@@ -892,14 +896,18 @@ export function mount(root, host = {}) {
     const tc = [`angle of the top link θ${"₁₂₃₄"[S.links - 1]}(t), full motion`, `phase portrait of the top link`, `stroboscopic map of the top link at t = 2kT`];
     root.querySelectorAll(".plots figcaption").forEach((c, i) => { c.textContent = on ? tc[i] : captions[i]; });
   }
+  const towerKey = () => JSON.stringify([S.links, S.linkKind, S.jointDamping, S.chain, S.masses]);
   function onTower() {
-    const was = isTower();
+    const was = isTower(), before = towerKey();
     S.links = Math.max(1, Math.min(4, parseInt($("links").value, 10) || 1)); S.linkKind = $("link-kind").value;
+    const c = parseFloat($("link-c").value);
+    S.jointDamping = c > 0 ? c : 0;
     for (let k = 1; k <= 4; k++) {
       const L = parseFloat($(`link-L${k}`).value), mk = parseFloat($(`link-m${k}`).value);
       if (L > 0) S.chain[k - 1] = L;
       if (mk > 0) S.masses[k - 1] = mk;
     }
+    if (towerKey() === before) return;  // a change event that changed nothing (e.g. a blur): keep the view and band
     if (isTower() && !was) {  // the tower stands on a shaker: the rig plane, in the rig's units
       S.rig = true; $("rig-mode").checked = true; shell.classList.add("rig-on");
       S.plane = "rig"; root.querySelectorAll(".planes button").forEach((x) => x.classList.toggle("on", x.dataset.plane === "rig"));
@@ -914,7 +922,7 @@ export function mount(root, host = {}) {
       choosePoint(S.point);
     }
   }
-  for (const id of ["links", "link-kind", "link-L1", "link-L2", "link-L3", "link-L4", "link-m1", "link-m2", "link-m3", "link-m4"]) {
+  for (const id of ["links", "link-kind", "link-c", "link-L1", "link-L2", "link-L3", "link-L4", "link-m1", "link-m2", "link-m3", "link-m4"]) {
     $(id).addEventListener("change", onTower);
   }
   // A new tower's first band: keep the point where it lies in the band's window, else choose one in
