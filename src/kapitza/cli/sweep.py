@@ -160,6 +160,8 @@ def spec_from(args):
     if args.rod is not None:
         if args.l != 1.0:
             raise CLIError("give --l or --rod, not both")
+        if not 0.0 < args.rod < float("inf"):
+            raise CLIError(f"--rod must be a length in metres, 0 < rod < inf; got {args.rod!r}")
         from ..system import Pendulum
 
         args.l = Pendulum.uniform_rod(args.rod).l
