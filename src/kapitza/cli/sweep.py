@@ -21,10 +21,10 @@ def register(sub):
         "sweep",
         help="nonlinear stability map over a window of the chart (Dask, Zarr, resumable)",
         description="For every point of a grid over (--eps, --mu), (--T, --A) or a rig's (--frequency, --stroke):\n"
-        "the largest safe starting tilt at\n"
-        "rest (tilt), the largest safe radius over all directions of the phase plane (radius), the basin area\n"
-        "and median escape time (basin) of the upright for --periods periods, beside the exact linear verdict,\n"
-        "zone, growth and margin (linear). Chunks of the grid run on a local Dask cluster (one worker per\n"
+        "the largest safe starting tilt at rest (tilt), the largest safe radius over all directions of the\n"
+        "phase plane (radius), the basin area and median escape time (basin) of the upright for --periods\n"
+        "periods, beside the exact linear verdict, zone, growth and margin (linear).\n"
+        "Chunks of the grid run on a local Dask cluster (one worker per\n"
         "core) or on --scheduler ADDRESS; each finished chunk is written to the Zarr store --out at once, so\n"
         "an interrupted sweep continues with --resume and recomputes only unfinished chunks. Writes a figure\n"
         "of the map with the exact zone edges (STEM.png/.svg, STEM = --out without .zarr); --netcdf exports.\n"
