@@ -6,7 +6,7 @@ import numpy as np
 from ..curves import edge_kinds
 from ..parameters import G_EARTH
 from ..zones import period_edges
-from ._style import EDGE_2T, EDGE_4T, Drawn, caption, new_figure, place_legend
+from ._style import EDGE_2T, EDGE_4T, Drawn, caption, new_figure, place_legend, real_log_ticks
 
 __all__ = ["plot_sweep_map", "sweep_figure"]
 
@@ -25,13 +25,15 @@ def _log_cell_edges(v):
 
 def _rig_edges(f_range, s_range, l, g, drive, c, points=300):
     """``[(n, stroke [m], f_lo, f_hi)]`` of the zones in the window of the rig plane (damping ``c``
-    [1/s]), edges beyond the window as NaN (:func:`kapitza.rig_plane.rig_zone_curves`)."""
+    [1/s]; :func:`kapitza.rig_plane.rig_zone_curves`). An edge beyond the window at a stroke is put
+    a decade outside it, as the rig chart draws it, so that a nearly level edge runs off the side."""
     from ..drives._api import zeta_of
     from ..rig_plane import rig_zone_curves
 
     rc = rig_zone_curves(f_range, s_range, l, g, drive, float(zeta_of(c, l, g)), points)
-    finite = (lambda a: np.where(np.isfinite(a), a, np.nan))
-    return [(int(n), rc.stroke, finite(rc.f_lo[i]), finite(rc.f_hi[i])) for i, n in enumerate(rc.n)]
+    lo = np.where(rc.f_lo == -np.inf, f_range[0] / 10.0, rc.f_lo)
+    hi = np.where(rc.f_hi == np.inf, f_range[1] * 10.0, rc.f_hi)
+    return [(int(n), rc.stroke, lo[i], hi[i]) for i, n in enumerate(rc.n)]
 
 
 def _edges(plane, y_range, x_max, l, g, drive, points=400, max_zones=60, c=0.0):
@@ -113,8 +115,6 @@ def plot_sweep_map(x, y, values, *, plane="arnold", ax=None, l=1.0, g=G_EARTH, d
 def _plot_rig_map(ax, f, s, v, l, g, drive, label, cmap, colorbar, edges, damping):
     """The rig plane as ``kapitza chart --plane rig`` draws it: frequency [Hz] across, stroke [mm] up,
     both logarithmic with plain-number ticks, the zone edges of :mod:`kapitza.rig_plane` on top."""
-    from .chart import _real_log_ticks
-
     fe, se = _log_cell_edges(f), _log_cell_edges(s)
     mesh = ax.pcolormesh(fe, 1e3 * se, v, shading="flat", cmap=cmap, rasterized=True)
     drawn = Drawn(ax, {"mesh": mesh, "edges": []})
@@ -124,7 +124,7 @@ def _plot_rig_map(ax, f, s, v, l, g, drive, label, cmap, colorbar, edges, dampin
         named = set()
         for n, stroke, lo, hi in _rig_edges((fe[0], fe[-1]), (se[0], se[-1]), l, g, drive, float(damping)):
             for f_edge, kind in zip((lo, hi), edge_kinds(n)):
-                if not np.isfinite(f_edge).any():  # beyond the window at every stroke
+                if not np.any((f_edge > fe[0]) & (f_edge < fe[-1])):  # beyond the window at every stroke
                     continue
                 style, name = (EDGE_2T, "2T-periodic edge") if kind == "2T" else (EDGE_4T, "4T-periodic edge")
                 drawn["edges"] += ax.plot(f_edge, 1e3 * stroke, **style, label=None if name in named else name)
@@ -133,8 +133,8 @@ def _plot_rig_map(ax, f, s, v, l, g, drive, label, cmap, colorbar, edges, dampin
     ax.set_yscale("log")
     ax.set_xlim(fe[0], fe[-1])
     ax.set_ylim(1e3 * se[0], 1e3 * se[-1])
-    _real_log_ticks(ax.xaxis)
-    _real_log_ticks(ax.yaxis)
+    real_log_ticks(ax.xaxis)
+    real_log_ticks(ax.yaxis)
     ax.set_xlabel(_AXES["rig"][0])
     ax.set_ylabel(_AXES["rig"][1])
     return drawn

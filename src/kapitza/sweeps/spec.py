@@ -165,16 +165,21 @@ class SweepSpec:
         names = PLANES.get(plane, (("x", ""), ("y", "")))
         nx = _v.bounded_count(f"resolution ({names[0][0]})", nx, MAX_SIDE, minimum=1)
         ny = _v.bounded_count(f"resolution ({names[1][0]})", ny, MAX_SIDE, minimum=1)
+        ends = []
         for (name, _), r in zip(names, (x_range, y_range)):
             lo, hi = (float(v) for v in _v.positive(f"{name} range", r))
             if not lo <= hi:
                 raise _v.KapitzaValueError(f"{name} range must be (low, high) with low <= high; got ({lo!r}, {hi!r})")
-        space = np.geomspace if plane in GEOMETRIC else np.linspace
-        x, y = space(*x_range, nx), space(*y_range, ny)  # type: ignore[operator]
-        if plane in GEOMETRIC:  # the ends exactly as given (geomspace rounds them through logarithms)
-            for v, r in ((x, x_range), (y, y_range)):
-                v[0], v[-1] = (r[0], r[0]) if v.size == 1 else r
-        return cls(plane=plane, x=tuple(x), y=tuple(y), **kw)
+            ends.append((lo, hi))
+        axes = []
+        for (lo, hi), n in zip(ends, (nx, ny)):
+            if plane in GEOMETRIC:
+                v = np.geomspace(lo, hi, n)
+                v[0], v[-1] = (lo, lo) if n == 1 else (lo, hi)  # the ends as given (geomspace rounds them)
+            else:
+                v = np.linspace(lo, hi, n)
+            axes.append(tuple(float(a) for a in v))
+        return cls(plane=plane, x=axes[0], y=axes[1], **kw)
 
     # ------------------------------------------------------------------ path and work
     @property

@@ -1,12 +1,12 @@
 """The sweep's Zarr store: pre-created arrays, one region write per finished chunk, checksummed.
 
 Layout (an xarray Dataset in Zarr form): every variable of :data:`kapitza.sweeps.kernel.VARIABLES`
-that was asked for, on the dimensions ``(mu, eps)``, ``(A, T)`` or ``(stroke, frequency)`` with their
-coordinates and units (``frequency`` in Hz, ``stroke`` in m), chunked exactly as the work is; ``chunk_checksum`` and ``chunk_done`` on
-``(chunk_y, chunk_x)``. A finished chunk's values are written into their region, then the CRC-32
-of exactly those values (:func:`chunk_checksum`), then its done flag. A point not yet computed
-holds a fill value no result can take (NaN for the real variables, -2 for ``zone``, -1 for
-``stable``; the ``_FillValue`` attribute of each).
+that was asked for, on the dimensions ``(mu, eps)``, ``(A, T)`` or ``(stroke, frequency)`` with
+their coordinates and units (``frequency`` in Hz, ``stroke`` in m), chunked exactly as the work is;
+``chunk_checksum`` and ``chunk_done`` on ``(chunk_y, chunk_x)``. A finished chunk's values are
+written into their region, then the CRC-32 of exactly those values (:func:`chunk_checksum`), then
+its done flag. A point not yet computed holds a fill value no result can take (NaN for the real
+variables, -2 for ``zone``, -1 for ``stable``; the ``_FillValue`` attribute of each).
 
 Integrity. The store is built under a temporary name beside its path and renamed into place
 when complete, so an interrupt at any moment leaves nothing at the path or a store that resumes.
