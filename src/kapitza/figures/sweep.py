@@ -17,8 +17,10 @@ _AXES = {"arnold": (r"$\varepsilon = T\sqrt{A/(8l)}$", r"$\mu = \sqrt{g/A}$"),
 
 def _log_cell_edges(v):
     """Cell boundaries of grid values ``v`` on a log axis: geometric midpoints, the end cells as wide
-    as their neighbours (a single value gets a factor 1.25 either way)."""
+    as their neighbours (a single value, or a window of one value repeated, a factor 1.25 either way)."""
     v = np.log(np.asarray(v, float))
+    if v[0] == v[-1]:
+        return np.exp(np.linspace(v[0] - np.log(1.25), v[0] + np.log(1.25), v.size + 1))
     half = np.full(1, np.log(1.25)) if v.size == 1 else np.diff(v) / 2.0
     return np.exp(np.concatenate([[v[0] - half[0]], v[:-1] + half, [v[-1] + half[-1]]]))
 
