@@ -172,3 +172,16 @@ def test_square_wave_frequency_interval_matches_the_general_bisection():
             eps_lo, _ = K.zone_edges(np.geomspace(1e-6, 0.999, 400), nz)
             assert np.all(eps_lo >= eps)
     assert compared >= 30
+
+
+def test_acceleration_in_g_is_one_field_in_text_json_and_report(capsys):
+    """A in units of g: the text's "(40.77 g)", the JSON's A_g and the report's dictionary agree."""
+    argv = ["stability", "--frequency", "50", "--stroke", "0.01", "--rod", "0.25", "--no-safe-tilt"]
+    code, out, _ = run([*argv, "--json"], capsys)
+    assert code == 0
+    rep = json.loads(out)
+    assert rep["A_g"] == pytest.approx(400.0 / 9.81, rel=1e-14) and rep["A_g"] == rep["A"] / rep["g"]
+    code, text, _ = run(argv, capsys)
+    assert f"({rep['A_g']:.4g} g)" in text
+    assert K.analyze(T=0.01, A=400.0, l=0.2, g=9.8).as_dict()["A_g"] == pytest.approx(400 / 9.8)
+    assert json.loads(run(["stability", "--eps", "0.5", "--mu", "0.3", "--json"], capsys)[1])["A_g"] is None

@@ -324,6 +324,14 @@ def test_cli_sweep_writes_store_figures_and_netcdf(tmp_path, capsys):
     # (beyond the compiled integrator's limit too: 40 times the numpy loop's)
     (["--eps", "0.2", "0.9", "--mu", "0.1", "0.5", "--drive", "sine", "--resolution", "256", "--periods", "20000"],
      "KAPITZA_ALLOW_LARGE=1"),
+    (["--frequency", "10", "200"], "--stroke"),
+    (["--frequency", "0", "200", "--stroke", "0.01", "0.1"], "--frequency must be LO HI with 0 < LO <= HI [Hz]"),
+    (["--frequency", "10", "200", "--stroke", "0.1", "0.01"], "--stroke must be LO HI with 0 < LO <= HI [m]"),
+    (["--frequency", "10", "200", "--stroke", "-0.01", "0.1"], "--stroke"),
+    (["--frequency", "10", "200", "--stroke", "0.01", "0.1", "--T", "0.1", "0.2"], "not both"),
+    (["--frequency", "10", "inf", "--stroke", "0.01", "0.1"], "--frequency"),
+    (["--frequency", "10", "200", "--stroke", "0.01", "0.1", "--rod", "-1"], "rod"),
+    (["--frequency", "10", "200", "--stroke", "0.01", "0.1", "--damping", "-1"], "--damping must be >= 0"),
 ])
 def test_cli_sweep_bad_input_is_one_line(argv, needle, tmp_path, capsys):
     code, _, err = run(["sweep", *argv, "--out", str(tmp_path / "x.zarr")], capsys)
@@ -423,3 +431,86 @@ def test_cli_sweep_takes_the_sine_drive_and_zeta(tmp_path, capsys):
     assert SweepSpec.from_json(ds.attrs["sweep_spec"]).c == pytest.approx(0.1 * np.sqrt(G))
     assert ds.attrs["damping"].endswith("= 0.05)") and ds.attrs["path"].startswith("integrated")
     assert (tmp_path / "z.png").exists()
+
+
+# ------------------------------------------------------------------ the rig plane
+RIG_KW = dict(g=G, l=0.2, periods=20, tol=0.5, quantities=("tilt", "linear"), directions=1, basin_resolution=5,
+              accuracy=0.01, floor=1e-4)
+
+
+@pytest.mark.parametrize("drive", ["square", "rectangular:0.4"])
+def test_rig_plane_equals_the_physical_plane_point_by_point(drive):
+    """A point (f, s) of the rig plane is the drive's own rig (T, A) (Drive.from_rig): the same values."""
+    from kapitza.drives import parse_drive
+
+    f, s = np.array([20.0, 80.0]), np.array([0.005, 0.02])
+    got = block_quantities(f, s, plane="rig", drive=drive, **RIG_KW)
+    assert got["stable"].any() and not got["stable"].all()  # both kinds of point
+    d = parse_drive(drive)
+    for i, j in np.ndindex(got["stable"].shape):
+        T, A = (float(v) for v in d.from_rig(f[j], stroke=s[i]))
+        assert T == pytest.approx(1 / (2 * f[j]), rel=1e-15) and A * T * T * d.stroke(1.0, 1.0) == pytest.approx(s[i])
+        ref = block_quantities([T], [A], plane="physical", drive=drive, **RIG_KW)
+        for name in ("stable", "zone"):
+            assert got[name][i, j] == ref[name][0, 0], (name, i, j)
+        for name in ("growth", "margin", "max_safe_tilt"):
+            assert got[name][i, j] == pytest.approx(ref[name][0, 0], rel=0.02, abs=1e-12), (name, i, j)
+
+
+def test_rig_store_has_frequency_in_hz_and_stroke_in_m(tmp_path):
+    spec = SweepSpec.window((10.0, 40.0), (0.001, 0.016), (3, 5), plane="rig", l=0.2, quantities=("linear",),
+                            drive="sine", chunk=2)
+    assert spec.x == pytest.approx((10.0, 20.0, 40.0)) and spec.y == pytest.approx((0.001, 0.002, 0.004, 0.008, 0.016))
+    assert (spec.x[0], spec.x[-1], spec.y[0], spec.y[-1]) == (10.0, 40.0, 0.001, 0.016)  # the ends as given
+    sweep(spec, tmp_path / "rig.zarr", serial=True, progress=False)
+    ds = open_sweep(tmp_path / "rig.zarr")
+    assert ds.stable.dims == ("stroke", "frequency")
+    assert ds.frequency.attrs["units"] == "Hz" and ds.stroke.attrs["units"] == "m"
+    assert "peak-to-peak" in ds.stroke.attrs["long_name"] and "1 / (2 T)" in ds.frequency.attrs["long_name"]
+    assert ds.attrs["plane"] == "rig" and ds.attrs["stroke_coefficient"] == pytest.approx(2 / np.pi**2)
+    assert SweepSpec.from_json(ds.attrs["sweep_spec"]) == spec
+    # the verdicts are the library's at the rig's (T, A)
+    T, A = kapitza.drives.parse_drive("sine").from_rig(ds.frequency.values[None, :], stroke=ds.stroke.values[:, None])
+    want = kapitza.is_stable(*kapitza.to_arnold(T, A, 0.2, G), drive="sine")
+    assert np.array_equal(ds.stable.values == 1, want)
+
+
+def test_cli_rig_sweep_writes_its_figure(tmp_path, capsys):
+    out = tmp_path / "shaker.zarr"
+    code, stdout, err = run(["sweep", "--frequency", "10", "200", "--stroke", "0.002", "0.1", "--rod", "0.3",
+                             "--resolution", "3", "2", "--periods", "5", "--serial", "--quiet", "--out", str(out),
+                             "--json"], capsys)
+    assert code == 0, err
+    ds = open_sweep(out)
+    spec = SweepSpec.from_json(ds.attrs["sweep_spec"])
+    assert spec.plane == "rig" and spec.l == pytest.approx(0.2)
+    assert spec.x == pytest.approx((10.0, np.sqrt(2000), 200.0))  # geometric
+    assert (tmp_path / "shaker.png").exists() and (tmp_path / "shaker.svg").exists()
+    svg = (tmp_path / "shaker.svg").read_text()
+    assert "drive frequency" in svg and "stroke" in svg and "Rig plane" in svg
+    # damping given as zeta on the rig plane: c = 2 zeta sqrt(g/l)
+    code, _, err = run(["sweep", "--frequency", "10", "200", "--stroke", "0.002", "0.1", "--l", "0.2", "--zeta",
+                        "0.05", "--quantities", "linear", "--resolution", "2", "--serial", "--quiet", "--no-figure",
+                        "--out", str(tmp_path / "z.zarr")], capsys)
+    assert code == 0, err
+    assert SweepSpec.from_json(open_sweep(tmp_path / "z.zarr").attrs["sweep_spec"]).c == \
+        pytest.approx(0.1 * np.sqrt(G / 0.2))
+
+
+def test_rig_map_is_drawn_on_log_axes_with_the_zone_edges():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from kapitza.figures.sweep import plot_sweep_map
+
+    f, s = np.geomspace(10, 200, 4), np.geomspace(0.002, 0.1, 3)
+    drawn = plot_sweep_map(f, s, np.ones((3, 4)), plane="rig", l=0.2)
+    ax = drawn.ax
+    assert ax.get_xscale() == ax.get_yscale() == "log" and "[Hz]" in ax.get_xlabel() and "[mm]" in ax.get_ylabel()
+    assert ax.get_ylim()[0] < 2.0 < 100.0 < ax.get_ylim()[1]  # millimetres
+    assert drawn["edges"]  # zone 0's lower edge crosses this window
+    labels = [t.get_text() for t in ax.get_xticklabels()]
+    assert "20" in labels and "100" in labels  # plain numbers, not powers of ten
+    plt.close("all")

@@ -138,6 +138,11 @@ def test_point_is_what_kapitza_stability_json_prints(server, query, argv):
     cli = _cli_json(["stability", *argv, "--no-safe-tilt", "--json"])  # /api/point gives it on request
     assert web == cli
     assert ["verdict", cli["verdict"]] in lines
+    if "A" in query:  # A in units of g, the field beside the text's "(10.19 g)"
+        assert web["A_g"] == pytest.approx(query["A"] / kapitza.parameters.G_EARTH)
+        assert any(f"({web['A_g']:.4g} g)" in text for _, text in lines)
+    else:
+        assert web["A_g"] is None
 
 
 def test_motion_is_the_library_simulation(server):

@@ -57,6 +57,9 @@ class StabilityReport(Summary):
         ``1 - |tr M| / 2``: > 0 inside a zone.
     T, A, l, g : float or None
         Physical parameters, when given.
+    A_g : float or None
+        ``A / g``, the acceleration amplitude in units of gravity (a property; in :meth:`as_dict`,
+        the JSON of ``kapitza stability --json`` and ``/api/point``), when given physically.
     drive : str
         The pivot's motion (:meth:`kapitza.drives.Drive.describe`).
     pendulum : str or None
@@ -152,6 +155,11 @@ class StabilityReport(Summary):
         return directions(self, self.given)
 
     @property
+    def A_g(self) -> float | None:
+        """The acceleration amplitude in units of gravity, ``A / g``, when given physically."""
+        return None if self.A is None or self.g is None else self.A / self.g
+
+    @property
     def frequency(self) -> float | None:
         """Drive frequency ``1/(2T)`` [Hz], when given physically."""
         return None if self.T is None else 0.5 / self.T
@@ -161,7 +169,7 @@ class StabilityReport(Summary):
         rows = []
         if self.T is not None:
             rows.append(("parameters", f"T = {_fmt(self.T)} s (frequency {_fmt(self.frequency, 6)} Hz), "
-                                       f"A = {_fmt(self.A)} m/s^2 ({_fmt(self.A / self.g, 4)} g), "  # type: ignore[operator]
+                                       f"A = {_fmt(self.A)} m/s^2 ({_fmt(self.A_g, 4)} g), "
                                        f"l = {_fmt(self.l)} m, "
                                        f"g = {_fmt(self.g)} m/s^2"))
         if self.pendulum:
@@ -215,9 +223,10 @@ class StabilityReport(Summary):
         return f"{where}eps = {_fmt(self.eps, 6)}, mu = {_fmt(self.mu, 6)}: {self.verdict}"
 
     def as_dict(self) -> dict:
-        """JSON-ready dictionary (complex multipliers as ``[re, im]`` pairs)."""
+        """JSON-ready dictionary (complex multipliers as ``[re, im]`` pairs; ``A_g`` the amplitude in g)."""
         d = asdict(self)
         d["directions"] = self.directions
+        d["A_g"] = self.A_g
         d["multipliers"] = [[float(z.real), float(z.imag)] for z in self.multipliers]
         return {k: (None if isinstance(v, float) and not np.isfinite(v) and k not in ("trace", "margin") else v)
                 for k, v in d.items()}

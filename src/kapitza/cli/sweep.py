@@ -20,38 +20,48 @@ def register(sub):
     p = sub.add_parser(
         "sweep",
         help="nonlinear stability map over a window of the chart (Dask, Zarr, resumable)",
-        description="For every point of a grid over (--eps, --mu) or (--T, --A): the largest safe starting tilt at\n"
-        "rest (tilt), the largest safe radius over all directions of the phase plane (radius), the basin area\n"
-        "and median escape time (basin) of the upright for --periods periods, beside the exact linear verdict,\n"
-        "zone, growth and margin (linear). Chunks of the grid run on a local Dask cluster (one worker per\n"
+        description="For every point of a grid over (--eps, --mu), (--T, --A) or a rig's (--frequency, --stroke):\n"
+        "the largest safe starting tilt at rest (tilt), the largest safe radius over all directions of the\n"
+        "phase plane (radius), the basin area and median escape time (basin) of the upright for --periods\n"
+        "periods, beside the exact linear verdict, zone, growth and margin (linear).\n"
+        "Chunks of the grid run on a local Dask cluster (one worker per\n"
         "core) or on --scheduler ADDRESS; each finished chunk is written to the Zarr store --out at once, so\n"
         "an interrupted sweep continues with --resume and recomputes only unfinished chunks. Writes a figure\n"
         "of the map with the exact zone edges (STEM.png/.svg, STEM = --out without .zarr); --netcdf exports.\n"
         "Radii are bisected to --accuracy (relative). An undamped square, rectangular or steps drive is followed\n"
         "by exact step flows, the window checked on the continuous motion; --drive sine, --damping or --zeta by\n"
         "DOP853 (rtol 1e-9), the window checked at sampled instants: far slower, and refused beyond about an\n"
-        "hour of work unless KAPITZA_ALLOW_LARGE=1. See docs/sweeps.md.",
+        "hour of work unless KAPITZA_ALLOW_LARGE=1. The rig plane (--frequency Hz, --stroke m, peak-to-peak\n"
+        "travel of the pivot) is spaced geometrically and drawn on log axes as `kapitza chart --plane rig`\n"
+        "draws it; each point is T = 1/(2 f), A = s / (k T^2) with the drive's stroke coefficient k. See\n"
+        "docs/sweeps.md.",
         epilog="examples:\n"
         "  kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --resolution 40 30 --periods 100 --out small.zarr\n"
         "  kapitza sweep --eps 0.1 1.6 --mu 0.02 0.9 --resolution 40 30 --periods 100 --out small.zarr --resume\n"
         "  kapitza sweep --T 0.05 0.4 --A 20 200 --l 0.5 --quantities tilt,basin,linear --netcdf map.nc\n"
         "  kapitza sweep --eps 0.1 1.2 --mu 0.05 0.8 --resolution 12 10 --periods 50 --drive sine --zeta 0.05\n"
+        "  kapitza sweep --frequency 20 200 --stroke 0.002 0.05 --rod 0.25 --resolution 24 20 --periods 100 "
+        "--out shaker.zarr\n"
         "  kapitza sweep --eps 0.1 3 --mu 0.01 0.99 --resolution 512 --periods 1000 --scheduler tcp://head:8786",
     )
-    w = p.add_argument_group("window (give --eps and --mu, or --T and --A)")
+    w = p.add_argument_group("window (give --eps and --mu, --T and --A, or --frequency and --stroke)")
     for name, help_ in (("eps", "Arnold's eps range"), ("mu", "Arnold's mu range"), ("T", "half-period range [s]"),
-                        ("A", "acceleration amplitude range [m/s^2]")):
+                        ("A", "acceleration amplitude range [m/s^2]"),
+                        ("frequency", "drive frequency range [Hz] (the rig plane, geometric grid, log axes)"),
+                        ("stroke", "stroke range [m]: peak-to-peak travel of the pivot (the rig plane)")):
         w.add_argument(f"--{name}", nargs=2, type=finite_float, metavar=("LO", "HI"), help=help_)
     w.add_argument("--l", type=finite_float, default=1.0, metavar="M", help="rod length (default 1)")
     w.add_argument("--rod", type=finite_float, default=None, metavar="M",
                    help="a uniform rod of this length pivoted at one end (l = 2/3 of it), instead of --l")
     w.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"gravity (default {G_EARTH})")
     w.add_argument("--resolution", nargs="+", type=int, default=[32, 24], metavar="N",
-                   help="grid points along x (eps or T) and y (mu or A); one number for both (default 32 24)")
+                   help="grid points along x (eps, T or frequency) and y (mu, A or stroke); one number for both "
+                        "(default 32 24)")
     rig = p.add_argument_group("the pivot's motion and the damping (an undamped square, rectangular or steps drive\n"
                                "is followed exactly; the sine drive or damping by DOP853, far slower)")
     add_drive(rig)
-    add_damping(rig, physical="with --T/--A", arnold="with --eps/--mu (c = 2 zeta sqrt(g/l))")
+    add_damping(rig, physical="with --T/--A or --frequency/--stroke",
+                arnold="with any window (c = 2 zeta sqrt(g/l) with --l or --rod, and --g)")
     q = p.add_argument_group("what is computed")
     q.add_argument("--quantities", default="tilt,linear",
                    help="comma-separated: tilt, radius, basin, linear (default tilt,linear)")
@@ -79,20 +89,28 @@ def register(sub):
     p.set_defaults(func=cmd_sweep)
 
 
+#: ``plane -> (x option, y option)`` of the window.
+_WINDOWS = {"arnold": ("eps", "mu"), "physical": ("T", "A"), "rig": ("frequency", "stroke")}
+
+
 def _window(args):
-    arn = args.eps is not None or args.mu is not None
-    phys = args.T is not None or args.A is not None
-    if arn and phys:
-        raise CLIError("give the window as --eps and --mu, or as --T and --A, not both")
-    if arn:
-        if args.eps is None or args.mu is None:
-            raise CLIError("--eps LO HI and --mu LO HI must be given together")
-        return "arnold", args.eps, args.mu
-    if phys:
-        if args.T is None or args.A is None:
-            raise CLIError("--T LO HI and --A LO HI must be given together")
-        return "physical", args.T, args.A
-    raise CLIError("give the window: --eps LO HI --mu LO HI (Arnold) or --T LO HI --A LO HI (physical)")
+    given = [plane for plane, names in _WINDOWS.items() if any(getattr(args, n) is not None for n in names)]
+    if len(given) > 1:
+        raise CLIError("give the window as --eps and --mu, as --T and --A, or as --frequency and --stroke, not both "
+                       "(got " + " and ".join("--{}/--{}".format(*_WINDOWS[p]) for p in given) + ")")
+    if not given:
+        raise CLIError("give the window: --eps LO HI --mu LO HI (Arnold), --T LO HI --A LO HI (physical) or "
+                       "--frequency LO HI --stroke LO HI (a rig, Hz and m)")
+    plane = given[0]
+    xn, yn = _WINDOWS[plane]
+    x, y = getattr(args, xn), getattr(args, yn)
+    if x is None or y is None:
+        raise CLIError(f"--{xn} LO HI and --{yn} LO HI must be given together")
+    if plane == "rig":
+        for name, unit, (lo, hi) in ((xn, "Hz", x), (yn, "m", y)):
+            if not 0.0 < lo <= hi:
+                raise CLIError(f"--{name} must be LO HI with 0 < LO <= HI [{unit}]; got {lo!r} {hi!r}")
+    return plane, x, y
 
 
 def _damping_from(args, plane):
@@ -100,11 +118,11 @@ def _damping_from(args, plane):
     for flag, v in (("--damping", args.damping), ("--zeta", args.zeta)):
         if v is not None and v < 0:
             raise CLIError(f"{flag} must be >= 0; got {v!r}")
-    if plane == "physical" and args.zeta is not None:
+    if plane != "arnold" and args.zeta is not None:
         from .._validate import positive
 
         positive("l", args.l), positive("g", args.g)
-    given = damping_from(args, physical=plane == "physical", l=args.l, g=args.g)
+    given = damping_from(args, physical=plane != "arnold", l=args.l, g=args.g)
     if "zeta" not in given:
         return given.get("damping", 0.0)
     from ..drives._api import damping_of
@@ -142,6 +160,8 @@ def spec_from(args):
     if args.rod is not None:
         if args.l != 1.0:
             raise CLIError("give --l or --rod, not both")
+        if not 0.0 < args.rod < float("inf"):
+            raise CLIError(f"--rod must be a length in metres, 0 < rod < inf; got {args.rod!r}")
         from ..system import Pendulum
 
         args.l = Pendulum.uniform_rod(args.rod).l

@@ -271,3 +271,16 @@ def place_legend(ax, inside=False, **kw):
         return ax.legend(loc=kw.pop("loc", "best"), fontsize=kw.pop("fontsize", 8), framealpha=0.9, **kw)
     return ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=kw.pop("fontsize", 8), frameon=False,
                      borderaxespad=0.0, **kw)
+
+
+def real_log_ticks(axis):
+    """Log axis ticks labelled as plain numbers (0.5, 2, 20, 200), not powers of ten."""
+    from matplotlib.ticker import FuncFormatter, LogLocator
+
+    def label(v, _pos):
+        return f"{v:.6g}" if v > 0 else ""
+
+    axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(label))
+    axis.set_minor_locator(LogLocator(base=10.0, subs=tuple(range(1, 10))))
+    axis.set_minor_formatter(FuncFormatter(lambda v, p: ""))

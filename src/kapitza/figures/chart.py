@@ -11,7 +11,7 @@ from ..parameters import SQRT8
 from ..curves import (PhysicalZoneCurves, ZoneCurves, mu_top, physical_window, physical_zone_curves, window_range,
                       zone_curves)
 from .._square import _edges_eps
-from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL, Drawn, place_legend
+from ._style import EDGE_2T, EDGE_4T, G_STYLE, ZONE_FILL, Drawn, place_legend, real_log_ticks
 
 __all__ = [
     "ZoneCurves",
@@ -604,17 +604,7 @@ def chart_figure(plane="arnold", eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), T_ra
     return fig, curves, header
 
 
-def _real_log_ticks(axis):
-    """Log axis ticks labelled as plain numbers (0.5, 2, 20, 200), not powers of ten."""
-    from matplotlib.ticker import FuncFormatter, LogLocator
-
-    def label(v, _pos):
-        return f"{v:.6g}" if v > 0 else ""
-
-    axis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 5.0)))
-    axis.set_major_formatter(FuncFormatter(label))
-    axis.set_minor_locator(LogLocator(base=10.0, subs=tuple(range(1, 10))))
-    axis.set_minor_formatter(FuncFormatter(lambda v, p: ""))
+_real_log_ticks = real_log_ticks  # (the rig chart's and the rig sweep map's, kept in _style)
 
 
 def plot_zones_rig(ax=None, frequency_range=None, stroke_range=None, l=1.0, g=9.81, drive=None, zeta=0.0, points=300,

@@ -43,7 +43,8 @@ from ..parameters import to_arnold, to_physical
 from ..propagation import growth_rate
 from ..zones import stability_margin
 
-__all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii", "period_step", "compiled_available"]
+__all__ = ["QUANTITIES", "VARIABLES", "block_quantities", "ray_radii", "period_step", "compiled_available",
+           "plane_to_physical"]
 
 #: Quantities a sweep can compute, and the variables each one writes.
 QUANTITIES = {
@@ -70,6 +71,32 @@ VARIABLES = {
 #: :mod:`kapitza.motion.basins` is exact for any value below ``pi``; 3 keeps one step per
 #: phase wherever ``w T <= 3`` (zone 0 and most of zone 1).
 SCALED_STEP = 3.0
+
+
+def plane_to_physical(plane, x, y, l, g, drive=None):
+    """``(T [s], A [m/s^2])`` of grid values ``x``, ``y`` (broadcast) on a sweep's plane.
+
+    ``arnold``: ``(eps, mu)`` (:func:`kapitza.to_physical`); ``physical``: ``(T, A)`` themselves;
+    ``rig``: drive frequency ``f`` [Hz] and stroke ``s`` [m] (peak-to-peak travel of the pivot), so
+    ``T = 1 / (2 f)`` and ``A = s / (k T^2)`` with the drive's stroke coefficient ``k``
+    (:func:`kapitza.rig_plane.stroke_coefficient`: 1/4 for the square wave).
+
+    Examples
+    --------
+    >>> from kapitza.sweeps.kernel import plane_to_physical
+    >>> T, A = plane_to_physical("rig", 50.0, 0.01, 1.0, 9.81)
+    >>> float(T), float(A)
+    (0.01, 400.0)
+    """
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if plane == "arnold":
+        return to_physical(x, y, l, g)
+    if plane == "rig":
+        from ..rig_plane import stroke_coefficient
+
+        T = 0.5 / x
+        return T, y / (stroke_coefficient(drive) * T * T)
+    return x, y
 
 
 def period_step(T, A, l, g, c, drive, tol):
@@ -224,7 +251,8 @@ def _basin_grid(T, period, n, periods, tol, compiled=False):
 
 def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, directions, basin_resolution,
                      accuracy, floor, c=0.0, compiled=None):
-    """Every requested variable on the grid ``y x x`` (rows ``y``: mu or A; columns ``x``: eps or T).
+    """Every requested variable on the grid ``y x x`` (rows ``y``: mu, A [m/s^2] or stroke [m]; columns
+    ``x``: eps, T [s] or drive frequency [Hz], as :func:`plane_to_physical` maps them).
 
     ``compiled``: run the searches in the compiled kernels (numba) -- ``None``: where numba is
     installed; ``True``: required; ``False``: the numpy loops. On the exact path the two agree to
@@ -243,15 +271,15 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
     """
     X, Y = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     X, Y = X.ravel(), Y.ravel()
+    d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
     if plane == "arnold":
         eps, mu = X, Y
         T, A = to_physical(eps, mu, l, g)
     else:
-        T, A = X, Y
+        T, A = plane_to_physical(plane, X, Y, l, g, d)
         eps, mu = to_arnold(T, A, l, g)
     shape = (np.size(y), np.size(x))
     out = {}
-    d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
     if "linear" in quantities:
         z = float(zeta_of(c, l, g))
         # One certified verdict for all three: the margin carries the verdict and its zone.

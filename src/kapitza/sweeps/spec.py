@@ -15,7 +15,10 @@ from .kernel import QUANTITIES
 __all__ = ["SweepSpec", "PLANES", "MAX_POINTS", "MAX_INTEGRATED_SWEEP"]
 
 #: ``plane -> ((x name, x units), (y name, y units))``: columns and rows of the map.
-PLANES = {"arnold": (("eps", "1"), ("mu", "1")), "physical": (("T", "s"), ("A", "m/s^2"))}
+PLANES = {"arnold": (("eps", "1"), ("mu", "1")), "physical": (("T", "s"), ("A", "m/s^2")),
+          "rig": (("frequency", "Hz"), ("stroke", "m"))}
+#: Planes whose window is spaced geometrically (drawn on log axes).
+GEOMETRIC = ("rig",)
 #: Largest grid a sweep accepts (points), and largest side.
 MAX_POINTS = 4096 * 4096
 MAX_SIDE = 8192
@@ -34,8 +37,11 @@ class SweepSpec:
 
     Attributes
     ----------
-    plane : {'arnold', 'physical'}
-        Columns ``x`` and rows ``y`` are ``(eps, mu)`` or ``(T [s], A [m/s^2])``.
+    plane : {'arnold', 'physical', 'rig'}
+        Columns ``x`` and rows ``y`` are ``(eps, mu)``, ``(T [s], A [m/s^2])`` or, as a rig is set,
+        ``(frequency [Hz], stroke [m])``: the drive frequency ``f = 1 / (2T)`` and the stroke (peak-to-peak
+        travel of the pivot) ``s = k A T^2`` with the drive's stroke coefficient ``k``
+        (:func:`kapitza.rig_plane.stroke_coefficient`), so a point is ``T = 1 / (2f)``, ``A = s / (k T^2)``.
     x, y : tuple of float
         Grid values, each > 0 (``mu`` may be >= 1: ``A <= g``, unstable).
     l, g : float
@@ -109,7 +115,7 @@ class SweepSpec:
     def __post_init__(self):
         s = object.__setattr__
         if self.plane not in PLANES:
-            raise _v.KapitzaValueError(f"plane must be one of 'arnold', 'physical'; got {self.plane!r}")
+            raise _v.KapitzaValueError(f"plane must be one of 'arnold', 'physical', 'rig'; got {self.plane!r}")
         names = PLANES[self.plane]
         for attr, (name, _) in zip(("x", "y"), names):
             arr = np.atleast_1d(_v.positive(name, getattr(self, attr))).astype(float)
@@ -146,17 +152,34 @@ class SweepSpec:
     # ------------------------------------------------------------------ construction
     @classmethod
     def window(cls, x_range, y_range, resolution, plane="arnold", **kw) -> "SweepSpec":
-        """A regular grid: ``resolution = (nx, ny)`` (or one int for both) points over each range."""
+        """A regular grid: ``resolution = (nx, ny)`` (or one int for both) points over each range, evenly
+        spaced (geometrically on the rig plane, whose map is drawn on log axes: ``f`` and ``s`` span decades).
+
+        Examples
+        --------
+        >>> spec = SweepSpec.window((10.0, 40.0), (0.001, 0.004), 3, plane="rig", quantities=("linear",))
+        >>> spec.dims, spec.x, spec.y
+        (('stroke', 'frequency'), (10.0, 20.0..., 40.0), (0.001, 0.002..., 0.004))
+        """
         nx, ny = (resolution, resolution) if np.ndim(resolution) == 0 else resolution
         names = PLANES.get(plane, (("x", ""), ("y", "")))
         nx = _v.bounded_count(f"resolution ({names[0][0]})", nx, MAX_SIDE, minimum=1)
         ny = _v.bounded_count(f"resolution ({names[1][0]})", ny, MAX_SIDE, minimum=1)
+        ends = []
         for (name, _), r in zip(names, (x_range, y_range)):
             lo, hi = (float(v) for v in _v.positive(f"{name} range", r))
             if not lo <= hi:
                 raise _v.KapitzaValueError(f"{name} range must be (low, high) with low <= high; got ({lo!r}, {hi!r})")
-        return cls(plane=plane, x=tuple(np.linspace(*x_range, nx)),  # type: ignore[call-overload]
-                   y=tuple(np.linspace(*y_range, ny)), **kw)  # type: ignore[call-overload]
+            ends.append((lo, hi))
+        axes = []
+        for (lo, hi), n in zip(ends, (nx, ny)):
+            if plane in GEOMETRIC:
+                v = np.geomspace(lo, hi, n)
+                v[0], v[-1] = (lo, lo) if n == 1 else (lo, hi)  # the ends as given (geomspace rounds them)
+            else:
+                v = np.linspace(lo, hi, n)
+            axes.append(tuple(float(a) for a in v))
+        return cls(plane=plane, x=axes[0], y=axes[1], **kw)
 
     # ------------------------------------------------------------------ path and work
     @property
@@ -180,10 +203,10 @@ class SweepSpec:
         (DOP853's steps grow with the period), plus the per-period overhead of each chunk."""
         if self.exact:
             return 0.0
-        from ..parameters import to_physical
+        from .kernel import plane_to_physical
 
         X, Y = np.meshgrid(np.asarray(self.x), np.asarray(self.y))
-        T, A = to_physical(X, Y, self.l, self.g) if self.plane == "arnold" else (X, Y)
+        T, A = plane_to_physical(self.plane, X, Y, self.l, self.g, self.drive)
         searches = self.directions if "radius" in self.quantities else (1 if "tilt" in self.quantities else 0)
         states = 6.0 * searches + (self.basin_resolution ** 2 / 2.0 if "basin" in self.quantities else 0.0)
         d = parse_drive(self.drive)

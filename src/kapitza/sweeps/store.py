@@ -1,12 +1,12 @@
 """The sweep's Zarr store: pre-created arrays, one region write per finished chunk, checksummed.
 
 Layout (an xarray Dataset in Zarr form): every variable of :data:`kapitza.sweeps.kernel.VARIABLES`
-that was asked for, on the dimensions ``(mu, eps)`` or ``(A, T)`` with their coordinates and
-units, chunked exactly as the work is; ``chunk_checksum`` and ``chunk_done`` on
-``(chunk_y, chunk_x)``. A finished chunk's values are written into their region, then the CRC-32
-of exactly those values (:func:`chunk_checksum`), then its done flag. A point not yet computed
-holds a fill value no result can take (NaN for the real variables, -2 for ``zone``, -1 for
-``stable``; the ``_FillValue`` attribute of each).
+that was asked for, on the dimensions ``(mu, eps)``, ``(A, T)`` or ``(stroke, frequency)`` with
+their coordinates and units (``frequency`` in Hz, ``stroke`` in m), chunked exactly as the work is;
+``chunk_checksum`` and ``chunk_done`` on ``(chunk_y, chunk_x)``. A finished chunk's values are
+written into their region, then the CRC-32 of exactly those values (:func:`chunk_checksum`), then
+its done flag. A point not yet computed holds a fill value no result can take (NaN for the real
+variables, -2 for ``zone``, -1 for ``stable``; the ``_FillValue`` attribute of each).
 
 Integrity. The store is built under a temporary name beside its path and renamed into place
 when complete, so an interrupt at any moment leaves nothing at the path or a store that resumes.
@@ -40,6 +40,11 @@ __all__ = ["create_store", "open_store", "write_chunk", "done_chunks", "verified
 #: Integer variables, their dtype and their fill: a value no result takes (``stable`` is 0 or 1,
 #: ``zone`` is ``n >= 0`` or -1 where unstable).
 _INT = {"stable": ("int8", -1), "zone": ("int16", -2)}
+#: ``coordinate -> long name``.
+_COORDS = {"eps": "Arnold's eps = T sqrt(A / (8 l))", "mu": "Arnold's mu = sqrt(g / A)",
+           "T": "half-period of the drive", "A": "acceleration amplitude of the pivot",
+           "frequency": "drive frequency f = 1 / (2 T)",
+           "stroke": "stroke: peak-to-peak travel of the pivot, k A T^2"}
 #: The store layout's version: 2 added ``chunk_checksum`` and fills that are not data.
 LAYOUT = 2
 
@@ -47,6 +52,7 @@ LAYOUT = 2
 def _attrs(spec: SweepSpec) -> dict:
     from .. import __version__
     from ..drives import parse_drive
+    from ..rig_plane import stroke_coefficient
 
     acc = f"{100 * spec.accuracy:g} %"
     return {
@@ -81,6 +87,10 @@ def _attrs(spec: SweepSpec) -> dict:
                      + (" (with the damping)." if spec.c else ".")
                      + ("" if spec.exact else " 'Stays' is the sampled test of survival_test (DOP853), not the "
                         "exact one.")),
+        **({"stroke_coefficient": stroke_coefficient(spec.drive),
+            "rig_plane": f"a point (frequency f [Hz], stroke s [m]) is T = 1 / (2 f), A = s / (k T^2) with the "
+                         f"drive's stroke coefficient k = {stroke_coefficient(spec.drive):.6g}"}
+           if spec.plane == "rig" else {}),
         "radius_directions": spec.directions,
         "radius_scale": "start (theta0, dtheta0) = r (cos phi, (2/T) sin phi)",
         "basin_window": "|theta0| <= tol, |dtheta0| <= 2 tol / T",
@@ -150,7 +160,8 @@ def create_store(path, spec: SweepSpec):
         data[name] = (("chunk_y", "chunk_x"), da.zeros(spec.chunk_shape, dtype=dt, chunks=spec.chunk_shape),
                       {"long_name": long, "units": "1"})
         enc[name] = {"_FillValue": None}
-    coords = {yn: (yn, np.asarray(spec.y), {"units": yu}), xn: (xn, np.asarray(spec.x), {"units": xu})}
+    coords = {yn: (yn, np.asarray(spec.y), {"units": yu, "long_name": _COORDS[yn]}),
+              xn: (xn, np.asarray(spec.x), {"units": xu, "long_name": _COORDS[xn]})}
     ds = xr.Dataset(data, coords=coords, attrs={**_attrs(spec), "store_layout": LAYOUT})
     try:
         ds.to_zarr(str(tmp), mode="w-", compute=False, encoding=enc, consolidated=False, zarr_format=2)
