@@ -71,9 +71,11 @@ def test_bench_twist_tiny_runs():
 def test_bench_web_tiny_runs():
     out = run_tiny("bench_web.py")
     for needle in ("kapitza serve: first request answered", "chart, full view", "chart, zone 2 zoomed",
-                   "point (stability report)", "baseline: the library call in-process", "p50 / baseline"):
+                   "point (stability report)", "motion (square wave, the page's request)",
+                   "motion, start moved by 1e-12", "baseline: the library call in-process", "p50 / baseline"):
         assert needle in out, needle
-    assert "never cached" in out and out.count("errors 0") == 8
+    # six queries at two levels of clients each, none answered with an error
+    assert "never cached" in out and out.count("errors 0") == 12
 
 
 def test_bench_sweep_integrated_tiny_runs():
