@@ -17,6 +17,8 @@ from __future__ import annotations
 import ast
 import contextlib
 import io
+import json
+import os
 import re
 import shlex
 import tokenize
@@ -27,6 +29,8 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = sorted((ROOT / "docs").glob("*.md"))
 PAGES = [ROOT / "README.md", *DOCS]
+#: The tutorials: their Markdown cells show command lines too.
+NOTEBOOKS = sorted((ROOT / "docs" / "tutorials").glob("*.ipynb"))
 
 #: Blocks that need a cluster to run: compiled, not run.
 CLUSTER = ("dask_jobqueue", "dask_kubernetes")
@@ -34,10 +38,18 @@ CLUSTER = ("dask_jobqueue", "dask_kubernetes")
 RUN_COMMANDS = {"stability", "periods", "nonlinear", "simulate"}
 
 
+def _text(path):
+    """The Markdown of ``path``: the file itself, or a notebook's Markdown cells one after another."""
+    if path.suffix != ".ipynb":
+        return path.read_text()
+    cells = json.loads(path.read_text())["cells"]
+    return "\n".join("".join(c["source"]) + "\n" for c in cells if c["cell_type"] == "markdown")
+
+
 def _blocks(path, langs):
     """(language, code) of each fenced block of ``path`` whose language is in ``langs``."""
     blocks, lang, lines = [], None, []
-    for line in path.read_text().splitlines():
+    for line in _text(path).splitlines():
         if line.startswith("```"):
             if lang is None:  # an opening fence: its info string is the language (or a MyST directive)
                 lang, lines = line[3:].strip(), []
@@ -120,7 +132,8 @@ def test_the_pages_with_examples_are_found():
 def _command_lines():
     """Every ``kapitza ...`` line of a text, bash or unmarked block, continuation lines joined."""
     lines = []
-    for path in PAGES:
+    for path in [*PAGES, *NOTEBOOKS]:
+        name = path.name if path.suffix == ".md" else f"{path.parent.name}/{path.name}"
         for _, code in _blocks(path, {"", "text", "bash", "sh", "console"}):
             code = code.replace("\\\n", " ")
             for line in code.splitlines():
@@ -139,7 +152,7 @@ def _command_lines():
                     if words[:1] == [".venv/bin/kapitza"]:
                         words[0] = "kapitza"
                     if words[:1] == ["kapitza"] and len(words) > 1:
-                        lines.append((path.name, words[1:]))
+                        lines.append((name, words[1:]))
                     words = []
     return lines
 
@@ -167,3 +180,77 @@ def test_docs_command_lines_are_accepted_and_quick_ones_succeed(page, words, tmp
         out = capsys.readouterr()
         assert code == 0 or ("--check" in words and code == 1), (code, out.err)
         assert out.out.strip()
+
+
+# --- Every command line runs (slow) -------------------------------------------------------------------
+
+#: Command lines shown in the docs that the slow test below does not run, and why. Each is still parsed
+#: by the test above.
+NOT_RUN = {
+    # runs until stopped, on a fixed port of a shared machine; the explorer is served by the web tests
+    ("serve",): "the explorer's server runs until stopped",
+    # the full reproduction of the paper (every figure at full resolution) takes many minutes; paper.md's
+    # `--quick` line runs here and tests/test_paper.py checks the claims
+    ("paper", "--out", "out/paper"): "the full paper reproduction; its --quick line runs",
+    ("paper", "--out", "/tmp/p", "--workers", "1"): "the full paper reproduction; its --quick line runs",
+    # sends the work to a Dask scheduler at a placeholder address of a cluster
+    ("sweep", "--eps", "0.05", "3", "--mu", "0.02", "0.98", "--resolution", "512", "--periods", "1000",
+     "--chunk", "32", "--scheduler", "tcp://10.0.0.5:8786", "--out", "map.zarr", "--netcdf", "map.nc"):
+        "needs the cluster's Dask scheduler",
+}
+#: Options naming a file (or a name the files written take) that a command must write.
+OUT_OPTIONS = ("--out", "--animate", "--simulate", "--netcdf")
+
+
+def _runnable_command_lines():
+    """Each distinct command line not in ``NOT_RUN``, with the pages that show it."""
+    pages = {}
+    for page, words in _command_lines():
+        pages.setdefault(tuple(words), []).append(page)
+    return [(",".join(dict.fromkeys(p)), list(w)) for w, p in pages.items() if w not in NOT_RUN]
+
+
+def test_the_lines_not_run_are_shown_in_the_docs():
+    shown = {tuple(words) for _, words in _command_lines()}
+    assert set(NOT_RUN) <= shown, set(NOT_RUN) - shown
+
+
+def _in_scratch(words, scratch):
+    """The line with an absolute path under /tmp (``--out /tmp/p``) moved into the scratch folder."""
+    return [str(scratch / Path(w).relative_to("/tmp")) if w.startswith("/tmp/") else w for w in words]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page,words", _runnable_command_lines(), ids=lambda v: v if isinstance(v, str) else " ".join(v))
+def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, capsys):
+    """The line runs through the real entry point in a scratch folder, exits 0 (1 allowed for --check, as
+    documented) and writes the files it names."""
+    pytest.importorskip("matplotlib")
+    import time
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from kapitza.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    argv = _in_scratch(words, tmp_path)
+    start = time.perf_counter()
+    try:
+        code = main(argv)
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close("all")
+    seconds = time.perf_counter() - start
+    out = capsys.readouterr()
+    with capsys.disabled():
+        print(f"\n[{seconds:7.1f} s] {page}: kapitza {' '.join(words)}")
+    assert code == 0 or ("--check" in words and code == 1), (code, out.err)
+    named = [argv[i + 1] for i, w in enumerate(argv[:-1]) if w in OUT_OPTIONS]
+    for name in named:
+        path = Path(name) if os.path.isabs(name) else tmp_path / name
+        written = [p for p in path.parent.glob(f"{path.name}*") if p.is_dir() or p.stat().st_size > 0]
+        assert written, f"kapitza {' '.join(words)} wrote nothing named {name}: {sorted(os.listdir(path.parent))}"
+    if not named:
+        assert out.out.strip(), f"kapitza {' '.join(words)} printed nothing"
