@@ -8,9 +8,12 @@ describe the line. The README's Python blocks are run by ``tests/test_readme.py`
 example of ``docs/sweeps.md`` there too; blocks that set up a cluster (``dask_jobqueue``,
 ``dask_kubernetes``) need a cluster and are only compiled.
 
-Command lines (``kapitza ...`` in text and bash blocks) must be accepted by the real parser, and those
-that answer at once and write nothing (``stability``, ``periods``, ``nonlinear``, ``simulate`` without ``--out``) are run through the real
-entry point and must succeed.
+Command lines (``kapitza ...`` in text and bash blocks of the pages and of the tutorials' Markdown cells,
+and in inline code spans of those and of the gallery's scripts and the API pages) must be accepted by the
+real parser, and those that answer at once and write nothing (``stability``, ``periods``, ``nonlinear``,
+``simulate`` without ``--out``) are run through the real entry point and must succeed. The slow test at
+the end runs every one of them as written, in a scratch folder, except the few listed in ``NOT_RUN`` with
+the reason (``pytest -m slow -k test_docs_command_lines_run_as_written``).
 """
 from __future__ import annotations
 
@@ -129,11 +132,34 @@ def test_the_pages_with_examples_are_found():
     assert {"getting-started.md", "motion.md", "figures.md"} <= names
 
 
+#: Pages whose inline code spans (`...` in Markdown, ``...`` in reStructuredText and docstrings) show command
+#: lines too: the gallery's scripts and the API pages besides the pages and tutorials.
+INLINE_PAGES = [*PAGES, *NOTEBOOKS, *sorted((ROOT / "docs" / "gallery_src").glob("*.*")),
+                *sorted((ROOT / "docs" / "api").glob("*.rst"))]
+
+
+def _page_name(path):
+    return path.name if path.parent in {ROOT, ROOT / "docs"} else f"{path.parent.name}/{path.name}"
+
+
+def _inline_command_lines(path):
+    """``kapitza COMMAND`` with options in an inline code span of ``path``. A span with a single word after
+    the command (`kapitza chart --chain`, `kapitza simulate --json`) names an option in prose, one with
+    ``...`` elides part of a line: neither is a command line."""
+    lines = []
+    for span in re.findall(r"(?<!`)``?(kapitza [^`\n]+?)``?(?!`)", _text(path)):
+        words = shlex.split(span)[1:]
+        if len(words) >= 3 and "..." not in words:
+            lines.append((_page_name(path), words))
+    return lines
+
+
 def _command_lines():
-    """Every ``kapitza ...`` line of a text, bash or unmarked block, continuation lines joined."""
+    """Every ``kapitza ...`` line of a text, bash or unmarked block, continuation lines joined, then every
+    command line of an inline code span."""
     lines = []
     for path in [*PAGES, *NOTEBOOKS]:
-        name = path.name if path.suffix == ".md" else f"{path.parent.name}/{path.name}"
+        name = _page_name(path)
         for _, code in _blocks(path, {"", "text", "bash", "sh", "console"}):
             code = code.replace("\\\n", " ")
             for line in code.splitlines():
@@ -154,6 +180,8 @@ def _command_lines():
                     if words[:1] == ["kapitza"] and len(words) > 1:
                         lines.append((name, words[1:]))
                     words = []
+    for path in INLINE_PAGES:
+        lines += _inline_command_lines(path)
     return lines
 
 
