@@ -215,12 +215,6 @@ def test_docs_command_lines_are_accepted_and_quick_ones_succeed(page, words, tmp
 #: Command lines shown in the docs that the slow test below does not run, and why. Each is still parsed
 #: by the test above.
 NOT_RUN = {
-    # runs until stopped, on a fixed port of a shared machine; the explorer is served by the web tests
-    ("serve",): "the explorer's server runs until stopped",
-    # the full reproduction of the paper (every figure at full resolution) takes many minutes; paper.md's
-    # `--quick` line runs here and tests/test_paper.py checks the claims
-    ("paper", "--out", "out/paper"): "the full paper reproduction; its --quick line runs",
-    ("paper", "--out", "/tmp/p", "--workers", "1"): "the full paper reproduction; its --quick line runs",
     # sends the work to a Dask scheduler at a placeholder address of a cluster
     ("sweep", "--eps", "0.05", "3", "--mu", "0.02", "0.98", "--resolution", "512", "--periods", "1000",
      "--chunk", "32", "--scheduler", "tcp://10.0.0.5:8786", "--out", "map.zarr", "--netcdf", "map.nc"):
@@ -228,6 +222,40 @@ NOT_RUN = {
 }
 #: Options naming a file (or a name the files written take) that a command must write.
 OUT_OPTIONS = ("--out", "--animate", "--simulate", "--netcdf")
+#: What the pages say the paper writes into its folder (docs/paper.md's table, the README).
+PAPER_FILES = [f"figure{n}{ext}" for n in range(1, 9) for ext in (".png", ".svg", ".json", ".csv")] + [
+    "checks.json", "periods.csv", "report.html", "report.md"]
+
+
+def _documented_files(argv):
+    """The files the pages say ``kapitza *argv`` writes: by the comments beside the lines (``PNG, SVG, CSV``,
+    ``tower.png/.svg/.csv/.json``) and the lists of docs/motion.md, docs/tower.md, docs/nonlinear.md and
+    docs/paper.md. A name given to an option is written in any case (checked by the caller)."""
+    opts = {w: argv[i + 1] for i, w in enumerate(argv[:-1]) if w.startswith("--")}
+    command, chain, out = argv[0], "--chain" in argv, opts.get("--out")
+    files = []
+    if command == "paper":
+        files += [f"{out}/{name}" for name in PAPER_FILES]
+    elif out is None:
+        pass
+    elif command == "simulate" and chain:
+        files += [f"{out}{end}" for end in (".csv", ".json", "-series.png", "-series.svg")]
+    elif command == "simulate":
+        files += [f"{out}{end}" for end in (".csv", "-strobe.csv", ".json", "-series.png", "-series.svg",
+                                            "-phase.png", "-phase.svg", "-strobe.png", "-strobe.svg")]
+    elif command == "basin":
+        files += [f"{out}{end}" for end in (".png", ".svg", ".csv", ".json")]
+    elif command == "chart" or (command == "nonlinear" and "--chart" in argv):
+        ends = (".png", ".svg", ".csv") + ((".json",) if chain or command == "nonlinear" else ())
+        files += [f"{out}{end}" for end in ends]
+    elif command == "tower" and "--no-chart" not in argv:
+        files += [f"{out}{end}" for end in (".png", ".svg", ".csv", ".json")]
+    elif command == "sweep":
+        stem = out.removesuffix(".zarr")
+        files += [out, f"{stem}.png", f"{stem}.svg"]
+    if command == "tower" and "--simulate" in opts:
+        files += [f"{opts['--simulate']}{end}" for end in (".csv", ".json", "-series.png", "-series.svg")]
+    return files
 
 
 def _runnable_command_lines():
@@ -236,6 +264,12 @@ def _runnable_command_lines():
     for page, words in _command_lines():
         pages.setdefault(tuple(words), []).append(page)
     return [(",".join(dict.fromkeys(p)), list(w)) for w, p in pages.items() if w not in NOT_RUN]
+
+
+def _in_process_lines():
+    """The lines run through ``kapitza.cli.main``: all but ``serve``, which runs until stopped and so gets
+    its own process (``test_docs_serve_lines_serve_the_page_until_stopped``)."""
+    return [(page, words) for page, words in _runnable_command_lines() if words[0] != "serve"]
 
 
 def test_the_lines_not_run_are_shown_in_the_docs():
@@ -249,7 +283,7 @@ def _in_scratch(words, scratch):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("page,words", _runnable_command_lines(), ids=lambda v: v if isinstance(v, str) else " ".join(v))
+@pytest.mark.parametrize("page,words", _in_process_lines(), ids=lambda v: v if isinstance(v, str) else " ".join(v))
 def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, capsys):
     """The line runs through the real entry point in a scratch folder, exits 0 (1 allowed for --check, as
     documented) and writes the files it names."""
@@ -280,5 +314,52 @@ def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, c
         path = Path(name) if os.path.isabs(name) else tmp_path / name
         written = [p for p in path.parent.glob(f"{path.name}*") if p.is_dir() or p.stat().st_size > 0]
         assert written, f"kapitza {' '.join(words)} wrote nothing named {name}: {sorted(os.listdir(path.parent))}"
+    missing = [name for name in _documented_files(argv) if not (tmp_path / name).exists()]
+    assert not missing, f"kapitza {' '.join(words)} did not write {missing}: {sorted(os.listdir(tmp_path))}"
     if not named:
         assert out.out.strip(), f"kapitza {' '.join(words)} printed nothing"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page,words", [(p, w) for p, w in _runnable_command_lines() if w[0] == "serve"],
+                         ids=lambda v: v if isinstance(v, str) else " ".join(v))
+def test_docs_serve_lines_serve_the_page_until_stopped(page, words, tmp_path):
+    """``kapitza serve`` as written, in its own process: it prints its address (a free port), serves the
+    page there, and Ctrl-C stops it quietly."""
+    pytest.importorskip("fastapi")
+    import signal
+    import subprocess
+    import sys
+    import urllib.request
+
+    proc = subprocess.Popen([sys.executable, "-m", "kapitza", *words], cwd=tmp_path, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=dict(os.environ, PYTHONUNBUFFERED="1"))
+    try:
+        line = proc.stdout.readline()
+        url = re.search(r"http://\S+/", line)
+        assert url, (line, proc.poll())
+        page_text = None
+        for _ in range(600):  # the workers start under any load: up to a minute
+            try:
+                with urllib.request.urlopen(url.group(0), timeout=10) as r:
+                    page_text = r.read().decode()
+                break
+            except OSError:
+                if proc.poll() is not None:
+                    break
+                import time
+
+                time.sleep(0.1)
+        assert page_text and "kapitza" in page_text.lower(), (line, proc.poll())
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(60)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        err = proc.stderr.read()
+        proc.stdout.close()
+        proc.stderr.close()
+    assert proc.returncode in (0, 130), (proc.returncode, err)
+    assert "Traceback" not in err, err
