@@ -282,9 +282,20 @@ def _in_scratch(words, scratch):
     return [str(scratch / Path(w).relative_to("/tmp")) if w.startswith("/tmp/") else w for w in words]
 
 
+@pytest.fixture(scope="module")
+def command_times(request):
+    """Seconds per line run; their count and total are printed at the end."""
+    times = []
+    yield times
+    reporter = request.config.pluginmanager.get_plugin("terminalreporter")
+    if times and reporter is not None:
+        reporter.write_line(f"\n{len(times)} documented command lines run in {sum(times):.1f} s "
+                            f"({len(NOT_RUN)} not run: {'; '.join(NOT_RUN.values())})")
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("page,words", _in_process_lines(), ids=lambda v: v if isinstance(v, str) else " ".join(v))
-def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, capsys):
+def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, capsys, command_times):
     """The line runs through the real entry point in a scratch folder, exits 0 (1 allowed for --check, as
     documented) and writes the files it names."""
     pytest.importorskip("matplotlib")
@@ -305,6 +316,7 @@ def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, c
 
         plt.close("all")
     seconds = time.perf_counter() - start
+    command_times.append(seconds)
     out = capsys.readouterr()
     with capsys.disabled():
         print(f"\n[{seconds:7.1f} s] {page}: kapitza {' '.join(words)}")
