@@ -322,6 +322,10 @@ def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, c
         print(f"\n[{seconds:7.1f} s] {page}: kapitza {' '.join(words)}")
     assert code == 0 or ("--check" in words and code == 1), (code, out.err)
     named = [argv[i + 1] for i, w in enumerate(argv[:-1]) if w in OUT_OPTIONS]
+    from kapitza.figures.animation import ffmpeg_available
+
+    if not ffmpeg_available():  # "MP4 if ffmpeg is installed": else the GIF beside it
+        named = [n.removesuffix(".mp4") + ".gif" if n.endswith(".mp4") else n for n in named]
     for name in named:
         path = Path(name) if os.path.isabs(name) else tmp_path / name
         written = [p for p in path.parent.glob(f"{path.name}*") if p.is_dir() or p.stat().st_size > 0]
