@@ -253,8 +253,8 @@ def _documented_files(argv):
     elif command == "sweep":
         stem = out.removesuffix(".zarr")
         files += [out, f"{stem}.png", f"{stem}.svg"]
-    if command == "tower" and "--simulate" in opts:
-        files += [f"{opts['--simulate']}{end}" for end in (".csv", ".json", "-series.png", "-series.svg")]
+    if command == "tower" and "--simulate" in opts:  # the motion as data (its help): the figures are simulate's
+        files.append(f"{opts['--simulate']}.csv")
     return files
 
 
