@@ -227,6 +227,15 @@ PAPER_FILES = [f"figure{n}{ext}" for n in range(1, 9) for ext in (".png", ".svg"
     "checks.json", "periods.csv", "report.html", "report.md"]
 
 
+#: What the pages quote of a command's output (a regular expression searched in what it prints).
+DOCUMENTED_OUTPUT = {
+    # README: "the second recomputes only the chunks not yet finished and says how many
+    # (`computed K of 20 chunks (M already done)`)"
+    ("sweep", "--eps", "0.05", "1.6", "--mu", "0.02", "0.9", "--resolution", "40", "30", "--periods", "200",
+     "--out", "small.zarr", "--resume"): r"computed \d+ of 20 chunks \(\d+ already done\)",
+}
+
+
 def _documented_files(argv):
     """The files the pages say ``kapitza *argv`` writes: by the comments beside the lines (``PNG, SVG, CSV``,
     ``tower.png/.svg/.csv/.json``) and the lists of docs/motion.md, docs/tower.md, docs/nonlinear.md and
@@ -275,6 +284,7 @@ def _in_process_lines():
 def test_the_lines_not_run_are_shown_in_the_docs():
     shown = {tuple(words) for _, words in _command_lines()}
     assert set(NOT_RUN) <= shown, set(NOT_RUN) - shown
+    assert set(DOCUMENTED_OUTPUT) <= shown, set(DOCUMENTED_OUTPUT) - shown
 
 
 def _in_scratch(words, scratch):
@@ -334,6 +344,8 @@ def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, c
     assert not missing, f"kapitza {' '.join(words)} did not write {missing}: {sorted(os.listdir(tmp_path))}"
     if not named:
         assert out.out.strip(), f"kapitza {' '.join(words)} printed nothing"
+    if tuple(words) in DOCUMENTED_OUTPUT:
+        assert re.search(DOCUMENTED_OUTPUT[tuple(words)], out.out + out.err), (out.out, out.err)
 
 
 @pytest.mark.slow
@@ -379,3 +391,16 @@ def test_docs_serve_lines_serve_the_page_until_stopped(page, words, tmp_path):
         proc.stderr.close()
     assert proc.returncode in (0, 130), (proc.returncode, err)
     assert "Traceback" not in err, err
+
+
+def test_the_readme_sweep_says_how_many_chunks_the_command_makes():
+    """The README's resumable sweep quotes its chunk count; the default chunk gives that many (quick: no
+    sweep is run; the slow test above runs the line)."""
+    from kapitza.cli.sweep import default_chunk
+
+    text = (ROOT / "README.md").read_text()
+    quoted = int(re.search(r"computed K of (\d+) chunks", text).group(1))
+    (_, words), = [(p, w) for p, w in _command_lines() if w[0] == "sweep" and "--resume" in w]
+    nx, ny = (int(v) for v in words[words.index("--resolution") + 1:][:2])
+    side = default_chunk(nx, ny)
+    assert -(-nx // side) * -(-ny // side) == quoted
