@@ -235,6 +235,15 @@ DOCUMENTED_OUTPUT = {
      "--out", "small.zarr", "--resume"): r"computed \d+ of 20 chunks \(\d+ already done\)",
 }
 
+#: Whether the tower falls, as the comments beside docs/tower.md's lines say ("# stands", "# falls"): the
+#: ``motion.toppled`` of the JSON printed (--json) or written (OUT.json).
+DOCUMENTED_TOPPLED = {
+    ("simulate", "--chain", "0.2,0.2,0.2", "--frequency", "150", "--stroke", "0.008", "--theta0", "0.1",
+     "--out", "run"): False,
+    ("simulate", "--chain", "0.2,0.2", "--T", "0.025", "--A", "128", "--along-mode", "--theta0", "0.2",
+     "--json"): True,
+}
+
 
 def _documented_files(argv):
     """The files the pages say ``kapitza *argv`` writes: by the comments beside the lines (``PNG, SVG, CSV``,
@@ -284,7 +293,7 @@ def _in_process_lines():
 def test_the_lines_not_run_are_shown_in_the_docs():
     shown = {tuple(words) for _, words in _command_lines()}
     assert set(NOT_RUN) <= shown, set(NOT_RUN) - shown
-    assert set(DOCUMENTED_OUTPUT) <= shown, set(DOCUMENTED_OUTPUT) - shown
+    assert set(DOCUMENTED_OUTPUT) | set(DOCUMENTED_TOPPLED) <= shown
 
 
 def _in_scratch(words, scratch):
@@ -344,6 +353,10 @@ def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, c
     assert not missing, f"kapitza {' '.join(words)} did not write {missing}: {sorted(os.listdir(tmp_path))}"
     if not named:
         assert out.out.strip(), f"kapitza {' '.join(words)} printed nothing"
+    if tuple(words) in DOCUMENTED_TOPPLED:
+        stem = None if "--json" in words else argv[argv.index("--out") + 1]
+        summary = json.loads(out.out if stem is None else (tmp_path / f"{stem}.json").read_text())
+        assert summary["motion"]["toppled"] is DOCUMENTED_TOPPLED[tuple(words)], summary["motion"]
     if tuple(words) in DOCUMENTED_OUTPUT:
         assert re.search(DOCUMENTED_OUTPUT[tuple(words)], out.out + out.err), (out.out, out.err)
 
