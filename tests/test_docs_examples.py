@@ -302,14 +302,9 @@ def _in_scratch(words, scratch):
 
 
 @pytest.fixture(scope="module")
-def command_times(request):
-    """Seconds per line run; their count and total are printed at the end."""
-    times = []
-    yield times
-    reporter = request.config.pluginmanager.get_plugin("terminalreporter")
-    if times and reporter is not None:
-        reporter.write_line(f"\n{len(times)} documented command lines run in {sum(times):.1f} s "
-                            f"({len(NOT_RUN)} not run: {'; '.join(NOT_RUN.values())})")
+def command_times():
+    """Seconds per line run so far: each line prints its time and the running count and total."""
+    return []
 
 
 @pytest.mark.slow
@@ -338,7 +333,8 @@ def test_docs_command_lines_run_as_written(page, words, tmp_path, monkeypatch, c
     command_times.append(seconds)
     out = capsys.readouterr()
     with capsys.disabled():
-        print(f"\n[{seconds:7.1f} s] {page}: kapitza {' '.join(words)}")
+        print(f"\n[{seconds:6.1f} s; {len(command_times)} lines, {sum(command_times):6.1f} s in all] "
+              f"{page}: kapitza {' '.join(words)}")
     assert code == 0 or ("--check" in words and code == 1), (code, out.err)
     named = [argv[i + 1] for i, w in enumerate(argv[:-1]) if w in OUT_OPTIONS]
     from kapitza.figures.animation import ffmpeg_available
