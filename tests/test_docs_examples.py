@@ -13,7 +13,8 @@ and in inline code spans of those and of the gallery's scripts and the API pages
 real parser, and those that answer at once and write nothing (``stability``, ``periods``, ``nonlinear``,
 ``simulate`` without ``--out``) are run through the real entry point and must succeed. The slow test at
 the end runs every one of them as written, in a scratch folder, except the few listed in ``NOT_RUN`` with
-the reason (``pytest -m slow -k test_docs_command_lines_run_as_written``).
+the reason (``pytest -m slow tests/test_docs_examples.py``), and checks the files and outputs the pages
+say they give.
 """
 from __future__ import annotations
 
@@ -212,8 +213,9 @@ def test_docs_command_lines_are_accepted_and_quick_ones_succeed(page, words, tmp
 
 # --- Every command line runs (slow) -------------------------------------------------------------------
 
-#: Command lines shown in the docs that the slow test below does not run, and why. Each is still parsed
-#: by the test above.
+#: Command lines shown in the docs that the slow tests below do not run, and why. Each is still parsed
+#: by the test above. (``kapitza serve`` runs until stopped: it is run as written in its own process, asked
+#: for its page, and stopped with Ctrl-C; the paper lines run in full, which takes seconds.)
 NOT_RUN = {
     # sends the work to a Dask scheduler at a placeholder address of a cluster
     ("sweep", "--eps", "0.05", "3", "--mu", "0.02", "0.98", "--resolution", "512", "--periods", "1000",
@@ -225,8 +227,6 @@ OUT_OPTIONS = ("--out", "--animate", "--simulate", "--netcdf")
 #: What the pages say the paper writes into its folder (docs/paper.md's table, the README).
 PAPER_FILES = [f"figure{n}{ext}" for n in range(1, 9) for ext in (".png", ".svg", ".json", ".csv")] + [
     "checks.json", "periods.csv", "report.html", "report.md"]
-
-
 #: What the pages quote of a command's output (a regular expression searched in what it prints).
 DOCUMENTED_OUTPUT = {
     # README: "the second recomputes only the chunks not yet finished and says how many
