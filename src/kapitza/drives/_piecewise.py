@@ -115,44 +115,21 @@ def _angle(x, y):
 
 
 def _carry(segs, x, y):
-    """Carry the direction (x, y) through the segments; return the total turn."""
+    """Carry the direction (x, y) through the segments; return the total turn (each segment by its
+    kind's flow; where the points' kinds differ, by all three, each point taking its own)."""
     turn = np.zeros(np.shape(x))
     for kind, w, r, h in segs:
         u = _uniform(kind)
-        if u is not None and u != 0.0:
-            x, y, t = (_carry_hyperbolic if u > 0 else _carry_elliptic)(w, r, x, y)
-            turn = turn + t
-            continue
-        ell = kind < 0
-        hyp = kind > 0
-        psi0 = _angle(x, y)
-        ws = np.where(w > 0, w, 1.0)
-        # scaled angle in elliptic segments: (theta, -theta'/w) turns by exactly r
-        s0 = np.arctan2(-y / ws, x)
-        # hyperbolic: split along the eigen-directions (1, +-w) so that no term overflows
-        with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
-            p = x + y / ws
-            m = x - y / ws
-            lp = np.log(np.abs(p)) + r
-            lm = np.log(np.abs(m)) - r
-            top = np.maximum(lp, lm)
-            P = np.sign(p) * np.exp(lp - top)
-            Mm = np.sign(m) * np.exp(lm - top)
-        xh, yh = 0.5 * (P + Mm), 0.5 * (P - Mm) * ws
-        xe, ye = np.cos(r) * x + np.sin(r) / ws * y, -ws * np.sin(r) * x + np.cos(r) * y
-        xf, yf = x + h * y, y
-        x1 = np.where(hyp, xh, np.where(ell, xe, xf))
-        y1 = np.where(hyp, yh, np.where(ell, ye, yf))
-        n1 = np.hypot(x1, y1)
-        x1, y1 = x1 / n1, y1 / n1
-        psi1 = _angle(x1, y1)
-        s1 = np.arctan2(-y1 / ws, x1)
-        plain = np.remainder(psi1 - psi0 + PI, 2.0 * PI) - PI
-        ds = r + (np.remainder(s1 - s0 - r + PI, 2.0 * PI) - PI)
-        corr = lambda psi, s: np.remainder(psi - s + PI, 2.0 * PI) - PI  # noqa: E731
-        elliptic = ds + corr(psi1, s1) - corr(psi0, s0)
-        turn = turn + np.where(ell, elliptic, plain)
-        x, y = x1, y1
+        if u is not None:
+            x, y, t = (_carry_hyperbolic(w, r, x, y) if u > 0 else
+                       _carry_elliptic(w, r, x, y) if u < 0 else _carry_free(h, x, y))
+        else:
+            hyp, ell = kind > 0, kind < 0
+            ws = np.where(w > 0, w, 1.0)
+            with np.errstate(all="ignore"):   # (each point keeps only its own kind's values)
+                parts = (_carry_hyperbolic(ws, r, x, y), _carry_elliptic(ws, r, x, y), _carry_free(h, x, y))
+            x, y, t = (np.where(hyp, ph, np.where(ell, pe, pf)) for ph, pe, pf in zip(*parts))
+        turn = turn + t
     return turn
 
 
@@ -160,14 +137,18 @@ def _wrap(a):
     return np.remainder(a + PI, 2.0 * PI) - PI
 
 
+def _unit(x, y):
+    n = np.hypot(x, y)
+    return x / n, y / n
+
+
 def _carry_elliptic(w, r, x, y):
-    """:func:`_carry` through one segment where every point's is elliptic (the same doubles)."""
+    """:func:`_carry` through one elliptic segment: the scaled angle of ``(theta, -theta'/w)`` turns by
+    exactly ``r``, the Pruefer angle by as much up to the two ends' corrections."""
     psi0 = _angle(x, y)
     s0 = np.arctan2(-y / w, x)
     cr, sr = np.cos(r), np.sin(r)
-    x1, y1 = cr * x + sr / w * y, -w * sr * x + cr * y
-    n1 = np.hypot(x1, y1)
-    x1, y1 = x1 / n1, y1 / n1
+    x1, y1 = _unit(cr * x + sr / w * y, -w * sr * x + cr * y)
     psi1 = _angle(x1, y1)
     s1 = np.arctan2(-y1 / w, x1)
     ds = r + _wrap(s1 - s0 - r)
@@ -175,7 +156,8 @@ def _carry_elliptic(w, r, x, y):
 
 
 def _carry_hyperbolic(w, r, x, y):
-    """:func:`_carry` through one segment where every point's is hyperbolic (the same doubles)."""
+    """:func:`_carry` through one hyperbolic segment, split along the eigen-directions ``(1, +-w)``
+    so that no term overflows; the angle turns by less than half a turn."""
     psi0 = _angle(x, y)
     with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
         p = x + y / w
@@ -185,9 +167,14 @@ def _carry_hyperbolic(w, r, x, y):
         top = np.maximum(lp, lm)
         P = np.sign(p) * np.exp(lp - top)
         Mm = np.sign(m) * np.exp(lm - top)
-    x1, y1 = 0.5 * (P + Mm), 0.5 * (P - Mm) * w
-    n1 = np.hypot(x1, y1)
-    x1, y1 = x1 / n1, y1 / n1
+    x1, y1 = _unit(0.5 * (P + Mm), 0.5 * (P - Mm) * w)
+    return x1, y1, _wrap(_angle(x1, y1) - psi0)
+
+
+def _carry_free(h, x, y):
+    """:func:`_carry` through one segment of free flight (``s = 0``) of duration ``h``."""
+    psi0 = _angle(x, y)
+    x1, y1 = _unit(x + h * y, y)
     return x1, y1, _wrap(_angle(x1, y1) - psi0)
 
 
