@@ -35,6 +35,18 @@ def _settle(page):
     page.wait_for_function("document.getElementById('busy').hidden", timeout=90000)
 
 
+def _opened(site):
+    """A new page of the explorer, loaded and settled, and the list its script errors go to."""
+    base, context = site
+    page = context.new_page()
+    errors: list = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(base)
+    page.wait_for_function("document.getElementById('chart').dataset.fetches >= 1", timeout=90000)
+    _settle(page)
+    return page, errors
+
+
 def _chart_rgb(page, x, y):
     """The chart canvas's colour at the page point (x, y)."""
     return page.evaluate(f"""(() => {{ const c = document.getElementById('chart'), r = c.getBoundingClientRect(),
@@ -56,13 +68,8 @@ def _deep_inside(stable):
 
 
 def test_three_link_tower_stands_in_its_band(site):
-    base, context = site
-    page = context.new_page()
-    errors = []
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    page.goto(base)
-    page.wait_for_function("document.getElementById('chart').dataset.fetches >= 1", timeout=90000)
-    _settle(page)
+    page, errors = _opened(site)
+    context = page.context
     assert page.is_visible("#links") and not page.is_visible("#link-L1")   # one link: the single pendulum
 
     # -- three links of 0.2 m: the chart becomes the tower's band on the rig plane
@@ -148,13 +155,7 @@ def test_tower_with_joint_friction(site):
     """A user sets joint friction on a two-link tower: the band is the damped tower's (the 2N
     monodromy's, said in the caption), a click gives the damped verdict and motion, and the address
     bar keeps the friction."""
-    base, context = site
-    page = context.new_page()
-    errors = []
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    page.goto(base)
-    page.wait_for_function("document.getElementById('chart').dataset.fetches >= 1", timeout=90000)
-    _settle(page)
+    page, errors = _opened(site)
     page.select_option("#links", "2")
     page.wait_for_function("document.getElementById('chart').dataset.tower === '2'", timeout=90000)
     _settle(page)

@@ -96,13 +96,8 @@ def _damped(args):
     record = {"eps": float(rep.eps), "mu": float(rep.mu), "kind": kind, "stable": bool(rep.stable),
               "unstable": kind == "linearly unstable", "verdict": verdict, "trace": float(rep.trace),
               "growth": growth, "zeta": float(rep.zeta), "damping": rep.damping}
-    if args.json:
-        print_json(record)
-    else:
-        print(f"eps = {float(rep.eps):.12g}, mu = {float(rep.mu):.12g}, damping ratio zeta = {float(rep.zeta):.6g}")
-        print(f"verdict          {verdict}")
-        print(f"trace tr M       {float(rep.trace):.12g}")
-    return 0
+    return _first_approximation(args, record, f"eps = {float(rep.eps):.12g}, mu = {float(rep.mu):.12g}, "
+                                               f"damping ratio zeta = {float(rep.zeta):.6g}", "")
 
 
 def cmd_nonlinear(args):
@@ -176,12 +171,18 @@ def _linearly_unstable(args, eps, mu):
     record = {"eps": float(eps), "mu": float(mu), "kind": "linearly unstable" if hyperbolic else "edge",
               "stable": False, "unstable": hyperbolic, "verdict": verdict, "trace": float(f.trace),
               "growth": float(f.growth)}
+    return _first_approximation(args, record, f"eps = {eps:.12g}, mu = {mu:.12g}",
+                                "   (linearly stable iff |tr M| < 2)")
+
+
+def _first_approximation(args, record, head, trace_note):
+    """Print a verdict of the first approximation (``record``) as JSON or as text lines; exit status 0."""
     if args.json:
         print_json(record)
     else:
-        print(f"eps = {eps:.12g}, mu = {mu:.12g}")
-        print(f"verdict          {verdict}")
-        print(f"trace tr M       {float(f.trace):.12g}   (linearly stable iff |tr M| < 2)")
+        print(head)
+        print(f"verdict          {record['verdict']}")
+        print(f"trace tr M       {record['trace']:.12g}{trace_note}")
     return 0
 
 
