@@ -223,20 +223,6 @@ def test_basin_quantities_agree_with_the_numpy_path():
         assert np.allclose(got[k], want[k], rtol=0.011), k
 
 
-def test_a_second_process_loads_the_compiled_integrator_from_the_disk_cache():
-    code = ("from kapitza.sweeps.kernel import block_quantities; "
-            "import kapitza.motion._integrated_jit as J; "
-            "block_quantities([0.5], [0.3], plane='arnold', l=1.0, g=9.81, drive='sine', periods=5, tol=0.5, "
-            "quantities=('tilt', 'basin'), directions=1, basin_resolution=5, accuracy=0.01, floor=1e-4, "
-            "compiled=True); "
-            "print(sum(J.ray_radii_kernel.stats.cache_hits.values()), "
-            "sum(J.ray_radii_kernel.stats.cache_misses.values()), sum(J.survival_kernel.stats.cache_hits.values()))")
-    for _ in range(2):  # the first run may compile and write the cache; the second must load it
-        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=900)
-        assert out.returncode == 0, out.stderr
-    assert tuple(int(v) for v in out.stdout.split()) == (1, 0, 1)
-
-
 def test_period_step_is_unchanged_for_the_numpy_reference():
     """The numpy DOP853 loop stays the reference: compiled=False never touches the compiled module."""
     code = ("import sys; from kapitza.sweeps.kernel import block_quantities; "
