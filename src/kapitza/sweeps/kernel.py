@@ -272,12 +272,8 @@ def block_quantities(x, y, *, plane, l, g, drive, periods, tol, quantities, dire
     X, Y = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     X, Y = X.ravel(), Y.ravel()
     d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
-    if plane == "arnold":
-        eps, mu = X, Y
-        T, A = to_physical(eps, mu, l, g)
-    else:
-        T, A = plane_to_physical(plane, X, Y, l, g, d)
-        eps, mu = to_arnold(T, A, l, g)
+    T, A = plane_to_physical(plane, X, Y, l, g, d)
+    eps, mu = (X, Y) if plane == "arnold" else to_arnold(T, A, l, g)
     shape = (np.size(y), np.size(x))
     out = {}
     if "linear" in quantities:
