@@ -74,6 +74,9 @@ def test_simulate_unstable_linear_overflow_is_reported_not_fatal(capsys):
     (["basin", "--T", "0.15", "--A", "100", "--resolution", "1"], ["--resolution must be an integer >= 2"]),
     (["animate", "--T", "0.15", "--A", "100", "--fps", "0"], ["fps must lie in"]),
     (["animate", "--T", "0.15", "--A", "100", "--out", "x.avi"], ["format must be 'gif' or 'mp4'"]),
+    # a damping ratio out of range is refused as the ratio given, not as the c it would become
+    (["animate", "--T", "0.15", "--A", "100", "--zeta", "1e9"], ["zeta must be a damping ratio <= 10000", "got 1000000000.0"]),
+    (["simulate", "--T", "0.15", "--A", "100", "--damping", "-1"], ["damping must be finite and >= 0"]),
 ])
 def test_bad_input_is_one_line_and_status_2(argv, needles, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)

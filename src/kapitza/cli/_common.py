@@ -112,7 +112,10 @@ def damping_from(args, physical, l=None, g=None):
         if args.zeta is not None:
             if args.zeta < 0:
                 raise CLIError(f"--zeta must be >= 0; got {args.zeta!r}")
+            from .._validate import damping_ratio
             from ..drives._api import damping_of
+
+            damping_ratio(args.zeta)  # refused as the ratio it was given as, not as the c it becomes
 
             return {"damping": float(damping_of(args.zeta, l, g))}
         return {"damping": args.damping}
