@@ -892,21 +892,6 @@ def _ivp_motion(t, theta0, dtheta0, T, A, l, g, drive, c, rtol=1e-11):
     return th, dth
 
 
-def bisect_bits(pred, lo, hi):
-    """Bisection on the bit patterns of non-negative doubles: at most 64 steps to adjacent doubles."""
-    a = lo.view(np.int64).copy()
-    b = hi.view(np.int64).copy()
-    for _ in range(70):
-        m = a + (b - a) // 2
-        live = b - a > 1
-        if not live.any():
-            break
-        ok = pred(m.view(np.float64))
-        b = np.where(live & ok, m, b)
-        a = np.where(live & ~ok, m, a)
-    return a.view(np.float64), b.view(np.float64)
-
-
 def _secant_points(m, al, bl, fal, fbl, half):
     """For :func:`search_bits` (guided): replace in place the even points ``m`` of the rows whose
     bracket ``[al, bl]`` (bit patterns) is narrow with points about the secant's root of ``f``."""
@@ -926,11 +911,11 @@ def _secant_points(m, al, bl, fal, fbl, half):
 
 
 def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
-    """:func:`bisect_bits` taking ``ways - 1`` points per row at each step: the same pair of
-    adjacent doubles (for a predicate that changes once, False below and True above) in about
-    ``64 / log2(ways)`` calls of ``pred`` instead of 64. ``pred(x, rows)`` is elementwise, ``x`` of
-    shape ``(len(rows), k)`` holding points of the rows ``rows`` (indices into ``lo``): a call on a
-    few dozen points costs about what a call on one does.
+    """Bisection on the bit patterns of non-negative doubles taking ``ways - 1`` points per row at each
+    step: the pair of adjacent doubles where a predicate changes (once, False below and True above),
+    in about ``64 / log2(ways)`` calls of ``pred`` instead of the 64 of halving. ``pred(x, rows)`` is
+    elementwise, ``x`` of shape ``(len(rows), k)`` holding points of the rows ``rows`` (indices into
+    ``lo``): a call on a few dozen points costs about what a call on one does.
 
     ``guided``: ``pred`` returns ``(ok, f)``, ``f`` a smooth function negative where ``ok`` is False
     and positive where it is True about the change (a half-trace minus its value at the edge). Once a

@@ -214,11 +214,6 @@ def _count(fam, q, x):
     return out
 
 
-def _count_below(kind, parity, q, x):
-    """:func:`_count` of the family ``(kind, parity)``."""
-    return _count(_CODE[(kind, parity)], q, x)
-
-
 def _qa(eps, mu, pi=PI):
     """Mathieu's ``(q, a)`` of the sine drive at ``(eps, mu)``: one rounding, shared by every path
     (``pi`` in the arguments' precision: the long-double counts pass their own)."""

@@ -32,7 +32,6 @@ import numpy as np
 
 from .. import _validate as _v
 from .._certify import MAX_PHASE, tau_mp
-from ._api import bisect_bits as _bisect_bits
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
@@ -824,45 +823,3 @@ def _unstable_end(a, b, fa, fb, f_out):
     out_a = (fa == 0) | (np.sign(fa) == np.sign(f_out))
     out_b = (fb == 0) | (np.sign(fb) == np.sign(f_out))
     return np.where(out_b & ~(fa == 0), b, np.where(out_a, a, b))
-
-
-def rotation_edges(drive, mu, n):
-    """Zone edges of an undamped piecewise-constant drive by bisection on the rotation angle.
-
-    Zone ``n`` is where the rotation angle per period lies in ``(n pi, (n + 1) pi)``; the
-    angle is non-decreasing in ``eps`` (oscillation theory of ``phi'' = 8 eps^2 (mu^2 + s) phi``),
-    so its lower edge is the last ``eps`` with angle <= ``n pi`` and the upper edge the first
-    with angle >= ``(n + 1) pi``. Bisection on that predicate cannot jump to another zone.
-    """
-    mu, n = np.broadcast_arrays(np.asarray(mu, float), np.asarray(n, np.int64))
-    shape = mu.shape
-    mu = mu.ravel()
-    n = n.ravel()
-    # zones need an attracting segment: mu^2 + min(level) < 0
-    has_zones = mu * mu + min(drive.levels) < 0
-    mu = np.where(has_zones, mu, 0.5 * np.sqrt(max(-min(drive.levels), 0.0)))
-
-    def first(pred):
-        """(last eps with pred False, first eps with pred True), adjacent doubles."""
-        hi = np.full(mu.shape, 1.0)
-        for _ in range(1030):
-            ok = pred(hi)
-            if ok.all():
-                break
-            hi = np.where(ok, hi, 2.0 * hi)
-        return _bisect_bits(pred, np.zeros(mu.shape), hi)
-
-    def reach(eps):  # the angle has passed n pi: in zone >= n, or locked beyond n pi
-        f = drive._floquet0(eps, mu, certify=False)
-        return np.where(f.zone >= 0, f.zone >= n, np.rint(f.theta / PI) > n)
-
-    def past(eps):  # the angle has reached (n + 1) pi
-        f = drive._floquet0(eps, mu, certify=False)
-        return np.where(f.zone >= 0, f.zone > n, np.rint(f.theta / PI) >= n + 1)
-
-    lo, _ = first(reach)
-    _, hi = first(past)
-    none = ~has_zones
-    lo = np.where(none, np.nan, lo)
-    hi = np.where(none, np.nan, hi)
-    return lo.reshape(shape), hi.reshape(shape)
