@@ -244,10 +244,12 @@ def _verdict_careful(eps, mu):
 
 
 # ---------------------------------------------------------------- Floquet data and motion
-def _floquet(eps, mu, certify=True):
+def _floquet(eps, mu, certify=True, exact=None):
     """(tau, growth, theta, stable, n) for trusted eps > 0, mu > 0 (any mu). ``certify``: decide
     the points within the rounding bound of an edge in extended precision (a search that needs
-    the predicate only away from its last few ulp switches it off, and certifies its final bracket)."""
+    the predicate only away from its last few ulp switches it off, and certifies its final bracket)
+    by ``exact(eps, mu)``, ``(tau, log|tau|, stable, angle)`` arrays (default:
+    :func:`kapitza._certify.exact_half_trace`)."""
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     ell = mu < 1.0
     x, u, D = _phase_angles(eps, np.where(ell, mu, 0.5))
@@ -258,7 +260,7 @@ def _floquet(eps, mu, certify=True):
         # signs lost to rounding (or an unstable point whose excess rounded to zero):
         # the exact trace decides the verdict, the growth and the angle
         tau, growth, theta, a, b = (np.array(v, dtype=float) for v in (tau, growth, theta, a, b))
-        t_e, _, st, acos_e = _certify.exact_half_trace(eps[check], mu[check])
+        t_e, _, st, acos_e = (exact or _certify.exact_half_trace)(eps[check], mu[check])
         nn = n[check]
         even = np.mod(nn, 2.0) == 0.0
         acos_t = np.where(st, acos_e, 0.0)

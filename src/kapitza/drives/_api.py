@@ -47,7 +47,8 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
                                         np.asarray(zeta, float))
     damped = np.any(zeta > 0)
     mu_c = mu * np.sqrt(1.0 + zeta * zeta) if damped else mu
-    f = drive._floquet0(eps, mu_c, certify)
+    # (damped, the phi-system's verdict and trace are certified, its angle need not be to the last bit)
+    f = drive._floquet0(eps, mu_c, "verdict" if certify and damped else certify)
     if not damped:
         return f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)
     kappa = 2.0 * SQRT8 * zeta * mu * eps
@@ -60,15 +61,17 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
     if certify and drive._damped_certified:
         # where rounding may decide, the exact doubles decide in extended precision
         # (kapitza._certify.damped_mp): G near 0 by less than it moves over 32 ulp of eps (its own
-        # rounding, and that of mu_c, move it by the like of a few ulp of eps)
+        # rounding, and that of mu_c, move it by the like of a few ulp of eps); a drive whose exact
+        # verdicts cost about what the doubles do is asked for every G near 0
         Gf = G.reshape(-1)
         cand = np.flatnonzero(np.abs(Gf) < 1e-4)
-        unsure = cand[:0]
-        if cand.size:
+        unsure = cand
+        if cand.size and not drive._certified_cheap(True):
             e, m, z = eps.reshape(-1)[cand], mu.reshape(-1)[cand], zeta.reshape(-1)[cand]
             h = 16.0 * np.finfo(float).eps * e
             with np.errstate(invalid="ignore"):
-                swing = np.abs(_excess(drive, e + h, m, z) - _excess(drive, e - h, m, z))
+                up, down = _excess(drive, np.stack([e + h, e - h]), m, z)
+                swing = np.abs(up - down)
             # G's own accuracy: 1e-13 from exact products, the engine's error relative to |tau_phi|
             # for a drive given by its shape
             acc = 1e-13 if not drive._from_shape else drive._trace_error(
@@ -89,7 +92,8 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
         k = np.rint(f.theta / PI).astype(np.int64)
         e, m, z = eps[gap], mu[gap], zeta[gap]
         h = 1e-7 * e
-        rising = _excess(drive, e + h, m, z) > _excess(drive, e - h, m, z)
+        up, down = _excess(drive, np.stack([e + h, e - h]), m, z)   # (one call for both sides)
+        rising = up > down
         zone[gap] = np.maximum(np.where(rising, k[gap] - 1, k[gap]), 0)
     return f.tau, growth, f.theta, stable, zone, kappa
 
@@ -496,6 +500,14 @@ def margin(eps, mu, drive, zeta):
 _LADDER_TOP = 1e150
 
 
+def _search(drive, damped, pred, lo, hi):
+    """:func:`search_bits` (guided) of the one-point searches, ``pred(x, rows, certify)`` returning
+    ``(ok, f)``: where the drive's certified verdicts are cheap every step asks them, and the pair
+    found is final; elsewhere the steps ask the fast predicate and the final pair is certified."""
+    return search_bits(pred, lo, hi, certified=lambda x, rows: pred(x, rows, True), guided=True,
+                       certified_steps=drive._certified_cheap(damped))
+
+
 def _parity(n):
     """``(-1)^n`` of integers held as floats."""
     return 1.0 - 2.0 * np.mod(n, 2.0)
@@ -567,16 +579,14 @@ def point_margin(drive, eps, mu, zeta):
         n = n_of[idx][:, None]
         up = upper[idx][:, None]
         ok = np.where(up, lv >= n + 1, lv > n)
-        if certify:
-            return ok
         # zone n's edges: theta = n pi below (tau = (-1)^n), (n + 1) pi above
         with np.errstate(invalid="ignore", over="ignore"):
             f = np.where(up, tau * _parity(n + 1) - 1.0, 1.0 - tau * _parity(n))
         return ok, f
 
-    a, b = search_bits(pred, lo, hi, certified=lambda x, idx: pred(x, idx, True), guided=True)
+    a, b = _search(drive, zeta > 0, pred, lo, hi)
     idx = np.arange(len(rows))
-    ends = pred(np.stack([a, b], axis=1), idx, True)
+    ends = pred(np.stack([a, b], axis=1), idx, True)[0]
     if ends[:, 0].any() or not ends[:, 1].all():
         return None
     edge = np.where(upper, b, a)   # the unstable side: below a lower edge, at or above an upper one
@@ -720,8 +730,6 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
                       np.where(r == 1, k > n,    # A_lo: first A in it (or beyond)
                                np.where(r == 2, k < n + 1,   # mu_lo: first mu back in the zone or below
                                         k <= n)))            # mu_hi: first mu below the zone
-        if certify:
-            return ok
         # the edges: tau = (-1)^(n + 1) at the upper one (rows 0, 2), (-1)^n at the lower one (1, 3)
         with np.errstate(invalid="ignore", over="ignore"):
             t_up, t_lo = tau * _parity(n + 1.0), tau * _parity(float(n))
@@ -731,7 +739,7 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
     # (a search whose answer is not needed gets an empty bracket)
     lo = np.array([0.0, 0.0, 1e-6, 1e-6])
     hi = np.array([top, top, 1e-6 if above else 4.0, 1e-6 if capped else 4.0])
-    a, b = search_bits(pred, lo, hi, certified=lambda x, rows: pred(x, rows, True), guided=True)
+    a, b = _search(drive, zeta > 0, pred, lo, hi)
     out = dict(A_lo=float(a[1]), A_hi=float(b[0]))
     mu_lo = 1e-6 if above else float(a[2])
     mu_hi = 4.0 if capped else float(b[3])
@@ -910,7 +918,7 @@ def _secant_points(m, al, bl, fal, fbl, half):
     m[use, pts.shape[1]:] = pts[:, -1:]
 
 
-def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
+def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_steps=False):
     """Bisection on the bit patterns of non-negative doubles taking ``ways - 1`` points per row at each
     step: the pair of adjacent doubles where a predicate changes (once, False below and True above),
     in about ``64 / log2(ways)`` calls of ``pred`` instead of the 64 of halving. ``pred(x, rows)`` is
@@ -929,7 +937,12 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
     False below and True above, the change is searched with it (by halves: each of its points may
     cost an extended-precision product) in a window of 4 ulp either side, widened fourfold up to
     2^20 ulp until it holds the change (a drive given by its shape may err by a thousand ulp where
-    its trace is flat), and kept where found there.
+    its trace is flat), and kept where found there. Guided, ``certified`` returns ``(ok, f)`` too.
+
+    ``certified_steps``: the certified predicate costs about what ``pred`` does (a long double
+    product): once every row's bracket is within 1/64 of its value the steps ask it instead, so the
+    final pair is certified as found (the check above then costs nothing where ``certified``
+    remembers its points).
     """
     a = lo.view(np.int64).copy()
     b = hi.view(np.int64).copy()
@@ -946,7 +959,8 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
         m = np.minimum(al[:, None] + step[:, None] * j[None, :], (bl - 1)[:, None])
         if guided:
             _secant_points(m, al, bl, fa[live], fb[live], half)
-        res = pred(m.view(np.float64), live)
+        narrow = certified_steps and bool(np.all(bl - al < (1 << 46)))
+        res = (certified if narrow else pred)(m.view(np.float64), live)
         ok = np.asarray(res[0] if guided else res, bool)
         first = np.argmax(ok, axis=1)
         r = np.arange(live.size)
@@ -962,7 +976,11 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
         return a.view(np.float64), b.view(np.float64)
     lo_i, hi_i = lo.view(np.int64), hi.view(np.int64)
     inner = np.flatnonzero(b > a)
-    ends = np.asarray(certified(np.stack([a[inner], b[inner]], axis=1).view(np.float64), inner), bool)
+    def decided(x, rows):
+        res = certified(x, rows)
+        return np.asarray(res[0] if guided else res, bool)
+
+    ends = decided(np.stack([a[inner], b[inner]], axis=1).view(np.float64), inner)
     # (an end of the given bracket carries no claim: the predicate may hold all the way)
     bad = inner[(ends[:, 0] & (a[inner] > lo_i[inner])) | (~ends[:, 1] & (b[inner] < hi_i[inner]))]
     if bad.size:
@@ -970,7 +988,7 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
         width = 4
         while bad.size and width <= 1 << 20:
             ca, cb = np.maximum(a[bad] - width, lo_i[bad]), np.minimum(b[bad] + width, hi_i[bad])
-            w_ends = np.asarray(certified(np.stack([ca, cb], axis=1).view(np.float64), bad), bool)
+            w_ends = decided(np.stack([ca, cb], axis=1).view(np.float64), bad)
             keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
             rows, wa, wb = (np.concatenate([rows, bad[keep]]), np.concatenate([wa, ca[keep]]),
                             np.concatenate([wb, cb[keep]]))
@@ -982,7 +1000,7 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False):
             if not live.any():
                 break
             mid = wa + (wb - wa) // 2
-            ok = np.asarray(certified(mid[live, None].view(np.float64), rows[live]), bool)[:, 0]
+            ok = decided(mid[live, None].view(np.float64), rows[live])[:, 0]
             wb[live] = np.where(ok, mid[live], wb[live])
             wa[live] = np.where(ok, wa[live], mid[live])
         a[rows], b[rows] = wa, wb

@@ -224,7 +224,8 @@ class Drive:
         product does so in mpmath); the generic engine's ``tr M / 2`` is accurate to about
         1e-13 relative, and its verdicts are those of that value unless the drive gives its shape
         as linear pieces (:meth:`_linear_pieces`): then the points near the threshold are decided
-        in extended precision.
+        in extended precision. ``certify="verdict"`` (the damping layer) asks for the verdict and
+        ``tr M`` settled so, the angle and growth only as accurately as that makes them cheap.
         """
         eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
         tau, log_tau, theta, zone, growth = self._engine.floquet(eps.ravel(), mu.ravel(), growth=True)
@@ -568,6 +569,13 @@ class Drive:
     def _damped_certified(self) -> bool:
         """Whether :meth:`_damped_exact` decides damped verdicts in extended precision."""
         return self._steps() is not None or self._certified_pieces() is not None
+
+    def _certified_cheap(self, damped: bool) -> bool:
+        """Whether the certified verdicts (:meth:`_floquet0` with ``certify``, and :meth:`_damped_exact`
+        where ``damped``) cost about what the double computation does (a long double product, mpmath
+        only where that cannot decide): the one-point searches then ask them at every step, and the
+        damping layer asks :meth:`_damped_exact` wherever its verdict is near the edge."""
+        return False
 
     def _damped_exact(self, eps, mu, zeta):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points

@@ -36,6 +36,9 @@ from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
 LOG2 = np.log(2.0)
+#: x86's extended precision (a 64-bit significand) where numpy has it: the products below, taken in it
+#: with the same rounding bound, settle most verdicts the doubles cannot before mpmath is asked
+_LD = np.longdouble if np.finfo(np.longdouble).nmant >= 60 else None
 
 
 def _segments(eps, mu, levels, durations):
@@ -104,8 +107,65 @@ def _product(segs):
                           np.abs(fc) * pa + np.abs(fd) * pc, np.abs(fc) * pb + np.abs(fd) * pd)
         a, b, c, d, e = _renorm(a, b, c, d)
         pa, pb, pc, pd = (np.ldexp(x, -e) for x in (pa, pb, pc, pd))
-        L = L + lr + e * LOG2
+        L = L + lr + e * (LOG2 if a.dtype == np.float64 else np.log(np.asarray(2.0, a.dtype)))
     return (a, b, c, d), L, pa + pd
+
+
+def _rounding_bound(segs, L, bound_tr, unit):
+    """A bound on the rounding error of ``tr N`` (:func:`_product`) at unit roundoff ``unit``: products of
+    K factors, each entry a few ulp (their arguments included), and the scale ``L``'s own rounding."""
+    rsum = sum(seg[2] for seg in segs)
+    return unit * (16.0 * len(segs) + 4.0 * rsum + 4.0 * np.abs(L)) * bound_tr, rsum
+
+
+def extended_verdicts(eps, mu, zeta, levels, durations):
+    """The verdict ``|tr M_phi| / 2 < cosh(kappa)`` at the exact doubles ``eps, mu, zeta`` (flat arrays;
+    ``zeta`` None: undamped) from the product taken in long double, where its rounding bound
+    (:func:`_rounding_bound` at the long double's unit) settles it: ``(decided, stable, tau, log_tau,
+    growth, tau_error)``, ``tau = tr M_phi / 2`` and ``growth = log max|lambda|`` of the damped system,
+    as doubles, and ``tau_error`` a bound on the error of the long double ``tau`` (before its rounding
+    to a double). Nothing is decided where numpy's long double is the double."""
+    n = np.size(eps)
+    if _LD is None or n == 0:
+        return (np.zeros(n, bool), np.zeros(n, bool)) + tuple(np.full(n, np.nan) for _ in range(4))
+    e, m = np.asarray(eps, _LD), np.asarray(mu, _LD)
+    z = np.zeros(n, _LD) if zeta is None else np.asarray(zeta, _LD)
+    segs = _segments(e, m * np.sqrt(1.0 + z * z), levels, durations)
+    (a, _, _, d), L, bound_tr = _product(segs)
+    unit = float(np.finfo(_LD).eps) / 2.0
+    err, rsum = _rounding_bound(segs, L, bound_tr, unit)
+    trN = a + d
+    kappa = 2.0 * np.sqrt(np.asarray(8.0, _LD)) * z * m * e
+    with np.errstate(over="ignore", under="ignore", divide="ignore"):
+        thr = 2.0 * np.cosh(kappa) * np.exp(-L)
+        # (the threshold's own rounding: that of e^-L and of cosh(kappa))
+        decided = np.abs(np.abs(trN) - thr) > err + unit * (8.0 + 4.0 * kappa) * thr
+        log_tau = L + np.log(np.abs(0.5 * trN))
+        tau = np.sign(trN) * np.exp(log_tau)
+    decided &= np.isfinite(tau) & (trN != 0)
+    stable = np.abs(trN) < thr
+    growth = np.where(np.abs(tau) > 1.0, acosh_from_log(log_tau, tau), 0.0) - kappa
+    with np.errstate(over="ignore", invalid="ignore"):
+        tau_error = 0.5 * err * np.exp(L) + unit * (8.0 + 4.0 * np.abs(L)) * np.abs(tau)
+    return decided, stable, tau.astype(float), log_tau.astype(float), growth.astype(float), tau_error.astype(float)
+
+
+def extended_half_trace(eps, mu, levels, durations):
+    """``[(tau, log|tau|, stable, angle)]`` as :func:`kapitza._certify.tau_mp` gives them, from the long
+    double product (:func:`extended_verdicts`) where it decides the verdict and in mpmath elsewhere.
+    ``angle`` (``acos(tau)`` on a zone, ``acosh|tau|`` off it) is then as accurate as the long double's
+    ``tau`` makes it: to about ``1e-19 / |1 - |tau||`` relative, not to the last bit within a few ulp
+    of an edge (the damping layer, which needs only the verdict there, asks for this)."""
+    eps, mu = np.asarray(eps, float).ravel(), np.asarray(mu, float).ravel()
+    dec, stable, tau, log_tau, _, _ = extended_verdicts(eps, mu, None, levels, durations)
+    with np.errstate(invalid="ignore"):
+        angle = np.where(stable, np.arccos(np.clip(tau, -1.0, 1.0)), acosh_from_log(log_tau, tau))
+    out = list(zip(tau.tolist(), log_tau.tolist(), stable.tolist(), angle.tolist()))
+    rest = np.flatnonzero(~dec)
+    if rest.size:
+        for i, r in zip(rest, tau_mp(eps[rest], mu[rest], levels, durations)):
+            out[i] = r
+    return out
 
 
 def _angle(x, y):
@@ -192,9 +252,7 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     with np.errstate(divide="ignore", over="ignore"):
         log_tau = L + np.log(np.abs(0.5 * trN))
         tau = np.sign(trN) * np.where(log_tau < 709.0, np.exp(np.minimum(log_tau, 709.0)), np.inf)
-    # rounding of tr N: products of K factors, each entry a few ulp (arguments included)
-    rsum = sum(seg[2] for seg in segs)
-    err = _U * (16.0 * len(segs) + 4.0 * rsum + 4.0 * np.abs(L)) * bound_tr
+    err, rsum = _rounding_bound(segs, L, bound_tr, _U)
     with np.errstate(under="ignore"):
         thr = 2.0 * np.exp(-np.maximum(L, -700.0))
     unsure = np.abs(np.abs(trN) - thr) <= err + 1e-15 * thr
@@ -204,7 +262,7 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     stable = np.abs(trN) < thr
     if certify and np.any(unsure):
         idx = np.flatnonzero(unsure)
-        exact = tau_mp(eps[idx], mu[idx], levels, durations)
+        exact = extended_half_trace(eps[idx], mu[idx], levels, durations)
         log_tau[idx] = [r[1] for r in exact]
         tau[idx] = [r[0] for r in exact]
         stable[idx] = [r[2] for r in exact]
@@ -319,6 +377,20 @@ class PiecewiseConstant(Drive):
 
     def _steps(self):
         return self.levels, self.fractions
+
+    def _certified_cheap(self, damped):
+        return _LD is not None
+
+    def _damped_exact(self, eps, mu, zeta):
+        # long double first; mpmath where its rounding bound leaves the verdict open
+        eps, mu, zeta = (np.asarray(v, float).ravel() for v in (eps, mu, zeta))
+        dec, stable, _, _, growth, _ = extended_verdicts(eps, mu, zeta, self.levels, self._durations)
+        out = [(bool(st), float(gr)) for st, gr in zip(stable, growth)]
+        rest = np.flatnonzero(~dec)
+        if rest.size:
+            for i, r in zip(rest, super()._damped_exact(eps[rest], mu[rest], zeta[rest])):
+                out[i] = r
+        return out
 
     def _log_tau0(self, eps, mu):
         # the product alone: no rotation angle, no certification (the damped excess needs no more)
