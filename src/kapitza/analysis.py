@@ -397,7 +397,8 @@ def _plain_point(eps, mu, T, A, l, g, damping, zeta):
 def _report(drive, eps, mu, zeta, physical, T, A, l, g, c, pointwise=True):
     """The report of one validated point (floats): every part asked of the drive."""
     trace, det, mult, growth, rho, stable, zone, theta, exact_theta = drive.point_floquet(eps, mu, zeta, pointwise)
-    _, nz, eps_lo, eps_hi, margin = drive.point_margin(eps, mu, zeta, pointwise)
+    (_, nz, eps_lo, eps_hi, margin), intervals = drive.point_edges(
+        eps, mu, zeta, (T, A, l, g, c) if physical else None, pointwise)
     if stable:
         verdict = f"stable (zone {zone})" + (", motions decay" if zeta > 0 else "")
     else:
@@ -405,8 +406,8 @@ def _report(drive, eps, mu, zeta, physical, T, A, l, g, c, pointwise=True):
     phys = {}
     if physical:
         phys = dict(T=T, A=A, l=l, g=g)
-        if nz >= 0:
-            phys.update(drive.point_intervals(eps, mu, nz, zeta, T, A, l, g, c, pointwise, (eps_lo, eps_hi)))
+        if intervals is not None:
+            phys.update(intervals)
         else:
             phys["stroke"] = drive.point_stroke(T, A)
     nonlinear = drive.point_nonlinear(eps, mu, zeta, theta, zone, exact_theta, pointwise) if stable else None

@@ -500,6 +500,95 @@ def margin(eps, mu, drive, zeta):
 _LADDER_TOP = 1e150
 
 
+class _Levels:
+    """The level of points ``(eps, mu)`` at one damping ratio, as the one-point searches read it:
+    ``n + 1/2`` on zone ``n``, ``k`` in the gap ``theta = k pi``; with ``tau / cosh(kappa)`` (``|.| < 1``
+    where stable, damped or not). Certified answers are remembered: a search's final pair is asked again."""
+
+    def __init__(self, drive, zeta):
+        self.drive, self.zeta = drive, float(zeta)
+        self.known: dict[tuple[float, float], tuple[float, float]] = {}
+
+    def __call__(self, e, m, certify, with_tau=False):
+        e, m = np.broadcast_arrays(np.asarray(e, float), np.asarray(m, float))
+        shape = e.shape
+        keys = list(zip(e.ravel().tolist(), m.ravel().tolist()))
+        todo = np.array([not (certify and k in self.known) for k in keys], bool)
+        lv, tau = np.empty(len(keys)), np.empty(len(keys))
+        if todo.any():
+            count = int(todo.sum())
+            t, _, theta, st, zn, kappa = self.drive._floquet(e.ravel()[todo], m.ravel()[todo],
+                                                             np.full(count, self.zeta), certify)
+            lv[todo] = np.where(st, zn + 0.5, np.rint(theta / PI))
+            with np.errstate(over="ignore", invalid="ignore"):
+                tau[todo] = t / np.cosh(kappa)
+            if certify:
+                self.known.update(zip((k for k, d in zip(keys, todo) if d), zip(lv[todo].tolist(), tau[todo].tolist())))
+        for i in np.flatnonzero(~todo):
+            lv[i], tau[i] = self.known[keys[i]]
+        lv, tau = lv.reshape(shape), tau.reshape(shape)
+        return (lv, tau) if with_tau else lv
+
+
+class _Rows:
+    """Rows of a one-point search: their brackets ``[lo, hi]``; ``where(x, rows)``, the points
+    ``(eps, mu)`` their values ``x`` stand for; ``test(level, tau, rows)``, the predicate ``(ok, f)``
+    of :func:`search_bits` (guided) from the levels there; ``answer(a, b, ends)``, what the pairs
+    found mean (``ends``: the certified predicate at them, where ``checked``). ``zone``: the zone the
+    point is in, if known."""
+
+    def __init__(self, lo, hi, where, test, answer, zone=None, checked=False):
+        self.lo, self.hi, self.where, self.test, self.answer = lo, hi, where, test, answer
+        self.zone, self.checked = zone, checked
+
+
+def _searched(drive, zeta, levels, sets):
+    """The answers of the row sets ``sets``, searched together: one call of the drive per step for
+    every row of every set."""
+    sizes = [len(r.lo) for r in sets]
+    starts = np.concatenate([[0], np.cumsum(sizes)])
+
+    def pred(x, rows, certify=False):
+        x = np.asarray(x, float)
+        e, m = np.empty(x.shape), np.empty(x.shape)
+        parts = []
+        for r, a, b in zip(sets, starts[:-1], starts[1:]):
+            sel = (rows >= a) & (rows < b)
+            parts.append((r, sel, rows[sel] - a))
+            if sel.any():
+                e[sel], m[sel] = r.where(x[sel], rows[sel] - a)
+        lv, tau = levels(e, m, certify, True)
+        ok, f = np.empty(x.shape, bool), np.empty(x.shape)
+        for r, sel, local in parts:
+            if sel.any():
+                ok[sel], f[sel] = r.test(lv[sel], tau[sel], local)
+        return ok, f
+
+    lo = np.concatenate([r.lo for r in sets])
+    hi = np.concatenate([r.hi for r in sets])
+    a, b = _search(drive, zeta > 0, pred, lo, hi)
+    # the certified predicate at the pairs found, for the sets that read it (remembered from the
+    # search, where it asked it there)
+    want = np.concatenate([np.full(n, r.checked) for r, n in zip(sets, sizes)])
+    ends = np.ones((lo.size, 2), bool)
+    if want.any():
+        rows = np.flatnonzero(want)
+        ends[rows] = pred(np.stack([a[rows], b[rows]], axis=1), rows, True)[0]
+    return [r.answer(a[i:j], b[i:j], ends[i:j]) for r, i, j in zip(sets, starts[:-1], starts[1:])]
+
+
+def _narrowed(lo, hi, xs, ok):
+    """Each row's bracket ``[lo, hi]`` shrunk to the points ``xs`` already asked (``ok[row, j]`` the
+    row's predicate at ``xs[j]``, False below its change and True above): the largest point inside
+    it where ``ok`` is False, the smallest where it is True. (A fast predicate wrong at a point a few
+    ulp from a change leaves the certified check of the final pair to find that out.)"""
+    inside = (xs[None, :] > lo[:, None]) & (xs[None, :] < hi[:, None])
+    new_lo = np.maximum(lo, np.max(np.where(inside & ~ok, xs[None, :], -np.inf), axis=1))
+    new_hi = np.minimum(hi, np.min(np.where(inside & ok, xs[None, :], np.inf), axis=1))
+    good = new_lo < new_hi
+    return np.where(good, new_lo, lo), np.where(good, new_hi, hi)
+
+
 def _search(drive, damped, pred, lo, hi):
     """:func:`search_bits` (guided) of the one-point searches, ``pred(x, rows, certify)`` returning
     ``(ok, f)``: where the drive's certified verdicts are cheap every step asks them, and the pair
@@ -513,40 +602,25 @@ def _parity(n):
     return 1.0 - 2.0 * np.mod(n, 2.0)
 
 
-def point_margin(drive, eps, mu, zeta):
+def point_margin(drive, eps, mu, zeta, levels=None):
     """:func:`margin` of one point (floats), the edges found together by :func:`search_bits` on the
     zone index read from the rotation angle (one call of the drive per step for all of them, each
     final pair decided to the last bit), or None where that search cannot answer (no zone within
     reach, or a fast predicate off by more than the certified search's window): then
-    :func:`margin` does.
+    :func:`margin` does. ``levels``: a :class:`_Levels` of this drive and ``zeta`` to share.
 
     Along ``eps`` at fixed ``mu`` the level ``n + 1/2`` on zone ``n``, ``k`` in the gap ``theta = k pi``,
     rises: zone ``n``'s lower edge is the last ``eps`` with level ``<= n``, its upper edge the
     first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
     """
-    z1 = np.array([zeta], float)
-    known: dict[float, tuple[float, float]] = {}   # certified (level, tau) by eps: the final pairs are asked twice
+    levels = levels or _Levels(drive, zeta)
+    rows = _margin_rows(levels, eps, mu)
+    return None if rows is None else _searched(drive, zeta, levels, [rows])[0]
 
-    def level(x, certify, with_tau=False):
-        x = np.asarray(x, float)
-        flat = x.ravel()
-        todo = np.array([not (certify and v in known) for v in flat.tolist()], bool)
-        lv = np.empty(flat.size)
-        tau = np.empty(flat.size)
-        if todo.any():
-            t, _, theta, st, zn, kappa = drive._floquet(flat[todo], np.full(int(todo.sum()), mu),
-                                                        np.broadcast_to(z1, (int(todo.sum()),)), certify)
-            lv[todo] = np.where(st, zn + 0.5, np.rint(theta / PI))
-            with np.errstate(over="ignore", invalid="ignore"):
-                tau[todo] = t / np.cosh(kappa)   # stable where |tau| < 1, damped or not
-            if certify:
-                known.update(zip(flat[todo].tolist(), zip(lv[todo].tolist(), tau[todo].tolist())))
-        for i in np.flatnonzero(~todo):
-            lv[i], tau[i] = known[float(flat[i])]
-        lv, tau = lv.reshape(x.shape), tau.reshape(x.shape)
-        return (lv, tau) if with_tau else lv
 
-    L0 = float(level(np.array([eps]), True)[0])
+def _margin_rows(levels, eps, mu):
+    """The rows of :func:`point_margin`'s search (a :class:`_Rows`), or None where it cannot answer."""
+    L0 = float(levels(eps, mu, True))
     if not abs(L0) < 2.0**50:  # no zone resolvable so far out (see margin): the array margin says so
         return None
     stable = L0 != np.rint(L0)
@@ -557,12 +631,17 @@ def point_margin(drive, eps, mu, zeta):
     for n in zones:
         above = not stable and n == k
         rows += [(n, False, above), (n, True, above or stable)]
-    # a top past the highest zone's upper edge, eight doublings a call
+    # a top past the highest zone's upper edge, eight doublings a call (the first call also asks
+    # eight halvings below eps: the rungs then narrow every row's bracket to about a binade)
     need = zones[-1] + 1
     top = None
     ladder = eps * 2.0 ** np.arange(1.0, 9.0)
+    rungs, rung_levels = [np.array([eps]), eps * 2.0 ** -np.arange(1.0, 9.0)], [np.array([L0])]
     while ladder[-1] <= _LADDER_TOP:
-        up = np.flatnonzero(level(ladder, False) >= need)
+        rungs.append(ladder)
+        lv = levels(np.concatenate(rungs[1:]) if len(rung_levels) == 1 else ladder, mu, False)
+        rung_levels.append(lv)
+        up = np.flatnonzero(lv[-ladder.size:] >= need)
         if up.size:
             top = ladder[up[0]]
             break
@@ -573,9 +652,13 @@ def point_margin(drive, eps, mu, zeta):
     upper = np.array([r[1] for r in rows])
     lo = np.array([eps if r[2] else 0.0 for r in rows])
     hi = np.array([top if r[2] else eps for r in rows])
+    xs, lvs = np.concatenate(rungs), np.concatenate(rung_levels)
+    lo, hi = _narrowed(lo, hi, xs, np.where(upper[:, None], lvs >= n_of[:, None] + 1, lvs > n_of[:, None]))
 
-    def pred(x, idx, certify=False):
-        lv, tau = level(x, certify, True)
+    def where(x, idx):
+        return x, np.full(x.shape, mu)
+
+    def test(lv, tau, idx):
         n = n_of[idx][:, None]
         up = upper[idx][:, None]
         ok = np.where(up, lv >= n + 1, lv > n)
@@ -584,20 +667,20 @@ def point_margin(drive, eps, mu, zeta):
             f = np.where(up, tau * _parity(n + 1) - 1.0, 1.0 - tau * _parity(n))
         return ok, f
 
-    a, b = _search(drive, zeta > 0, pred, lo, hi)
-    idx = np.arange(len(rows))
-    ends = pred(np.stack([a, b], axis=1), idx, True)[0]
-    if ends[:, 0].any() or not ends[:, 1].all():
-        return None
-    edge = np.where(upper, b, a)   # the unstable side: below a lower edge, at or above an upper one
-    best = None
-    for i, n in enumerate(zones):
-        e_lo, e_hi = float(edge[2 * i]), float(edge[2 * i + 1])
-        d = min(eps - e_lo, e_hi - eps) / eps
-        if best is None or d > best[3]:
-            best = (n, e_lo, e_hi, d)
-    n, e_lo, e_hi, d = best
-    return stable, int(n), e_lo, e_hi, float(d)
+    def answer(a, b, ends):
+        if ends[:, 0].any() or not ends[:, 1].all():
+            return None
+        edge = np.where(upper, b, a)   # the unstable side: below a lower edge, at or above an upper one
+        best = None
+        for i, n in enumerate(zones):
+            e_lo, e_hi = float(edge[2 * i]), float(edge[2 * i + 1])
+            d = min(eps - e_lo, e_hi - eps) / eps
+            if best is None or d > best[3]:
+                best = (n, e_lo, e_hi, d)
+        n, e_lo, e_hi, d = best
+        return stable, int(n), e_lo, e_hi, float(d)
+
+    return _Rows(lo, hi, where, test, answer, zone=k if stable else None, checked=True)
 
 
 def along_amplitude(T, n, l, g, drive, c):
@@ -672,38 +755,68 @@ def rig_margins(eps, mu, zone, drive, zeta, T, stroke):
     return out
 
 
-def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
+def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g, levels=None):
     """Zone ``zone`` of one physical point along ``A`` (at this ``T``) and along the frequency
     (at this stroke): ``A_lo, A_hi`` and, where the zone is reached, ``frequency_lo, frequency_hi``.
 
     The four edges are searched together (:func:`search_bits`, one call of the drive per step for
     all four): along ``A`` the zone index read from the rotation angle rises with ``A`` at fixed
     ``T`` (:func:`along_amplitude`); at a fixed stroke ``eps`` is fixed and ``mu`` falls like
-    ``1/f``, the index falling as ``mu`` grows (:func:`rig_margins`).
+    ``1/f``, the index falling as ``mu`` grows (:func:`rig_margins`). ``levels`` as in
+    :func:`point_margin`.
     """
-    n = zone
-    z1 = np.array([zeta])
+    levels = levels or _Levels(drive, zeta)
+    return _searched(drive, zeta, levels, [_rig_rows(levels, eps, mu, zone, T, A, l, g)])[0]
 
-    def levels(e, m, certify, with_tau=False):
-        tau, _, theta, st, zn, kappa = drive._floquet(e, m, np.broadcast_to(z1, e.shape), certify)
-        lv = np.where(st, zn + 0.5, np.rint(theta / PI))
-        with np.errstate(over="ignore", invalid="ignore"):
-            return (lv, np.asarray(tau / np.cosh(kappa), float)) if with_tau else lv   # stable: |tau| < 1
+
+def point_edges(drive, eps, mu, zeta, T, A, l, g):
+    """:func:`point_margin` and :func:`rig_intervals` of the zone it finds, ``(margin, intervals)``
+    (``intervals`` None outside every zone's reach), or None where the margin's search cannot
+    answer. A point inside a zone has the six edges searched together: one call of the drive per
+    step for all of them."""
+    levels = _Levels(drive, zeta)
+    m_rows = _margin_rows(levels, eps, mu)
+    if m_rows is None:
+        return None
+    if m_rows.zone is not None:
+        margin, rig = _searched(drive, zeta, levels, [m_rows, _rig_rows(levels, eps, mu, m_rows.zone, T, A, l, g)])
+        return (None if margin is None else (margin, rig))
+    margin = _searched(drive, zeta, levels, [m_rows])[0]
+    if margin is None:
+        return None
+    if margin[1] < 0:
+        return margin, None
+    return margin, _searched(drive, zeta, levels, [_rig_rows(levels, eps, mu, margin[1], T, A, l, g)])[0]
+
+
+def _rig_rows(levels, eps, mu, zone, T, A, l, g):
+    """The rows of :func:`rig_intervals`' search (a :class:`_Rows`)."""
+    n = zone
 
     def along_A(A_):
         return T * np.sqrt(A_ / (8.0 * l)), np.sqrt(g / A_)
 
     # where the searches start: the first 2^k max(g, 1) past zone n + 1 along A (eight rungs a
     # call), and whether the zone is still reached at the ends of the frequency search
-    mu_ends = np.array([1e-6, 4.0])
+    # (the first call also asks the point itself and eight halvings and doublings of mu at this eps:
+    # these rungs then narrow each search's bracket to about a binade)
+    mu_rungs = mu * 2.0 ** np.concatenate([-np.arange(1.0, 9.0), np.arange(1.0, 9.0)])
+    mu_rungs = np.concatenate([[1e-6, 4.0, mu], mu_rungs[(mu_rungs > 1e-6) & (mu_rungs < 4.0)]])
+    A_rungs, A_levels = [np.array([A])], []
     ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
     for _ in range(138):
         if ladder[-1] > _LADDER_TOP:  # (as far as along_amplitude goes: the last rung)
             ladder = ladder[-1:]
         e_l, m_l = along_A(ladder)
-        k = levels(np.concatenate([e_l, np.full(2, eps)]), np.concatenate([m_l, mu_ends]), True)
-        up = np.flatnonzero(k[:-2] >= n + 1)
-        ends = k[-2:]
+        first = not A_levels
+        extra = mu_rungs.size if first else 0
+        k = levels(np.concatenate([e_l, np.full(extra, eps)]), np.concatenate([m_l, mu_rungs[:extra]]), True)
+        if first:
+            ends, mu_levels = k[ladder.size:ladder.size + 2], k[ladder.size:]
+            A_levels.append(k[ladder.size + 2:ladder.size + 3])   # the point itself
+        A_rungs.append(ladder)
+        A_levels.append(k[:ladder.size])
+        up = np.flatnonzero(k[:ladder.size] >= n + 1)
         if up.size:
             top = ladder[up[0]]
             break
@@ -716,15 +829,13 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
     above = ends[0] < n + 1     # still in the zone (or below it) at the smallest mu
     capped = not ends[1] <= n   # not yet out of it at the largest
 
-    def pred(x, rows, certify=False):
-        x = np.asarray(x, float)
+    def where(x, rows):
         along = (rows < 2)[:, None]        # rows 0, 1 search A; rows 2, 3 search mu
         with np.errstate(invalid="ignore", divide="ignore"):
             e_A, m_A = along_A(np.where(along, x, 1.0))
-        e = np.where(along, e_A, eps)
-        m = np.where(along, m_A, x)
-        k, tau = levels(e.ravel(), m.ravel(), certify, True)
-        k, tau = k.reshape(x.shape), tau.reshape(x.shape)
+        return np.where(along, e_A, eps), np.where(along, m_A, x)
+
+    def test(k, tau, rows):
         r = rows[:, None]
         ok = np.where(r == 0, k >= n + 1,       # A_hi: first A past the zone
                       np.where(r == 1, k > n,    # A_lo: first A in it (or beyond)
@@ -739,14 +850,21 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g):
     # (a search whose answer is not needed gets an empty bracket)
     lo = np.array([0.0, 0.0, 1e-6, 1e-6])
     hi = np.array([top, top, 1e-6 if above else 4.0, 1e-6 if capped else 4.0])
-    a, b = _search(drive, zeta > 0, pred, lo, hi)
-    out = dict(A_lo=float(a[1]), A_hi=float(b[0]))
-    mu_lo = 1e-6 if above else float(a[2])
-    mu_hi = 4.0 if capped else float(b[3])
-    if mu_lo < mu_hi:
-        f = 0.5 / T
-        out.update(frequency_lo=float(f * mu / mu_hi), frequency_hi=float("inf") if above else float(f * mu / mu_lo))
-    return out
+    kA = np.concatenate(A_levels)
+    lo[:2], hi[:2] = _narrowed(lo[:2], hi[:2], np.concatenate(A_rungs), np.stack([kA >= n + 1, kA > n]))
+    lo[2:], hi[2:] = _narrowed(lo[2:], hi[2:], mu_rungs, np.stack([mu_levels < n + 1, mu_levels <= n]))
+
+    def answer(a, b, ends):
+        out = dict(A_lo=float(a[1]), A_hi=float(b[0]))
+        mu_lo = 1e-6 if above else float(a[2])
+        mu_hi = 4.0 if capped else float(b[3])
+        if mu_lo < mu_hi:
+            f = 0.5 / T
+            out.update(frequency_lo=float(f * mu / mu_hi),
+                       frequency_hi=float("inf") if above else float(f * mu / mu_lo))
+        return out
+
+    return _Rows(lo, hi, where, test, answer)
 
 
 # ---------------------------------------------------------------- motion of the linear equation

@@ -703,12 +703,35 @@ class Drive:
             m = min(eps - lo, hi - eps) / eps
         return bool(st), int(zone), float(lo), float(hi), float(m)
 
-    def point_intervals(self, eps, mu, zone, zeta, T, A, l, g, c, pointwise=True, eps_edges=None):
+    def point_edges(self, eps, mu, zeta, phys=None, pointwise=True):
+        """:meth:`point_margin` and, for a physical point (``phys = (T, A, l, g, c)``) in or beside a zone,
+        :meth:`point_intervals` of that zone: ``(margin, intervals)``, ``intervals`` None otherwise. Where
+        the one-point searches answer, a point inside a zone has its edges in ``eps`` and along the rig's
+        knobs searched together (:func:`kapitza.drives._api.point_edges`)."""
+        if phys is not None and pointwise and self._batched_points and self._joint_edges(zeta):
+            found = _api.point_edges(self, eps, mu, zeta, *phys[:4])
+            if found is not None:
+                margin, rig = found
+                # (the generic body: a drive's own point_intervals would search the rig's edges again)
+                return margin, (None if rig is None else Drive.point_intervals(
+                    self, eps, mu, margin[1], zeta, *phys, pointwise, (margin[2], margin[3]), rig))
+        margin = self.point_margin(eps, mu, zeta, pointwise)
+        if phys is None or margin[1] < 0:
+            return margin, None
+        return margin, self.point_intervals(eps, mu, margin[1], zeta, *phys, pointwise, (margin[2], margin[3]))
+
+    def _joint_edges(self, zeta) -> bool:
+        """Whether :meth:`point_edges` may search the margin's and the rig's edges together (a drive
+        whose one-point answers come from elsewhere, closed forms, says no)."""
+        return True
+
+    def point_intervals(self, eps, mu, zone, zeta, T, A, l, g, c, pointwise=True, eps_edges=None, rig=None):
         """Zone ``zone`` of one physical point as intervals a rig is turned along: ``T_lo, T_hi``
         (at this ``A``), ``A_lo, A_hi`` (at this ``T``), ``stroke_lo, stroke_hi`` (at this
         frequency), ``frequency_lo, frequency_hi`` (at this stroke); and the ``stroke``.
         ``eps_edges``: the zone's edges in ``eps`` at this ``mu``, when known (``T`` is ``eps``
-        times ``sqrt(8 l / A)`` at this ``A``: no second solve)."""
+        times ``sqrt(8 l / A)`` at this ``A``: no second solve); ``rig``: the edges along ``A`` and the
+        frequency, when known (:func:`kapitza.drives._api.rig_intervals`)."""
         stroke = self.point_stroke(T, A)
         if eps_edges is not None:
             scale = np.sqrt(8.0 * np.asarray(l, float) / np.asarray(A, float))
@@ -717,9 +740,9 @@ class Drive:
             Tlo, Thi = self.period_edges(np.asarray(A, float), np.asarray(zone), np.asarray(l, float),
                                          np.asarray(g, float), np.asarray(c, float))
         out = dict(T_lo=float(Tlo), T_hi=float(Thi))
-        if self._batched_points:
+        if rig is None and self._batched_points:
             rig = _api.rig_intervals(eps, mu, zone, self, zeta, T, A, l, g)
-        else:
+        elif rig is None:
             Alo, Ahi = self.amplitude_edges(*(np.asarray(v, float) for v in (T, zone, l, g, c)))
             rig = dict(A_lo=float(Alo), A_hi=float(Ahi))
             rig.update(_api.rig_margins(eps, mu, zone, self, zeta, T, stroke))

@@ -158,6 +158,9 @@ class SquareWave(PiecewiseConstant):
             mult = _point.multipliers(tau, growth, theta, stable)
         return 2.0 * tau, 1.0, mult, growth, theta / (2.0 * np.pi), stable, zone, theta, fl is None
 
+    def _joint_edges(self, zeta):
+        return not _undamped(zeta)   # undamped, the closed forms answer each part
+
     def point_margin(self, eps, mu, zeta, pointwise=True):
         if not _undamped(zeta):
             return super().point_margin(eps, mu, zeta, pointwise)
