@@ -17,6 +17,7 @@ import argparse
 import datetime
 import os
 import sys
+import time
 
 import numpy as np
 
@@ -61,6 +62,29 @@ def main(argv=None):
         cpu_base = cpu if cpu_base is None else cpu_base
         print(f"  {label:32s} {1e3 * t:10.3f} ms   ratio {t / base:8.1f}x the square wave   "
               f"(CPU {1e3 * cpu:9.3f} ms, ratio {cpu / cpu_base:8.1f}x)")
+    # the same, interleaved: each round times the square wave (five calls, their mean) and then one call
+    # of every other drive, in CPU time; the ratio of each round, taken under the load of that moment,
+    # and their median (a two-core machine's load moves the figures above between drives)
+    rounds = 5 if args.tiny else 41
+    per_round = {label: [] for label, _ in drives()[1:]}
+    took = {label: [] for label, _ in drives()}
+    for _ in range(rounds):
+        t0 = time.process_time()
+        for _ in range(5):
+            kapitza.analyze(**POINT, drive=SquareWave())
+        square = (time.process_time() - t0) / 5.0
+        took["square wave"].append(square)
+        for label, kw in drives()[1:]:
+            t0 = time.process_time()
+            kapitza.analyze(**POINT, **kw)
+            took[label].append(time.process_time() - t0)
+            per_round[label].append(took[label][-1] / square)
+    print(f"  interleaved, CPU ratio per round (median, quartiles of {rounds} rounds):")
+    print(f"  {'square wave':32s} {1e3 * np.median(took['square wave']):10.3f} ms")
+    for label, r in per_round.items():
+        q1, q2, q3 = np.percentile(r, [25, 50, 75])
+        print(f"  {label:32s} {1e3 * np.median(took[label]):10.3f} ms   ratio {q2:8.1f}x the square wave   "
+              f"({q1:.1f}x-{q3:.1f}x)")
     ref = reports["square wave"]
     worst = max(abs(r.eps_hi / ref.eps_hi - 1.0) for r in reports.values())
     print(f"  largest relative difference of eps_hi from the square wave's: {worst:.2e}")

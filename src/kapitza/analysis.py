@@ -398,7 +398,8 @@ def _report(drive, eps, mu, zeta, physical, T, A, l, g, c, pointwise=True):
     """The report of one validated point (floats): every part asked of the drive."""
     trace, det, mult, growth, rho, stable, zone, theta, exact_theta = drive.point_floquet(eps, mu, zeta, pointwise)
     (_, nz, eps_lo, eps_hi, margin), intervals = drive.point_edges(
-        eps, mu, zeta, (T, A, l, g, c) if physical else None, pointwise)
+        eps, mu, zeta, (T, A, l, g, c) if physical else None, pointwise,
+        level0=zone + 0.5 if stable else float(np.rint(theta / np.pi)))
     if stable:
         verdict = f"stable (zone {zone})" + (", motions decay" if zeta > 0 else "")
     else:

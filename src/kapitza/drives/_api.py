@@ -614,13 +614,39 @@ def point_margin(drive, eps, mu, zeta, levels=None):
     first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
     """
     levels = levels or _Levels(drive, zeta)
-    rows = _margin_rows(levels, eps, mu)
+    rows, = _prepared(levels, [_margin_rows(eps, mu)])
     return None if rows is None else _searched(drive, zeta, levels, [rows])[0]
 
 
-def _margin_rows(levels, eps, mu):
-    """The rows of :func:`point_margin`'s search (a :class:`_Rows`), or None where it cannot answer."""
-    L0 = float(levels(eps, mu, True))
+def _prepared(levels, builders):
+    """Run the row builders ``builders`` (generators that yield the points ``(eps, mu)`` whose certified
+    levels they need and return a :class:`_Rows` or None) together: one call of the drive a round
+    for all the points they ask."""
+    out = [None] * len(builders)
+    asks = []
+
+    def advance(i, value=None, first=False):
+        try:
+            asks.append((i, next(builders[i]) if first else builders[i].send(value)))
+        except StopIteration as stop:
+            out[i] = stop.value
+
+    for i in range(len(builders)):
+        advance(i, first=True)
+    while asks:
+        now, asks[:] = list(asks), []
+        lv = levels(np.concatenate([e for _, (e, _) in now]), np.concatenate([m for _, (_, m) in now]), True)
+        cuts = np.cumsum([len(e) for _, (e, _) in now])[:-1]
+        for (i, _), part in zip(now, np.split(lv, cuts)):
+            advance(i, part)
+    return out
+
+
+def _margin_rows(eps, mu, L0=None):
+    """The rows of :func:`point_margin`'s search (a :class:`_Rows`), or None where it cannot answer: a
+    builder for :func:`_prepared`. ``L0``: the level at ``(eps, mu)``, when known."""
+    if L0 is None:
+        L0 = float((yield np.array([eps]), np.array([mu]))[0])
     if not abs(L0) < 2.0**50:  # no zone resolvable so far out (see margin): the array margin says so
         return None
     stable = L0 != np.rint(L0)
@@ -639,7 +665,8 @@ def _margin_rows(levels, eps, mu):
     rungs, rung_levels = [np.array([eps]), eps * 2.0 ** -np.arange(1.0, 9.0)], [np.array([L0])]
     while ladder[-1] <= _LADDER_TOP:
         rungs.append(ladder)
-        lv = levels(np.concatenate(rungs[1:]) if len(rung_levels) == 1 else ladder, mu, False)
+        ask = np.concatenate(rungs[1:]) if len(rung_levels) == 1 else ladder
+        lv = yield ask, np.full(ask.shape, mu)
         rung_levels.append(lv)
         up = np.flatnonzero(lv[-ladder.size:] >= need)
         if up.size:
@@ -766,31 +793,36 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g, levels=None):
     :func:`point_margin`.
     """
     levels = levels or _Levels(drive, zeta)
-    return _searched(drive, zeta, levels, [_rig_rows(levels, eps, mu, zone, T, A, l, g)])[0]
+    rows, = _prepared(levels, [_rig_rows(eps, mu, zone, T, A, l, g)])
+    return _searched(drive, zeta, levels, [rows])[0]
 
 
-def point_edges(drive, eps, mu, zeta, T, A, l, g):
+def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     """:func:`point_margin` and :func:`rig_intervals` of the zone it finds, ``(margin, intervals)``
     (``intervals`` None outside every zone's reach), or None where the margin's search cannot
-    answer. A point inside a zone has the six edges searched together: one call of the drive per
-    step for all of them."""
+    answer. ``level0``: the certified level at the point (``zone + 1/2`` on a zone, ``theta / pi``
+    off them), when known. A point inside a zone has the six edges searched together: one call of
+    the drive per step for all of them."""
     levels = _Levels(drive, zeta)
-    m_rows = _margin_rows(levels, eps, mu)
-    if m_rows is None:
-        return None
-    if m_rows.zone is not None:
-        margin, rig = _searched(drive, zeta, levels, [m_rows, _rig_rows(levels, eps, mu, m_rows.zone, T, A, l, g)])
-        return (None if margin is None else (margin, rig))
-    margin = _searched(drive, zeta, levels, [m_rows])[0]
+    if level0 is not None and level0 != np.rint(level0):   # inside zone floor(level0): all at once
+        m_rows, r_rows = _prepared(levels, [_margin_rows(eps, mu, level0),
+                                            _rig_rows(eps, mu, int(np.floor(level0)), T, A, l, g)])
+        if m_rows is None:
+            return None
+        margin, rig = _searched(drive, zeta, levels, [m_rows, r_rows])
+        return None if margin is None else (margin, rig)
+    m_rows, = _prepared(levels, [_margin_rows(eps, mu, level0)])
+    margin = None if m_rows is None else _searched(drive, zeta, levels, [m_rows])[0]
     if margin is None:
         return None
     if margin[1] < 0:
         return margin, None
-    return margin, _searched(drive, zeta, levels, [_rig_rows(levels, eps, mu, margin[1], T, A, l, g)])[0]
+    r_rows, = _prepared(levels, [_rig_rows(eps, mu, margin[1], T, A, l, g)])
+    return margin, _searched(drive, zeta, levels, [r_rows])[0]
 
 
-def _rig_rows(levels, eps, mu, zone, T, A, l, g):
-    """The rows of :func:`rig_intervals`' search (a :class:`_Rows`)."""
+def _rig_rows(eps, mu, zone, T, A, l, g):
+    """The rows of :func:`rig_intervals`' search (a :class:`_Rows`): a builder for :func:`_prepared`."""
     n = zone
 
     def along_A(A_):
@@ -810,7 +842,7 @@ def _rig_rows(levels, eps, mu, zone, T, A, l, g):
         e_l, m_l = along_A(ladder)
         first = not A_levels
         extra = mu_rungs.size if first else 0
-        k = levels(np.concatenate([e_l, np.full(extra, eps)]), np.concatenate([m_l, mu_rungs[:extra]]), True)
+        k = yield np.concatenate([e_l, np.full(extra, eps)]), np.concatenate([m_l, mu_rungs[:extra]])
         if first:
             ends, mu_levels = k[ladder.size:ladder.size + 2], k[ladder.size:]
             A_levels.append(k[ladder.size + 2:ladder.size + 3])   # the point itself

@@ -703,13 +703,14 @@ class Drive:
             m = min(eps - lo, hi - eps) / eps
         return bool(st), int(zone), float(lo), float(hi), float(m)
 
-    def point_edges(self, eps, mu, zeta, phys=None, pointwise=True):
+    def point_edges(self, eps, mu, zeta, phys=None, pointwise=True, level0=None):
         """:meth:`point_margin` and, for a physical point (``phys = (T, A, l, g, c)``) in or beside a zone,
         :meth:`point_intervals` of that zone: ``(margin, intervals)``, ``intervals`` None otherwise. Where
         the one-point searches answer, a point inside a zone has its edges in ``eps`` and along the rig's
-        knobs searched together (:func:`kapitza.drives._api.point_edges`)."""
+        knobs searched together (:func:`kapitza.drives._api.point_edges`); ``level0``: the point's
+        certified level there (``zone + 1/2`` on a zone, ``theta / pi`` off them), when known."""
         if phys is not None and pointwise and self._batched_points and self._joint_edges(zeta):
-            found = _api.point_edges(self, eps, mu, zeta, *phys[:4])
+            found = _api.point_edges(self, eps, mu, zeta, *phys[:4], level0=level0)
             if found is not None:
                 margin, rig = found
                 # (the generic body: a drive's own point_intervals would search the rig's edges again)
