@@ -1090,7 +1090,8 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
     its trace is flat), and kept where found there. Guided, ``certified`` returns ``(ok, f)`` too.
 
     ``certified_steps``: the certified predicate costs about what ``pred`` does (a long double
-    product): once every row's bracket is within 1/64 of its value the steps ask it instead, so the
+    product): once every row's bracket is within 2^36 ulp (2^-16 of its value; the fast steps'
+    secant points have then come within a few thousand ulp) the steps ask it instead, so the
     final pair is certified as found (the check above then costs nothing where ``certified``
     remembers its points).
     """
@@ -1109,7 +1110,7 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
         m = np.minimum(al[:, None] + step[:, None] * j[None, :], (bl - 1)[:, None])
         if guided:
             _secant_points(m, al, bl, fa[live], fb[live], half)
-        narrow = certified_steps and bool(np.all(bl - al < (1 << 46)))
+        narrow = certified_steps and bool(np.all(bl - al < (1 << 36)))
         res = (certified if narrow else pred)(m.view(np.float64), live)
         ok = np.asarray(res[0] if guided else res, bool)
         first = np.argmax(ok, axis=1)
