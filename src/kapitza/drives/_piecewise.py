@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from .. import _validate as _v
-from .._certify import MAX_PHASE, tau_mp
+from .._certify import MAX_PHASE, TRACE_RTOL, tau_mp
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
@@ -177,11 +177,41 @@ def _carry_free(h, x, y):
     return x1, y1, _wrap(_angle(x1, y1) - psi0)
 
 
-def floquet_product(eps, mu, levels, durations, certify=True):
+def rounding_bound(segs, L, bound_tr, eps, mu, levels):
+    """A bound on the rounding error of ``tr N`` (``tr M = e^L tr N``; flat arrays).
+
+    The product of ``K`` factors, each entry correct to a few units ``u``, errs by at most
+    ``u (16 K + 4 |L|)`` times the trace of the product of ``|N_i|`` (``bound_tr``). The factors'
+    arguments add their own share: ``r_i = sqrt|k_i| h_i`` to ``4 r_i u``, and
+    ``k_i = 8 eps^2 (mu^2 + s_i)`` to ``u (2 + 8 mu^2 / |mu^2 + s_i|)`` relative (``mu^2`` taken to
+    ``8u``, enough for the damped system's rounded ``mu_c``), which moves the normalised entries by
+    ``r_i min(r_i, 1)`` times that: near free flight (``mu^2 + s_i -> 0``) this is
+    ``8 eps^2 h_i^2 mu^2`` units, which ``4 r_i`` alone misses.
+    """
+    m2 = mu * mu
+    e2 = 8.0 * eps * eps
+    arg = np.zeros(np.shape(L))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for s, (_, _, r, h) in zip(levels, segs):
+            q = np.abs(m2 + s)
+            arg = arg + 4.0 * r + np.where(r < 1.0, e2 * h * h * (2.0 * q + 8.0 * m2), r * (2.0 + 8.0 * m2 / q))
+    return _U * (16.0 * len(segs) + arg + 4.0 * np.abs(L)) * bound_tr
+
+
+def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=None):
     """Undamped Floquet data of a piecewise-constant drive (trusted input).
 
     ``certify``: settle verdicts within the rounding bound in mpmath (edge searches, which
     only need the predicate away from the last few ulp, switch it off).
+
+    ``trace``: the trace is reported. The result then carries ``tau_error``, a bound on the
+    absolute error of ``tau`` (:func:`rounding_bound`), and where that exceeds
+    :data:`TRACE_RTOL` ``|tau|`` (and an exact product is affordable, ``sum r <= MAX_PHASE``),
+    ``tau``, ``log|tau|``, the growth and the parity of the rotation angle are those of the
+    product in ``mpmath`` (:func:`kapitza._certify.tau_mp`), ``tau`` correctly rounded. ``phi``:
+    ``(mu, zeta)`` (flat) when ``mu`` here is the damped system's rounded
+    ``mu_c = mu sqrt(1 + zeta^2)``: the extended-precision trace is then taken at
+    ``mu^2 (1 + zeta^2)`` exactly (the verdict stays that of the ``mu`` given, as without ``trace``).
     """
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     shape = eps.shape
@@ -192,9 +222,8 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     with np.errstate(divide="ignore", over="ignore"):
         log_tau = L + np.log(np.abs(0.5 * trN))
         tau = np.sign(trN) * np.where(log_tau < 709.0, np.exp(np.minimum(log_tau, 709.0)), np.inf)
-    # rounding of tr N: products of K factors, each entry a few ulp (arguments included)
     rsum = sum(seg[2] for seg in segs)
-    err = _U * (16.0 * len(segs) + 4.0 * rsum + 4.0 * np.abs(L)) * bound_tr
+    err = rounding_bound(segs, L, bound_tr, eps, mu, levels)
     with np.errstate(under="ignore"):
         thr = 2.0 * np.exp(-np.maximum(L, -700.0))
     unsure = np.abs(np.abs(trN) - thr) <= err + 1e-15 * thr
@@ -202,13 +231,29 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     # stands there, as the square wave's does (kapitza._certify)
     unsure &= rsum <= MAX_PHASE
     stable = np.abs(trN) < thr
+    exact = np.zeros(eps.size, bool)
     if certify and np.any(unsure):
         idx = np.flatnonzero(unsure)
-        exact = tau_mp(eps[idx], mu[idx], levels, durations)
-        log_tau[idx] = [r[1] for r in exact]
-        tau[idx] = [r[0] for r in exact]
-        stable[idx] = [r[2] for r in exact]
-    growth = np.where(stable, 0.0, acosh_from_log(log_tau, tau))
+        res = tau_mp(eps[idx], mu[idx], levels, durations)
+        log_tau[idx] = [r[1] for r in res]
+        tau[idx] = [r[0] for r in res]
+        stable[idx] = [r[2] for r in res]
+        exact[idx] = phi is None
+    tau_error = None
+    if trace:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ill = ~exact & (err > TRACE_RTOL * np.abs(trN)) & (rsum <= MAX_PHASE)
+        if np.any(ill):
+            idx = np.flatnonzero(ill)
+            m_x, z_x = (mu[idx], None) if phi is None else (np.ravel(phi[0])[idx], np.ravel(phi[1])[idx])
+            res = tau_mp(eps[idx], m_x, levels, durations, z_x)
+            log_tau[idx] = [r[1] for r in res]
+            tau[idx] = [r[0] for r in res]
+            exact[idx] = True
+        with np.errstate(divide="ignore", over="ignore"):
+            tau_error = np.where(exact, _U * np.abs(tau), np.exp(np.minimum(L + np.log(err) - LOG2, 710.0)))
+    with np.errstate(invalid="ignore"):
+        growth = np.where(stable | (np.abs(tau) <= 1.0), 0.0, acosh_from_log(log_tau, tau))
     # Rotation: a generic direction on the zones, an eigenvector off them.
     x0 = np.ones_like(eps)
     y0 = np.zeros_like(eps)
@@ -240,7 +285,8 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     theta = np.where(stable, theta_stable, PI * k_gap)
     zone = np.where(stable, zone_stable, -1).astype(np.int64)
     return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),
-                    theta=theta.reshape(shape), zone=zone.reshape(shape))
+                    theta=theta.reshape(shape), zone=zone.reshape(shape),
+                    tau_error=None if tau_error is None else tau_error.reshape(shape))
 
 
 class PiecewiseConstant(Drive):
@@ -301,8 +347,8 @@ class PiecewiseConstant(Drive):
         return self._Z[i] + self._V[i] * r + 0.5 * np.asarray(self.levels)[i] * r * r
 
     # ------------------------------------------------------------ stability
-    def _floquet0(self, eps, mu, certify=True):
-        return floquet_product(eps, mu, self.levels, self._durations, certify)
+    def _floquet0(self, eps, mu, certify=True, trace=False, phi=None):
+        return floquet_product(eps, mu, self.levels, self._durations, certify, trace, phi)
 
     def _edges0(self, mu, n):
         return sampled_edges(self, mu, n)
