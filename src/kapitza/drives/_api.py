@@ -16,6 +16,8 @@ This module imports no drive: the drive classes import it (one direction, no cyc
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._exact import log_cosh
@@ -39,9 +41,14 @@ def damping_of(zeta, l, g):
 def _traced(drive):
     """Whether the drive's ``_floquet0`` takes ``trace`` and ``phi`` (a subclass written to the older
     contract, ``_floquet0(eps, mu, certify=True)``, reports no error bound)."""
+    return _traced_class(type(drive))
+
+
+@functools.lru_cache(maxsize=None)
+def _traced_class(cls):
     import inspect
 
-    return "trace" in inspect.signature(drive._floquet0).parameters
+    return "trace" in inspect.signature(cls._floquet0).parameters
 
 
 def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):

@@ -248,7 +248,8 @@ class Drive:
                 err = np.where(tau != engine_tau, 0.5 * np.finfo(float).eps * np.abs(tau), err)
         sh = eps.shape
         return Floquet0(tau=tau.reshape(sh), log_tau=log_tau.reshape(sh), growth=growth.reshape(sh),
-                        theta=theta.reshape(sh), zone=zone.reshape(sh), tau_error=None if err is None else err.reshape(sh))
+                        theta=theta.reshape(sh), zone=zone.reshape(sh),
+                        tau_error=None if err is None else err.reshape(sh))
 
     def _linear_pieces(self):
         """``((x0, x1, s0, s1), ...)``: the shape as pieces linear in ``tau`` over the period (``s`` from
