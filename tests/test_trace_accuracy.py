@@ -145,3 +145,16 @@ def test_integrated_drives_bound_their_trace(drive):
         ref = 2.0 * ivp_half_trace(d._shape, eps, mu, getattr(d, "_breakpoints", ()) or ())
         assert 0.0 < f.trace_error < 1e-4 * max(abs(f.trace), 1.0)
         assert abs(f.trace - ref) <= f.trace_error + 1e-10 * max(abs(ref), 1.0)
+
+
+@pytest.mark.parametrize("drive", [kapitza.SquareWave(), kapitza.StepDrive([1.0, -1.0], [0.5, 0.5])])
+def test_the_report_gives_the_exact_trace_where_it_cancels(drive):
+    # the square wave's report answers from scalar twins of its closed forms: they hand a cancelling
+    # trace to the exact path too
+    lo, hi = (float(v) for v in kapitza.zone_edges(0.7, 10))
+    eps = hi * (1.0 + 3e-12)
+    tr, g = exact(eps, 0.7, kapitza.SquareWave())
+    r = kapitza.analyze(eps=eps, mu=0.7, drive=drive)
+    assert r.trace == kapitza.floquet(eps, 0.7, drive=drive).trace
+    assert abs(mpmath.mpf(r.trace) - tr) <= 1e-15 * abs(tr)
+    assert abs(r.growth - g) <= 1e-10 * g

@@ -143,7 +143,7 @@ class SquareWave(PiecewiseConstant):
 
         fl = _point.floquet(eps, mu) if pointwise else None
         if fl is None:
-            tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in S._floquet(eps, mu))
+            tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in S._floquet(eps, mu, trace=True)[:5])
             mult = tuple(complex(z) for z in S._multipliers(tau, growth, theta, stable))
             tau, growth, theta, stable, zone = float(tau), float(growth), float(theta), bool(stable), int(zone)
         else:
