@@ -277,6 +277,7 @@ def _floquet(eps, mu, certify=True, trace=False, phi=None):
     check = ell & (_certify.unsure(u, a, b, x) | (~stable_e & (growth <= 0.0) & (x + u <= _certify.MAX_PHASE)))
     certify = certify or trace
     m_x, z_x = mu, None
+    verdict_check = check
     if trace:
         err = _tau_error(x, u, np.where(ell, mu, 0.5), tau)
         with np.errstate(invalid="ignore"):
@@ -321,10 +322,12 @@ def _floquet(eps, mu, certify=True, trace=False, phi=None):
         return out
     # exact product: tau correctly rounded; no elliptic phase: every term of tau is positive
     # (docs/theory.md section 3), each good to a few units of the phases
+    # (damped, the verdict's points were decided at the rounded mu_c: their bound stays the closed forms')
+    exact = check & ~verdict_check if phi is not None else check
     with np.errstate(over="ignore", invalid="ignore"):
         u_half = 0.5 * np.finfo(float).eps
         h_err = _certify.TOL * (np.where(ell, 0.0, xh + v) + 4.0) * np.abs(tau) if not ell.all() else 0.0
-        tau_error = np.where(ell, np.where(check, u_half * np.abs(tau), err), h_err)
+        tau_error = np.where(ell, np.where(exact, u_half * np.abs(tau), err), h_err)
     return out + (tau_error,)
 
 
