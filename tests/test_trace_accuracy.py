@@ -158,3 +158,14 @@ def test_the_report_gives_the_exact_trace_where_it_cancels(drive):
     assert r.trace == kapitza.floquet(eps, 0.7, drive=drive).trace
     assert abs(mpmath.mpf(r.trace) - tr) <= 1e-15 * abs(tr)
     assert abs(r.growth - g) <= 1e-10 * g
+
+
+def test_a_drive_written_to_the_older_contract_reports_no_bound():
+    class Older(kapitza.RectangularWave):
+        def _floquet0(self, eps, mu, certify=True):
+            return super()._floquet0(eps, mu, certify)
+
+    for zeta in (0.0, 0.1):
+        f = kapitza.floquet([0.5, 1.0], 0.3, drive=Older(0.3), zeta=zeta)
+        ref = kapitza.floquet([0.5, 1.0], 0.3, drive=kapitza.RectangularWave(0.3), zeta=zeta)
+        assert np.all(f.trace == ref.trace) and np.all(f.trace_error == np.inf)

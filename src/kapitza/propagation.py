@@ -60,7 +60,7 @@ class Floquet(Summary):
         ``det M = exp(-2 c T)`` (1 without damping; ``docs/drives.md`` section 3).
     trace_error : ndarray
         A bound on ``|trace - tr M|``, ``tr M`` the exact trace at the double inputs given
-        (``inf`` where ``trace`` overflows, NaN for a drive that gives no bound). Where the
+        (``inf`` where ``trace`` overflows, or for a drive that gives no bound). Where the
         trace cancels (its terms are far larger than itself: strongly hyperbolic segments, next to
         thin zones) piecewise-constant drives, the square wave included, recompute it in extended
         precision, and the bound is then a few units of rounding of ``trace``; elsewhere it is the

@@ -59,7 +59,7 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
     decay), ``kappa = c T``.
 
     ``trace``: the trace is reported: a seventh item, ``tau_error``, bounds the absolute error of
-    ``tau`` (NaN where the drive gives no bound), and the drive recomputes ``tau`` in extended
+    ``tau`` (``inf`` where the drive gives no bound), and the drive recomputes ``tau`` in extended
     precision where it is ill-conditioned (:meth:`~kapitza.drives.Drive._floquet0`), with damping
     at ``mu^2 (1 + zeta^2)`` formed exactly (``mu_c`` rounded would move a cancelling trace by more
     than its size).
@@ -75,7 +75,7 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
         f = drive._floquet0(eps, mu_c, certify)
     extra = ()
     if trace:
-        extra = (np.full(eps.shape, np.nan) if f.tau_error is None else f.tau_error,)
+        extra = (np.full(eps.shape, np.inf) if f.tau_error is None else f.tau_error,)
     if not damped:
         return (f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)) + extra
     kappa = 2.0 * SQRT8 * zeta * mu * eps
@@ -306,7 +306,7 @@ def floquet(eps, mu, drive, zeta, trace_error=False):
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         err = np.where(kappa > 0, 2.0 * np.exp(np.log(tau_error) - kappa) + np.abs(trace) * (6.0 * kappa + 4.0) * u,
                        2.0 * tau_error)
-        err = np.where(np.isfinite(trace), err, np.where(np.isnan(tau_error), np.nan, np.inf))
+        err = np.where(np.isfinite(trace), err, np.inf)
     return out + (err,)
 
 

@@ -105,7 +105,7 @@ class Drive:
       threshold (:meth:`_linear_pieces`);
     - closed forms or characteristic values: override ``_floquet0(eps, mu, certify=True)``
       (returning :class:`Floquet0`; with the keywords ``trace=False, phi=None`` as well, it can
-      bound the trace's error for :attr:`kapitza.Floquet.trace_error`, NaN otherwise),
+      bound the trace's error for :attr:`kapitza.Floquet.trace_error`, ``inf`` otherwise),
       ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
       (see each).
