@@ -106,7 +106,7 @@ def mu_root_tol(eps, n, mu, upper):
 
 
 # ---------------------------------------------------------------- Floquet data
-@pytest.mark.parametrize("points, share", [(plane_points(1, 6000), 0.85), (edge_points(2, 60), 0.2)],
+@pytest.mark.parametrize("points, share", [(plane_points(1, 6000), 0.85), (edge_points(2, 60), 0.02)],
                          ids=["plane", "edges"])
 def test_floquet_twin_matches_the_array_kernel(points, share):
     from kapitza._square import _multipliers
@@ -134,8 +134,9 @@ def test_floquet_twin_matches_the_array_kernel(points, share):
         ref = _multipliers(tau[i], growth[i], theta[i], stable[i])
         with np.errstate(invalid="ignore"):  # inf - inf where exp(growth) overflows in both
             assert np.all((lam == ref) | (np.abs(lam - ref) <= 1.01 * at * np.maximum(np.abs(ref), 1.0))), (e, m)
-    # the twin declines near edges and in thin zones, where the angle is ill-conditioned (and
-    # for mu >= 1): most points of the plane it answers itself
+    # the twin declines near edges and in thin zones, where the angle is ill-conditioned, where
+    # the trace cancels (beside every edge far out: most of the edge points), which the array path
+    # takes from the exact product, and for mu >= 1: most points of the plane it answers itself
     assert decided >= share * eps.size
 
 

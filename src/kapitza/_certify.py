@@ -15,11 +15,22 @@ from __future__ import annotations
 import numpy as np
 
 _TOL = 16.0 * np.finfo(float).eps
+#: A few units of rounding, as the bounds on the closed forms count them.
+TOL = _TOL
 
 
 #: Beyond this phase angle the exact decision would need more than ~2,000 digits: the double
 #: verdict stands there (the phase ``u`` itself is then known to ``1e-16 u`` only).
 MAX_PHASE = 4000.0
+
+#: Where the error bound of ``tr M`` exceeds this fraction of it, a trace that is reported
+#: (:func:`kapitza.floquet`, the growth, the multipliers) of a piecewise-constant drive is
+#: recomputed in extended precision. Without cancellation the segment product's bound is about
+#: ``u (16 K + 6 sum r)`` relative (the square wave's closed forms, ``16 u (x + 4)``), below 3e-12
+#: up to ``MAX_PHASE``: 1e-10 sends to ``mpmath`` only the points where cancellation has cost
+#: digits (a band where ``|tr M| < 1e-2 e^L`` or so, about each zone and each zero of the trace),
+#: and leaves every other trace and multiplier good to 1e-10 relative, the growth to 1e-10 absolute.
+TRACE_RTOL = 1e-10
 
 
 def unsure(u, a, b, x=None):
@@ -31,11 +42,12 @@ def unsure(u, a, b, x=None):
     return near & (size <= MAX_PHASE)
 
 
-def exact_half_trace(eps, mu):
+def exact_half_trace(eps, mu, zeta=None):
     """``(tau, log|tau|, stable, angle)`` of the square wave at the exact double ``(eps, mu)``
     (mpmath): ``stable`` is ``|tau| < 1`` decided in extended precision (the float ``tau`` may
-    round to 1); ``angle`` is ``acos(tau)`` on a zone and the growth ``acosh|tau|`` off it."""
-    res = tau_mp(np.ravel(eps), np.ravel(mu), (1.0, -1.0), (1.0, 1.0))
+    round to 1); ``angle`` is ``acos(tau)`` on a zone and the growth ``acosh|tau|`` off it.
+    ``zeta``: at ``mu^2 (1 + zeta^2)`` formed exactly (:func:`tau_mp`)."""
+    res = tau_mp(np.ravel(eps), np.ravel(mu), (1.0, -1.0), (1.0, 1.0), None if zeta is None else np.ravel(zeta))
     shape = np.shape(eps)
     tau = np.array([r[0] for r in res]).reshape(shape)
     log_tau = np.array([r[1] for r in res]).reshape(shape)
@@ -80,9 +92,13 @@ def _dps(e, m2, levels, durations):
     return 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
 
 
-def tau_mp(eps, mu, levels, durations):
+def tau_mp(eps, mu, levels, durations, zeta=None):
     """``tr M / 2`` in mpmath, at a precision that covers the cancellation of ``e^{sum r}`` terms:
     ``[(tau, log|tau|, stable, angle)]`` per point (``angle`` as in :func:`exact_half_trace`).
+
+    ``zeta`` (flat, optional): the half-trace of the damped system's ``phi``-equation instead, taken at
+    ``mu^2 (1 + zeta^2)`` formed exactly from the doubles ``mu`` and ``zeta`` (not at their rounded
+    ``mu_c``: where the trace cancels, one rounding of ``mu_c`` moves it by more than its size).
 
     The segment matrices and their product are formed on mpmath's raw binary numbers
     (``mpmath.libmp``), each operation correctly rounded at the working precision."""
@@ -91,10 +107,14 @@ def tau_mp(eps, mu, levels, durations):
 
     one, zero = L.fone, L.fzero
     out = []
-    for e, m in zip(eps.tolist(), mu.tolist()):
-        prec = L.dps_to_prec(_dps(e, m * m, levels, durations))
+    zs = [0.0] * np.size(eps) if zeta is None else np.asarray(zeta, float).tolist()
+    for e, m, z in zip(eps.tolist(), mu.tolist(), zs):
+        prec = L.dps_to_prec(_dps(e, m * m * (1.0 + z * z), levels, durations))
         E8 = L.mpf_mul(L.from_int(8), L.mpf_mul(L.from_float(e), L.from_float(e), prec), prec)
         MM = L.mpf_mul(L.from_float(m), L.from_float(m), prec)
+        if z:
+            ZZ = L.mpf_mul(L.from_float(z), L.from_float(z), prec)
+            MM = L.mpf_mul(MM, L.mpf_add(one, ZZ, prec), prec)
         t = _half_trace_mp(E8, MM, levels, durations, prec)
         # the verdict |t| < 1 is decided here, in extended precision; the float of t may
         # round to +-1 on either side

@@ -244,23 +244,60 @@ def _verdict_careful(eps, mu):
 
 
 # ---------------------------------------------------------------- Floquet data and motion
-def _floquet(eps, mu, certify=True, exact=None):
+def _tau_error(x, u, mu, tau):
+    """A bound on the absolute error of the closed forms' ``tau`` (elliptic: ``mu < 1``).
+
+    ``tau = -sin(u - gamma) / sin(delta)``: ``u`` and the angle ``pi - gamma`` are each formed to a
+    few units of ``u + 4`` in absolute terms, which the division by ``sin(delta)`` (about
+    ``e^{-x}`` far out) carries into ``tau``; ``sin(delta)`` itself is good to a few units of
+    ``x + 4`` relative. Where ``tau`` is far smaller than ``1 / sin(delta)`` (next to a thin zone,
+    or where ``tau`` passes 0) the first term is most of ``|tau|``: the trace has lost its digits.
+    """
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        lsd = X.log_sin_delta(x, X.s4_of(mu))
+        return (np.exp(np.minimum(np.log(_certify.TOL * (np.abs(u) + 4.0)) - lsd, 710.0))
+                + _certify.TOL * (x + 4.0) * np.abs(tau))
+
+
+def _floquet(eps, mu, certify=True, trace=False, phi=None, exact=None):
     """(tau, growth, theta, stable, n) for trusted eps > 0, mu > 0 (any mu). ``certify``: decide
     the points within the rounding bound of an edge in extended precision (a search that needs
     the predicate only away from its last few ulp switches it off, and certifies its final bracket)
-    by ``exact(eps, mu)``, ``(tau, log|tau|, stable, angle)`` arrays (default:
-    :func:`kapitza._certify.exact_half_trace`)."""
+    by ``exact(eps, mu)``, ``(tau, log|tau|, stable, angle)`` arrays (default, and wherever the trace
+    is reported: :func:`kapitza._certify.exact_half_trace`).
+
+    ``trace``: the trace is reported: a sixth item bounds the absolute error of ``tau``
+    (:func:`_tau_error`), and where that exceeds :data:`kapitza._certify.TRACE_RTOL` ``|tau|`` the
+    trace, growth and angle are those of the exact product (as at the points certified); ``phi``:
+    ``(mu, zeta)`` when ``mu`` is the damped system's rounded ``mu_c``, the exact trace of those
+    points then taken at ``mu^2 (1 + zeta^2)`` (:func:`kapitza._certify.tau_mp`)."""
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     ell = mu < 1.0
     x, u, D = _phase_angles(eps, np.where(ell, mu, 0.5))
     n, a, b, tau, growth, theta = X.floquet_elliptic(x, u, D, np.where(ell, mu, 0.5))
     stable_e = (a > 0) & (b < 0)
     check = ell & (_certify.unsure(u, a, b, x) | (~stable_e & (growth <= 0.0) & (x + u <= _certify.MAX_PHASE)))
+    certify = certify or trace
+    m_x, z_x = mu, None
+    verdict_check = check
+    if trace:
+        err = _tau_error(x, u, np.where(ell, mu, 0.5), tau)
+        with np.errstate(invalid="ignore"):
+            ill = ell & (err > _certify.TRACE_RTOL * np.abs(tau)) & (x + u <= _certify.MAX_PHASE)
+        if phi is not None:
+            # the verdict's points at the mu given, the trace's at the exact phi-system
+            only = ill & ~check
+            m_x = np.where(only, np.reshape(phi[0], mu.shape), mu)
+            z_x = np.where(only, np.reshape(phi[1], mu.shape), 0.0)
+        check = check | ill
     if certify and np.any(check):
         # signs lost to rounding (or an unstable point whose excess rounded to zero):
         # the exact trace decides the verdict, the growth and the angle
         tau, growth, theta, a, b = (np.array(v, dtype=float) for v in (tau, growth, theta, a, b))
-        t_e, _, st, acos_e = (exact or _certify.exact_half_trace)(eps[check], mu[check])
+        if exact is not None and not trace:
+            t_e, _, st, acos_e = exact(eps[check], mu[check])
+        else:
+            t_e, _, st, acos_e = _certify.exact_half_trace(eps[check], m_x[check], None if z_x is None else z_x[check])
         nn = n[check]
         even = np.mod(nn, 2.0) == 0.0
         acos_t = np.where(st, acos_e, 0.0)
@@ -285,7 +322,18 @@ def _floquet(eps, mu, certify=True, exact=None):
         growth = np.where(ell, growth, growth_h)
         theta = np.where(ell, theta, 0.0)
     stable = ell & (a > 0) & (b < 0)
-    return tau, growth, theta, stable, np.where(stable, n, -1).astype(np.int64)
+    out = tau, growth, theta, stable, np.where(stable, n, -1).astype(np.int64)
+    if not trace:
+        return out
+    # exact product: tau correctly rounded; no elliptic phase: every term of tau is positive
+    # (docs/theory.md section 3), each good to a few units of the phases
+    # (damped, the verdict's points were decided at the rounded mu_c: their bound stays the closed forms')
+    exact = check & ~verdict_check if phi is not None else check
+    with np.errstate(over="ignore", invalid="ignore"):
+        u_half = 0.5 * np.finfo(float).eps
+        h_err = _certify.TOL * (np.where(ell, 0.0, xh + v) + 4.0) * np.abs(tau) if not ell.all() else 0.0
+        tau_error = np.where(ell, np.where(exact, u_half * np.abs(tau), err), h_err)
+    return out + (tau_error,)
 
 
 def _flow(s, tau):

@@ -58,6 +58,16 @@ class Floquet(Summary):
         Zone index, -1 where unstable.
     determinant : ndarray or float
         ``det M = exp(-2 c T)`` (1 without damping; ``docs/drives.md`` section 3).
+    trace_error : ndarray
+        A bound on ``|trace - tr M|``, ``tr M`` the exact trace at the double inputs given
+        (``inf`` where ``trace`` overflows, or for a drive that gives no bound). Where the
+        trace cancels (its terms are far larger than itself: strongly hyperbolic segments, next to
+        thin zones) piecewise-constant drives, the square wave included, recompute it in extended
+        precision, and the bound is then a few units of rounding of ``trace``; elsewhere it is the
+        a-priori rounding bound of the exact product (``docs/drives.md``, "Accuracy of the trace and
+        the growth"), and for drives integrated numerically (sine, triangle, sampled) the engine's
+        own error estimate. Off the zones the growth errs by at most about
+        ``trace_error / sqrt(trace^2 - 4 det M)``.
 
     Examples
     --------
@@ -80,6 +90,7 @@ class Floquet(Summary):
     stable: np.ndarray
     zone: np.ndarray
     determinant: np.ndarray | float = 1.0
+    trace_error: np.ndarray | float = 0.0
 
     def headline(self) -> str:
         if np.ndim(self.stable) == 0:
@@ -151,9 +162,9 @@ def floquet(eps, mu, drive=None, zeta=0.0):
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
-    trace, det, mult, growth, rho, stable, zone = d.floquet_data(eps, mu, zeta)
+    trace, det, mult, growth, rho, stable, zone, err = d.floquet_data(eps, mu, zeta)
     return Floquet(trace=trace, multipliers=mult, growth=growth, rotation_number=rho, stable=stable,
-                   zone=zone, determinant=det)
+                   zone=zone, determinant=det, trace_error=err)
 
 
 @_v.shapes_named

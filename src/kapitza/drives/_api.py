@@ -16,6 +16,8 @@ This module imports no drive: the drive classes import it (one direction, no cyc
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._exact import log_cosh
@@ -36,21 +38,47 @@ def damping_of(zeta, l, g):
 
 
 # ---------------------------------------------------------------- the damping layer
-def damped_floquet(drive, eps, mu, zeta, certify=True):
+def _traced(drive):
+    """Whether the drive's ``_floquet0`` takes ``trace`` and ``phi`` (a subclass written to the older
+    contract, ``_floquet0(eps, mu, certify=True)``, reports no error bound)."""
+    return _traced_class(type(drive))
+
+
+@functools.lru_cache(maxsize=None)
+def _traced_class(cls):
+    import inspect
+
+    return "trace" in inspect.signature(cls._floquet0).parameters
+
+
+def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
     """Floquet data with damping ratio ``zeta`` (trusted, broadcast arrays).
 
     Returns ``(tau, growth, theta, stable, zone, kappa)``: ``tau`` the half-trace of the
     undamped ``phi``-system, ``growth = log max|lambda|`` of the damped one (negative:
     decay), ``kappa = c T``.
+
+    ``trace``: the trace is reported: a seventh item, ``tau_error``, bounds the absolute error of
+    ``tau`` (``inf`` where the drive gives no bound), and the drive recomputes ``tau`` in extended
+    precision where it is ill-conditioned (:meth:`~kapitza.drives.Drive._floquet0`), with damping
+    at ``mu^2 (1 + zeta^2)`` formed exactly (``mu_c`` rounded would move a cancelling trace by more
+    than its size).
     """
     eps, mu, zeta = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float),
                                         np.asarray(zeta, float))
     damped = np.any(zeta > 0)
     mu_c = mu * np.sqrt(1.0 + zeta * zeta) if damped else mu
-    # (damped, the phi-system's verdict and trace are certified, its angle need not be to the last bit)
-    f = drive._floquet0(eps, mu_c, "verdict" if certify and damped else certify)
+    if trace and _traced(drive):
+        phi = (mu.reshape(-1), zeta.reshape(-1)) if damped else None
+        f = drive._floquet0(eps, mu_c, certify, trace=True, phi=phi)
+    else:
+        # (damped, the phi-system's verdict is certified, its angle need not be to the last bit)
+        f = drive._floquet0(eps, mu_c, "verdict" if certify and damped else certify)
+    extra = ()
+    if trace:
+        extra = (np.full(eps.shape, np.inf) if f.tau_error is None else f.tau_error,)
     if not damped:
-        return f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)
+        return (f.tau, f.growth, f.theta, f.zone >= 0, f.zone, np.zeros(eps.shape)) + extra
     kappa = 2.0 * SQRT8 * zeta * mu * eps
     # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow), or
     # without cancellation where tr M_phi / 2 is near 1 (_damped_excess).
@@ -95,7 +123,7 @@ def damped_floquet(drive, eps, mu, zeta, certify=True):
         up, down = _excess(drive, np.stack([e + h, e - h]), m, z)   # (one call for both sides)
         rising = up > down
         zone[gap] = np.maximum(np.where(rising, k[gap] - 1, k[gap]), 0)
-    return f.tau, growth, f.theta, stable, zone, kappa
+    return (f.tau, growth, f.theta, stable, zone, kappa) + extra
 
 
 def damped_edges(drive, mu, n, zeta):
@@ -246,15 +274,19 @@ def _damped_edges(drive, mu, n, zeta, phi=None):
 
 
 # ---------------------------------------------------------------- the questions
-def floquet(eps, mu, drive, zeta):
+def floquet(eps, mu, drive, zeta, trace_error=False):
     """``(trace, determinant, multipliers, growth, rotation_number, stable, zone)``.
 
     ``trace`` and ``determinant`` are those of the damped monodromy ``M_theta`` over ``2T``:
     ``tr M_theta = exp(-kappa) tr M_phi``, ``det M_theta = exp(-2 kappa)``; the multipliers are
     ``exp(-kappa)`` times those of the undamped ``phi``-system, largest modulus first;
-    ``growth = log max|lambda|`` (negative where the damped motion decays).
+    ``growth = log max|lambda|`` (negative where the damped motion decays). The trace is
+    recomputed in extended precision where it is ill-conditioned (:func:`damped_floquet`).
+
+    ``trace_error``: an eighth item, a bound on the absolute error of ``trace`` (that of
+    ``tr M_phi / 2`` carried through ``2 exp(-kappa)``, whose ``kappa`` is rounded to a few units).
     """
-    tau, growth, theta, stable, zone, kappa = drive._floquet(eps, mu, zeta)
+    tau, growth, theta, stable, zone, kappa, tau_error = drive._floquet(eps, mu, zeta, trace=True)
     with np.errstate(over="ignore", under="ignore", invalid="ignore"):
         trace = 2.0 * tau * np.exp(-kappa)
         trace = np.where(np.isfinite(tau) | (kappa == 0), trace,
@@ -271,7 +303,15 @@ def floquet(eps, mu, drive, zeta):
     lam2 = np.where(elliptic, rot2, small + 0j)
     mult = np.stack([lam1, lam2], axis=-1)
     growth = np.where(elliptic, 0.0 - kappa, growth)
-    return trace, det, mult, growth, theta / (2.0 * PI) + 0.0, stable, zone
+    out = (trace, det, mult, growth, theta / (2.0 * PI) + 0.0, stable, zone)
+    if not trace_error:
+        return out
+    u = 0.5 * np.finfo(float).eps
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        err = np.where(kappa > 0, 2.0 * np.exp(np.log(tau_error) - kappa) + np.abs(trace) * (6.0 * kappa + 4.0) * u,
+                       2.0 * tau_error)
+        err = np.where(np.isfinite(trace), err, np.inf)
+    return out + (err,)
 
 
 def verdict(eps, mu, drive, zeta):

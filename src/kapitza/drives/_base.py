@@ -53,7 +53,9 @@ class Floquet0:
     ``tau`` is ``tr M / 2`` (``+-inf`` where it overflows), ``log_tau`` is ``log|tau|``
     (finite), ``growth`` is ``acosh|tau|`` off the zones and 0 on them, ``theta`` the
     rotation angle per period (in ``(n pi, (n + 1) pi)`` on zone ``n``, a multiple of
-    ``pi`` off the zones), ``zone`` the zone index (-1 where unstable).
+    ``pi`` off the zones), ``zone`` the zone index (-1 where unstable). ``tau_error``, given
+    when the trace is asked for (``trace=True``), bounds the absolute error of ``tau`` (``inf``
+    where ``tau`` overflows or nothing is known).
     """
 
     tau: np.ndarray
@@ -61,6 +63,7 @@ class Floquet0:
     growth: np.ndarray
     theta: np.ndarray
     zone: np.ndarray
+    tau_error: np.ndarray | None = None
 
 
 class Drive:
@@ -101,7 +104,9 @@ class Drive:
       decided to the last bit (with and without damping) where the engine's trace is near the
       threshold (:meth:`_linear_pieces`);
     - closed forms or characteristic values: override ``_floquet0(eps, mu, certify=True)``
-      (returning :class:`Floquet0`), ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
+      (returning :class:`Floquet0`; with the keywords ``trace=False, phi=None`` as well, it can
+      bound the trace's error for :attr:`kapitza.Floquet.trace_error`, ``inf`` otherwise),
+      ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
       (see each).
 
@@ -217,7 +222,7 @@ class Drive:
         """
         return float(np.sqrt(self._trough))
 
-    def _floquet0(self, eps, mu, certify=True) -> Floquet0:
+    def _floquet0(self, eps, mu, certify=True, trace=False, phi=None) -> Floquet0:
         """Undamped Floquet data at ``(eps, mu)`` (default: the generic engine).
 
         ``certify`` asks for verdicts settled to the last bit where a drive can (the exact
@@ -226,16 +231,28 @@ class Drive:
         as linear pieces (:meth:`_linear_pieces`): then the points near the threshold are decided
         in extended precision. ``certify="verdict"`` (the damping layer) asks for the verdict and
         ``tr M`` settled so, the angle and growth only as accurately as that makes them cheap.
+
+        ``trace`` says the trace will be reported: the result then carries ``tau_error``, a bound
+        on the absolute error of ``tau`` (here :meth:`_trace_error`, a half ulp where the trace was
+        decided in extended precision), and a drive that can recomputes ``tau`` in extended
+        precision where that bound is a large part of it (the piecewise-constant drives). ``phi``:
+        ``(mu, zeta)`` when ``mu`` is the damped system's rounded ``mu_c`` (for such a recomputation,
+        at ``mu^2 (1 + zeta^2)`` exactly).
         """
         eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
-        tau, log_tau, theta, zone, growth = self._engine.floquet(eps.ravel(), mu.ravel(), growth=True)
+        e, m = eps.ravel(), mu.ravel()
+        tau, log_tau, theta, zone, growth = self._engine.floquet(e, m, growth=True)
         pieces = self._certified_pieces() if certify else None
+        err = self._trace_error(e, m) if trace else None
         if pieces is not None:
-            tau, log_tau, theta, zone, growth = self._settle_pieces(pieces, eps.ravel(), mu.ravel(), tau, log_tau,
-                                                                    theta, zone, growth)
+            engine_tau = tau
+            tau, log_tau, theta, zone, growth = self._settle_pieces(pieces, e, m, tau, log_tau, theta, zone, growth)
+            if trace:  # (a trace the exact one replaced is that one, correctly rounded)
+                err = np.where(tau != engine_tau, 0.5 * np.finfo(float).eps * np.abs(tau), err)
         sh = eps.shape
         return Floquet0(tau=tau.reshape(sh), log_tau=log_tau.reshape(sh), growth=growth.reshape(sh),
-                        theta=theta.reshape(sh), zone=zone.reshape(sh))
+                        theta=theta.reshape(sh), zone=zone.reshape(sh),
+                        tau_error=None if err is None else err.reshape(sh))
 
     def _linear_pieces(self):
         """``((x0, x1, s0, s1), ...)``: the shape as pieces linear in ``tau`` over the period (``s`` from
@@ -594,10 +611,11 @@ class Drive:
         levels, fractions = steps
         return damped_mp(eps, mu, zeta, levels, tuple(2.0 * f for f in fractions))
 
-    def _floquet(self, eps, mu, zeta, certify=True):
+    def _floquet(self, eps, mu, zeta, certify=True, trace=False):
         """Floquet data with damping ratio ``zeta``: ``(tau, growth, theta, stable, zone, kappa)``
-        (:func:`kapitza.drives._api.damped_floquet`; ``certify`` as in :meth:`_floquet0`)."""
-        return _api.damped_floquet(self, eps, mu, zeta, certify)
+        (:func:`kapitza.drives._api.damped_floquet`; ``certify`` and ``trace`` as in :meth:`_floquet0`;
+        with ``trace`` a seventh item, the bound on the error of ``tau``)."""
+        return _api.damped_floquet(self, eps, mu, zeta, certify, trace)
 
     def _edges(self, mu, n, zeta):
         """``(eps_lo, eps_hi)`` of zone ``n`` with damping ratio ``zeta`` (:func:`kapitza.drives._api.damped_edges`)."""
@@ -609,9 +627,10 @@ class Drive:
         return False
 
     def floquet_data(self, eps, mu, zeta):
-        """``(trace, determinant, multipliers, growth, rotation_number, stable, zone)`` (:func:`kapitza.floquet`)."""
-        trace, det, mult, growth, rho, stable, zone = _api.floquet(eps, mu, self, zeta)
-        return trace, det, mult, growth, rho, stable, np.where(stable, zone, -1).astype(np.int64)
+        """``(trace, determinant, multipliers, growth, rotation_number, stable, zone, trace_error)``
+        (:func:`kapitza.floquet`; ``trace_error`` bounds the absolute error of ``trace``)."""
+        trace, det, mult, growth, rho, stable, zone, err = _api.floquet(eps, mu, self, zeta, trace_error=True)
+        return trace, det, mult, growth, rho, stable, np.where(stable, zone, -1).astype(np.int64), err
 
     def verdict(self, eps, mu, zeta, want_zone=True):
         """``(stable, zone)``, zone -1 where unstable (:func:`kapitza.is_stable`, :func:`kapitza.zone_index`)."""
@@ -682,7 +701,7 @@ class Drive:
         growth, rotation_number, stable, zone, theta, exact)`` (``theta`` the rotation angle,
         ``exact`` whether it is the array path's own). ``pointwise``: a drive may answer from
         scalar twins of its kernels (the square wave), checked against the arrays' answers."""
-        trace, det, mult, growth, rho, stable, zone = (np.asarray(a)[()] for a in self.floquet_data(
+        trace, det, mult, growth, rho, stable, zone, _ = (np.asarray(a)[()] for a in self.floquet_data(
             np.asarray(eps, float), np.asarray(mu, float), np.asarray(zeta, float)))
         return (float(trace), float(det), tuple(complex(x) for x in mult), float(growth), float(rho), bool(stable),
                 int(zone), 2.0 * PI * float(rho), True)

@@ -299,8 +299,10 @@ def sine_edges(mu, n):
 
 
 # ---------------------------------------------------------------- Floquet data
-def sine_floquet0(eps, mu, certify=True):
-    """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T.
+def sine_floquet0(eps, mu, certify=True, errors=False):
+    """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T
+    (``errors``: and a sixth item, the bound on the error of ``tau``: :func:`_sine_traces`' own, a
+    half ulp where the exact trace decided).
 
     The verdict and the zone come from the Sturm counts (:func:`_sine_zone_of`); the trace from
     :func:`_sine_traces`. Where an edge lies within the rounding band of the point, or where the
@@ -350,8 +352,13 @@ def sine_floquet0(eps, mu, certify=True):
     acos_t = np.arccos(np.clip(tau, -1.0, 1.0))
     z = np.maximum(zone, 0)
     theta = np.where(stable, np.where(z % 2 == 0, z * PI + acos_t, z * PI + PI - acos_t), (count // 2) * PI)
-    return (tau.reshape(shape), log_tau.reshape(shape), growth.reshape(shape), theta.reshape(shape),
-            zone.reshape(shape))
+    out = (tau.reshape(shape), log_tau.reshape(shape), growth.reshape(shape), theta.reshape(shape),
+           zone.reshape(shape))
+    if errors:
+        err = np.array(err, float, copy=True)
+        err[idx] = 0.5 * np.finfo(float).eps * np.abs(tau[idx])
+        out += (err.reshape(shape),)
+    return out
 
 
 def sine_log_tau(eps, mu):

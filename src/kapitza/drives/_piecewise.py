@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from .. import _validate as _v
-from .._certify import MAX_PHASE, tau_mp
+from .._certify import MAX_PHASE, TRACE_RTOL, tau_mp
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
@@ -111,17 +111,10 @@ def _product(segs):
     return (a, b, c, d), L, pa + pd
 
 
-def _rounding_bound(segs, L, bound_tr, unit):
-    """A bound on the rounding error of ``tr N`` (:func:`_product`) at unit roundoff ``unit``: products of
-    K factors, each entry a few ulp (their arguments included), and the scale ``L``'s own rounding."""
-    rsum = sum(seg[2] for seg in segs)
-    return unit * (16.0 * len(segs) + 4.0 * rsum + 4.0 * np.abs(L)) * bound_tr, rsum
-
-
 def extended_verdicts(eps, mu, zeta, levels, durations):
     """The verdict ``|tr M_phi| / 2 < cosh(kappa)`` at the exact doubles ``eps, mu, zeta`` (flat arrays;
     ``zeta`` None: undamped) from the product taken in long double, where its rounding bound
-    (:func:`_rounding_bound` at the long double's unit) settles it: ``(decided, stable, tau, log_tau,
+    (:func:`rounding_bound` at the long double's unit) settles it: ``(decided, stable, tau, log_tau,
     growth, tau_error)``, ``tau = tr M_phi / 2`` and ``growth = log max|lambda|`` of the damped system,
     as doubles, and ``tau_error`` a bound on the error of the long double ``tau`` (before its rounding
     to a double). Nothing is decided where numpy's long double is the double."""
@@ -130,10 +123,11 @@ def extended_verdicts(eps, mu, zeta, levels, durations):
         return (np.zeros(n, bool), np.zeros(n, bool)) + tuple(np.full(n, np.nan) for _ in range(4))
     e, m = np.asarray(eps, _LD), np.asarray(mu, _LD)
     z = np.zeros(n, _LD) if zeta is None else np.asarray(zeta, _LD)
-    segs = _segments(e, m * np.sqrt(1.0 + z * z), levels, durations)
+    mc = m * np.sqrt(1.0 + z * z)
+    segs = _segments(e, mc, levels, durations)
     (a, _, _, d), L, bound_tr = _product(segs)
     unit = float(np.finfo(_LD).eps) / 2.0
-    err, rsum = _rounding_bound(segs, L, bound_tr, unit)
+    err = rounding_bound(segs, L, bound_tr, e, mc, levels, unit)
     trN = a + d
     kappa = 2.0 * np.sqrt(np.asarray(8.0, _LD)) * z * m * e
     with np.errstate(over="ignore", under="ignore", divide="ignore"):
@@ -150,14 +144,16 @@ def extended_verdicts(eps, mu, zeta, levels, durations):
     return decided, stable, tau.astype(float), log_tau.astype(float), growth.astype(float), tau_error.astype(float)
 
 
-def extended_half_trace(eps, mu, levels, durations):
+def extended_half_trace(eps, mu, levels, durations, errors=False):
     """``[(tau, log|tau|, stable, angle)]`` as :func:`kapitza._certify.tau_mp` gives them, from the long
     double product (:func:`extended_verdicts`) where it decides the verdict and in mpmath elsewhere.
     ``angle`` (``acos(tau)`` on a zone, ``acosh|tau|`` off it) is then as accurate as the long double's
     ``tau`` makes it: to about ``1e-19 / |1 - |tau||`` relative, not to the last bit within a few ulp
-    of an edge (the damping layer, which needs only the verdict there, asks for this)."""
+    of an edge (the damping layer, which needs only the verdict there, asks for this). ``errors``:
+    also a bound on each ``tau``'s error (the long double's bound and the rounding to a double; half
+    an ulp where mpmath gave it)."""
     eps, mu = np.asarray(eps, float).ravel(), np.asarray(mu, float).ravel()
-    dec, stable, tau, log_tau, _, _ = extended_verdicts(eps, mu, None, levels, durations)
+    dec, stable, tau, log_tau, _, tau_err = extended_verdicts(eps, mu, None, levels, durations)
     with np.errstate(invalid="ignore"):
         angle = np.where(stable, np.arccos(np.clip(tau, -1.0, 1.0)), acosh_from_log(log_tau, tau))
     out = list(zip(tau.tolist(), log_tau.tolist(), stable.tolist(), angle.tolist()))
@@ -165,7 +161,10 @@ def extended_half_trace(eps, mu, levels, durations):
     if rest.size:
         for i, r in zip(rest, tau_mp(eps[rest], mu[rest], levels, durations)):
             out[i] = r
-    return out
+    if not errors:
+        return out
+    err = np.where(dec, tau_err + _U * np.abs(tau), _U * np.abs([r[0] for r in out]))
+    return out, err
 
 
 def _angle(x, y):
@@ -237,11 +236,42 @@ def _carry_free(h, x, y):
     return x1, y1, _wrap(_angle(x1, y1) - psi0)
 
 
-def floquet_product(eps, mu, levels, durations, certify=True):
+def rounding_bound(segs, L, bound_tr, eps, mu, levels, unit=_U):
+    """A bound on the rounding error of ``tr N`` (``tr M = e^L tr N``; flat arrays) at unit roundoff
+    ``unit`` (the double's, or the long double's for :func:`extended_verdicts`).
+
+    The product of ``K`` factors, each entry correct to a few units ``u``, errs by at most
+    ``u (16 K + 4 |L|)`` times the trace of the product of ``|N_i|`` (``bound_tr``). The factors'
+    arguments add their own share: ``r_i = sqrt|k_i| h_i`` to ``4 r_i u``, and
+    ``k_i = 8 eps^2 (mu^2 + s_i)`` to ``u (2 + 8 mu^2 / |mu^2 + s_i|)`` relative (``mu^2`` taken to
+    ``8u``, enough for the damped system's rounded ``mu_c``), which moves the normalised entries by
+    ``r_i min(r_i, 1)`` times that: near free flight (``mu^2 + s_i -> 0``) this is
+    ``8 eps^2 h_i^2 mu^2`` units, which ``4 r_i`` alone misses.
+    """
+    m2 = mu * mu
+    e2 = 8.0 * eps * eps
+    arg = np.zeros(np.shape(L))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for s, (_, _, r, h) in zip(levels, segs):
+            q = np.abs(m2 + s)
+            arg = arg + 4.0 * r + np.where(r < 1.0, e2 * h * h * (2.0 * q + 8.0 * m2), r * (2.0 + 8.0 * m2 / q))
+    return unit * (16.0 * len(segs) + arg + 4.0 * np.abs(L)) * bound_tr
+
+
+def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=None):
     """Undamped Floquet data of a piecewise-constant drive (trusted input).
 
     ``certify``: settle verdicts within the rounding bound in mpmath (edge searches, which
     only need the predicate away from the last few ulp, switch it off).
+
+    ``trace``: the trace is reported. The result then carries ``tau_error``, a bound on the
+    absolute error of ``tau`` (:func:`rounding_bound`), and where that exceeds
+    :data:`TRACE_RTOL` ``|tau|`` (and an exact product is affordable, ``sum r <= MAX_PHASE``),
+    ``tau``, ``log|tau|``, the growth and the parity of the rotation angle are those of the
+    product in ``mpmath`` (:func:`kapitza._certify.tau_mp`), ``tau`` correctly rounded. ``phi``:
+    ``(mu, zeta)`` (flat) when ``mu`` here is the damped system's rounded
+    ``mu_c = mu sqrt(1 + zeta^2)``: the extended-precision trace is then taken at
+    ``mu^2 (1 + zeta^2)`` exactly (the verdict stays that of the ``mu`` given, as without ``trace``).
     """
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     shape = eps.shape
@@ -252,7 +282,8 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     with np.errstate(divide="ignore", over="ignore"):
         log_tau = L + np.log(np.abs(0.5 * trN))
         tau = np.sign(trN) * np.where(log_tau < 709.0, np.exp(np.minimum(log_tau, 709.0)), np.inf)
-    err, rsum = _rounding_bound(segs, L, bound_tr, _U)
+    rsum = sum(seg[2] for seg in segs)
+    err = rounding_bound(segs, L, bound_tr, eps, mu, levels)
     with np.errstate(under="ignore"):
         thr = 2.0 * np.exp(-np.maximum(L, -700.0))
     unsure = np.abs(np.abs(trN) - thr) <= err + 1e-15 * thr
@@ -260,13 +291,31 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     # stands there, as the square wave's does (kapitza._certify)
     unsure &= rsum <= MAX_PHASE
     stable = np.abs(trN) < thr
+    known = np.full(eps.size, np.nan)   # the error of tau where a certified product gave it
     if certify and np.any(unsure):
         idx = np.flatnonzero(unsure)
-        exact = extended_half_trace(eps[idx], mu[idx], levels, durations)
-        log_tau[idx] = [r[1] for r in exact]
-        tau[idx] = [r[0] for r in exact]
-        stable[idx] = [r[2] for r in exact]
-    growth = np.where(stable, 0.0, acosh_from_log(log_tau, tau))
+        res, res_err = extended_half_trace(eps[idx], mu[idx], levels, durations, errors=True)
+        log_tau[idx] = [r[1] for r in res]
+        tau[idx] = [r[0] for r in res]
+        stable[idx] = [r[2] for r in res]
+        if phi is None:
+            known[idx] = res_err
+    tau_error = None
+    if trace:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ill = ((np.isnan(known) & (err > TRACE_RTOL * np.abs(trN))) | (known > TRACE_RTOL * np.abs(tau))) \
+                & (rsum <= MAX_PHASE)
+        if np.any(ill):
+            idx = np.flatnonzero(ill)
+            m_x, z_x = (mu[idx], None) if phi is None else (np.ravel(phi[0])[idx], np.ravel(phi[1])[idx])
+            res = tau_mp(eps[idx], m_x, levels, durations, z_x)
+            log_tau[idx] = [r[1] for r in res]
+            tau[idx] = [r[0] for r in res]
+            known[idx] = _U * np.abs(tau[idx])
+        with np.errstate(divide="ignore", over="ignore"):
+            tau_error = np.where(np.isnan(known), np.exp(np.minimum(L + np.log(err) - LOG2, 710.0)), known)
+    with np.errstate(invalid="ignore"):
+        growth = np.where(stable | (np.abs(tau) <= 1.0), 0.0, acosh_from_log(log_tau, tau))
     # Rotation: a generic direction on the zones, an eigenvector off them.
     x0 = np.ones_like(eps)
     y0 = np.zeros_like(eps)
@@ -298,7 +347,8 @@ def floquet_product(eps, mu, levels, durations, certify=True):
     theta = np.where(stable, theta_stable, PI * k_gap)
     zone = np.where(stable, zone_stable, -1).astype(np.int64)
     return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),
-                    theta=theta.reshape(shape), zone=zone.reshape(shape))
+                    theta=theta.reshape(shape), zone=zone.reshape(shape),
+                    tau_error=None if tau_error is None else tau_error.reshape(shape))
 
 
 class PiecewiseConstant(Drive):
@@ -359,8 +409,8 @@ class PiecewiseConstant(Drive):
         return self._Z[i] + self._V[i] * r + 0.5 * np.asarray(self.levels)[i] * r * r
 
     # ------------------------------------------------------------ stability
-    def _floquet0(self, eps, mu, certify=True):
-        return floquet_product(eps, mu, self.levels, self._durations, certify)
+    def _floquet0(self, eps, mu, certify=True, trace=False, phi=None):
+        return floquet_product(eps, mu, self.levels, self._durations, certify, trace, phi)
 
     def _edges0(self, mu, n):
         return sampled_edges(self, mu, n)

@@ -54,11 +54,12 @@ class SineWave(Drive):
             return None
         return np.array([0.0, 1.0]), np.zeros(1), np.zeros(1), np.ones(1)  # sin(pi tau) = sin(2 pi x)
 
-    def _floquet0(self, eps, mu, certify=True):
+    def _floquet0(self, eps, mu, certify=True, trace=False, phi=None):
         from ._mathieu import sine_floquet0
 
-        tau, log_tau, growth, theta, zone = sine_floquet0(eps, mu, certify)
-        return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
+        tau, log_tau, growth, theta, zone, *err = sine_floquet0(eps, mu, certify, errors=trace)
+        return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone,
+                        tau_error=err[0] if err else None)
 
     def _log_tau0(self, eps, mu):
         from ._mathieu import sine_log_tau

@@ -63,7 +63,7 @@ class SquareWave(PiecewiseConstant):
         # undamped, its closed forms are certified in mpmath (kapitza._certify)
         return damped and super()._certified_cheap(damped)
 
-    def _floquet0(self, eps, mu, certify=True):
+    def _floquet0(self, eps, mu, certify=True, trace=False, phi=None):
         # the closed forms are certified at no cost off a band a few ulp wide about each edge; in it
         # mpmath gives the angle to the last bit, or (certify="verdict") the long double product
         # settles the verdict where it can
@@ -72,10 +72,11 @@ class SquareWave(PiecewiseConstant):
             def exact(e, m):
                 res = extended_half_trace(e, m, self.levels, self._durations)
                 return tuple(np.array([r[i] for r in res]) for i in range(4))
-        tau, growth, theta, stable, zone = S._floquet(eps, mu, bool(certify), exact)
+        tau, growth, theta, stable, zone, *err = S._floquet(eps, mu, bool(certify), trace, phi, exact)
         with np.errstate(divide="ignore"):
             log_tau = np.where(np.isfinite(tau), np.log(np.abs(tau)), log_cosh(growth))
-        return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone)
+        return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone,
+                        tau_error=err[0] if err else None)
 
     def _log_tau0(self, eps, mu):
         return self._floquet0(eps, mu, certify=False).log_tau
@@ -93,10 +94,12 @@ class SquareWave(PiecewiseConstant):
     def floquet_data(self, eps, mu, zeta):
         if not _undamped(zeta):
             return super().floquet_data(eps, mu, zeta)
-        tau, growth, theta, stable, zone = S._floquet(eps, mu)
+        tau, growth, theta, stable, zone, err = S._floquet(eps, mu, trace=True)
         with np.errstate(over="ignore"):  # tr M is +-inf where it overflows a double (documented)
             trace = 2.0 * tau
-        return trace, 1.0, S._multipliers(tau, growth, theta, stable), growth, theta / (2.0 * np.pi), stable, zone
+            err = np.where(np.isfinite(trace), 2.0 * err, np.inf)
+        return (trace, 1.0, S._multipliers(tau, growth, theta, stable), growth, theta / (2.0 * np.pi), stable, zone,
+                err)
 
     def verdict(self, eps, mu, zeta, want_zone=True):
         if not _undamped(zeta):
@@ -105,10 +108,11 @@ class SquareWave(PiecewiseConstant):
         return stable, (np.where(stable, n, -1).astype(np.int64) if want_zone else None)
 
     def growth(self, eps, mu, zeta):
-        return super().growth(eps, mu, zeta) if not _undamped(zeta) else S._floquet(eps, mu)[1]
+        return super().growth(eps, mu, zeta) if not _undamped(zeta) else S._floquet(eps, mu, trace=True)[1]
 
     def rotation(self, eps, mu, zeta):
-        return super().rotation(eps, mu, zeta) if not _undamped(zeta) else S._floquet(eps, mu)[2] / (2.0 * np.pi)
+        return (super().rotation(eps, mu, zeta) if not _undamped(zeta) else
+                S._floquet(eps, mu, trace=True)[2] / (2.0 * np.pi))
 
     def edges(self, mu, n, zeta, certify=True):
         if not _undamped(zeta):
@@ -150,7 +154,7 @@ class SquareWave(PiecewiseConstant):
 
         fl = _point.floquet(eps, mu) if pointwise else None
         if fl is None:
-            tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in S._floquet(eps, mu))
+            tau, growth, theta, stable, zone = (np.asarray(a)[()] for a in S._floquet(eps, mu, trace=True)[:5])
             mult = tuple(complex(z) for z in S._multipliers(tau, growth, theta, stable))
             tau, growth, theta, stable, zone = float(tau), float(growth), float(theta), bool(stable), int(zone)
         else:
