@@ -56,7 +56,8 @@ def _nome(m1):
     r2 = np.sqrt(m)
     r4 = np.sqrt(r2)
     # lambda = (1 - m^(1/4)) / (2 (1 + m^(1/4))), with the difference written without cancellation.
-    lam = m1 / (2.0 * (1.0 + r2) * (1.0 + r4) ** 2)
+    p4 = 1.0 + r4
+    lam = m1 / (2.0 * (1.0 + r2) * (p4 * p4))
     l2 = lam * lam
     l4 = l2 * l2
     q = lam * (1.0 + l4 * (2.0 + l4 * (15.0 + l4 * (150.0 + l4 * 1707.0))))  # DLMF 19.5.5
@@ -172,16 +173,18 @@ def _jacobi(u, m1):
                 arr[sel] = v
     jm = np.mod(j, 4.0)
     if np.any(jm != 0.0):
-        kp = np.sqrt(m1)
         odd = (jm == 1.0) | (jm == 3.0)
         sgn = np.where(jm >= 2.0, -1.0, 1.0)  # j = 2, 3 carry a sign
-        rdn = 1.0 / dn
-        sn, cn, dn = (
-            sgn * np.where(odd, cn * rdn, sn),
-            sgn * np.where(odd, -kp * sn * rdn, cn),
-            np.where(odd, kp * rdn, dn),
-        )
+        sn_o, cn_o, dn_o = _quarter_shift(sn, cn, dn, m1)
+        sn, cn, dn = (sgn * np.where(odd, sn_o, sn), sgn * np.where(odd, cn_o, cn), np.where(odd, dn_o, dn))
     return sn, cn, dn, K
+
+
+def _quarter_shift(sn, cn, dn, m1):
+    """``sn, cn, dn`` of ``u + K`` from those of ``u``: ``cd u``, ``-k' sd u``, ``k' nd u``."""
+    kp = np.sqrt(m1)
+    rdn = 1.0 / dn
+    return cn * rdn, -kp * sn * rdn, kp * rdn
 
 
 def _pendulum(S, C, Dn, h0, s):
@@ -225,30 +228,40 @@ def _pendulum(S, C, Dn, h0, s):
         cn[rot] = dnr
         dn[rot] = cnr
         half_period = 2.0 * Kr / k  # q advances by exactly 2 pi in this time
-    # Addition theorems with k sn a = S, k cn a = C, dn a = Dn; the denominator
-    # 1 - k^2 sn^2 a sn^2 s = 1 - S^2 sn^2 is written as cn^2 + Dn^2 sn^2 (no cancellation).
-    den = cn * cn + Dn * Dn * sn * sn
-    S1 = (S * cn * dn + sn * C * Dn) / den
-    C1 = (C * cn - S * Dn * sn * dn) / den
-    D1 = (Dn * dn - S * C * sn * cn) / den
+    S1, C1, D1 = _addition(S, C, Dn, sn, cn, dn)
+    h1 = _libration_branch(h0, S1, D1)
+    if rot is not None:
+        h1[rot] = _rotation_branch(h0[rot], C[rot], S1[rot], D1[rot], s[rot], half_period)
+    return S1, C1, D1, h1
 
-    # Libration keeps cos(q/2) of one sign on its branch nb (dn >= k' > 0).
+
+def _addition(S, C, Dn, sn, cn, dn):
+    """The state ``(k sn, k cn, dn)`` at ``a + s`` from ``(S, C, Dn) = (k sn a, k cn a, dn a)`` and
+    ``sn, cn, dn`` of ``s`` (the addition theorems, DLMF 22.8.1-3)."""
+    # The denominator 1 - k^2 sn^2 a sn^2 s = 1 - S^2 sn^2 is written as cn^2 + Dn^2 sn^2
+    # (no cancellation).
+    den = cn * cn + Dn * Dn * sn * sn
+    return (S * cn * dn + sn * C * Dn) / den, (C * cn - S * Dn * sn * dn) / den, (Dn * dn - S * C * sn * cn) / den
+
+
+def _libration_branch(h0, S1, D1):
+    """``q/2`` unwrapped from ``sin(q/2) = S1``, ``cos(q/2) = D1`` on the branch of ``h0``: a libration
+    keeps ``cos(q/2)`` of one sign on its branch ``nb`` (``dn >= k' > 0``)."""
     nb = np.rint(h0 / PI)
     sg = 1.0 - 2.0 * np.mod(nb, 2.0)
-    h1 = nb * PI + np.arctan2(sg * S1, sg * D1)
-    if rot is not None:
-        # Rotation: q/2 is monotone and advances by pi in each half_period; count those,
-        # then place the remainder (< pi) by the angle itself.
-        sr = s[rot]
-        sp = np.where(C[rot] >= 0.0, 1.0, -1.0)
-        n = np.floor(sr / half_period)
-        par = 1.0 - 2.0 * np.mod(n, 2.0)
-        a = np.arctan2(par * S1[rot], par * D1[rot])
-        h0r = h0[rot]
-        delta = np.mod(sp * (a - h0r), TWO_PI)
-        delta = np.where(delta > 1.5 * PI, delta - TWO_PI, delta)
-        h1[rot] = h0r + sp * (n * PI + delta)
-    return S1, C1, D1, h1
+    return nb * PI + np.arctan2(sg * S1, sg * D1)
+
+
+def _rotation_branch(h0, C, S1, D1, s, half_period):
+    """``q/2`` unwrapped after the time ``s`` of a rotation: ``q/2`` is monotone and advances by
+    ``pi`` in each ``half_period``; count those, then place the remainder (< pi) by the angle itself."""
+    sp = 1.0 - 2.0 * (C < 0.0)  # the sense of the rotation (C >= 0: +1)
+    n = np.floor(s / half_period)
+    par = 1.0 - 2.0 * np.mod(n, 2.0)
+    a = np.arctan2(par * S1, par * D1)
+    delta = np.mod(sp * (a - h0), TWO_PI)
+    delta = delta - TWO_PI * (delta > 1.5 * PI)
+    return h0 + sp * (n * PI + delta)
 
 
 def _phase_step(theta, dtheta, s2, t):
