@@ -78,8 +78,13 @@ def _complementary_nome(m1):
     q, th3, th4, th2n, K1 = _nome(m1)
     with np.errstate(divide="ignore"):
         logq = np.log(q)
-    K = K1 * (-logq) / PI  # q1 = exp(-pi K(m) / K(m1)); -log(0) = inf on the separatrix
-    return q, logq, th3, th4, th2n, K1, K
+    return q, logq, th3, th4, th2n, K1, _quarter_period(K1, logq)
+
+
+def _quarter_period(K1, logq):
+    """``K(m)`` from ``K(m1)`` and the complementary nome: ``q1 = exp(-pi K(m) / K(m1))``
+    (``-log 0 = inf`` on the separatrix)."""
+    return K1 * (-logq) / PI
 
 
 def _series(t, m1):
@@ -91,14 +96,24 @@ def _series(t, m1):
     Ks = np.where(finite, K, 1.0)
     j = np.where(finite, np.rint(t / Ks), 0.0)
     t = t - j * np.where(finite, K, 0.0)
-    y = np.abs(t) * (0.5 * PI / K1)
-    e = np.exp(-2.0 * y)
+    y, e = _series_exponent(t, K1)
     with np.errstate(invalid="ignore"):
         # r = q1 exp(2y) <= k'/4 for |t| <= K/2; written through the logarithm so that
         # q1 = 0 (the separatrix) gives 0 for any y.
-        r = np.where(q > 0, np.exp(np.minimum(logq + 2.0 * y, 0.0)), 0.0)
+        r = np.where(q > 0, _series_ratio(logq, y), 0.0)
     sn, cn, dn = _theta_quotients(t, e, q, r, th3, th4, th2n)
     return sn, cn, dn, K, j
+
+
+def _series_exponent(t, K1):
+    """``y = |t| pi / (2 K(m1))`` and ``e = exp(-2 y)`` of the theta series at the reduced ``t``."""
+    y = np.abs(t) * (0.5 * PI / K1)
+    return y, np.exp(-2.0 * y)
+
+
+def _series_ratio(logq, y):
+    """``r = q1 exp(2 y)`` (``<= k'/4`` for ``|t| <= K/2``), from ``log q1``."""
+    return np.exp(np.minimum(logq + 2.0 * y, 0.0))
 
 
 def _theta_quotients(t, e, q, r, th3, th4, th2n):
@@ -279,7 +294,16 @@ def _phase_step(theta, dtheta, s2, t):
     Returns
     -------
     theta1, dtheta1 : ndarray
+
+    Notes
+    -----
+    One state (every argument of size 1) takes :func:`_phase_step_one`: the same doubles in
+    microseconds instead of a few dozen numpy calls on one-element arrays.
     """
+    if np.size(theta) == 1 and np.size(dtheta) == 1 and np.size(s2) == 1 and np.size(t) == 1:
+        shape = np.broadcast_shapes(np.shape(theta), np.shape(dtheta), np.shape(s2), np.shape(t))
+        th1, om1 = _phase_step_one(*(np.ravel(a)[0] for a in (theta, dtheta, s2, t)))
+        return np.reshape(th1, shape), np.reshape(om1, shape)
     theta, dtheta, s2, t = np.broadcast_arrays(
         np.asarray(theta, float), np.asarray(dtheta, float), np.asarray(s2, float), np.asarray(t, float))
     shape = theta.shape
@@ -298,6 +322,13 @@ def _phase_step(theta, dtheta, s2, t):
 def _phase_step_sign(theta, dtheta, s2, t):
     """:func:`_phase_step` where every ``s2`` has the same sign (``s2`` scalar or array)."""
     sgn = np.sign(np.asarray(s2).flat[0]) if np.size(s2) else 0.0
+    return _phase_flow(theta, dtheta, s2, t, sgn, _pendulum)
+
+
+def _phase_flow(theta, dtheta, s2, t, sgn, pendulum):
+    """The flow of one phase, ``sgn`` of the sign of every ``s2``, through ``pendulum``
+    (:func:`_pendulum` on arrays, :func:`_pendulum_one` on one state): the one definition
+    of the change of variables both paths use."""
     if sgn == 0.0:
         return theta + dtheta * t, dtheta + 0.0 * t
     w = np.sqrt(np.abs(s2))
@@ -306,12 +337,75 @@ def _phase_step_sign(theta, dtheta, s2, t):
     C = dtheta / (2.0 * w)
     if sgn > 0:
         # q = theta + pi: sin(q/2) = cos(theta/2), cos(q/2) = -sin(theta/2).
-        S1, C1, D1, h1 = _pendulum(ch, C, -sh, half + 0.5 * PI, w * t)
+        S1, C1, D1, h1 = pendulum(ch, C, -sh, half + 0.5 * PI, w * t)
         sin_half, cos_half, coarse = -D1, S1, 2.0 * h1 - PI
     else:
-        S1, C1, D1, h1 = _pendulum(sh, C, ch, half, w * t)
+        S1, C1, D1, h1 = pendulum(sh, C, ch, half, w * t)
         sin_half, cos_half, coarse = S1, D1, 2.0 * h1
     # The fine angle keeps the relative accuracy of small theta; the coarse one the branch.
     fine = 2.0 * np.arctan2(sin_half, cos_half)
     theta1 = fine + FOUR_PI * np.rint((coarse - fine) / FOUR_PI)
     return theta1, 2.0 * w * C1
+
+
+# ------------------------------------------------------------------ one state
+# The same flow for one state, branch by branch with ``if`` instead of masks: each call of the
+# array path pays numpy's overhead of a few dozen calls on one-element arrays (~0.15 ms), and a
+# motion takes one step per phase, one after another. Every formula is the array path's
+# function called on one float (numpy's own ufuncs, so the doubles are the same bits); only the
+# choice of branch is written twice, and the tests run both on the same states.
+
+
+def _series_one(t, m1):
+    """:func:`_series` of one ``t`` and one ``m1``."""
+    q, th3, th4, th2n, K1 = _nome(m1)
+    if q > 0.0:
+        logq = np.log(q)
+        K = _quarter_period(K1, logq)
+        j = np.rint(t / K)
+        t = t - j * K
+        y, e = _series_exponent(t, K1)
+        r = _series_ratio(logq, y)
+    else:  # the separatrix: K = inf, q1 = 0
+        K, j = np.inf, 0.0
+        y, e = _series_exponent(t, K1)
+        r = 0.0
+    sn, cn, dn = _theta_quotients(t, e, q, r, th3, th4, th2n)
+    return sn, cn, dn, K, j
+
+
+def _jacobi_one(u, m1):
+    """:func:`_jacobi` of one ``u`` and one ``m1``."""
+    if m1 < 1.0 - _SERIES_M:
+        sn, cn, dn, K, j = _series_one(u, m1)
+    else:
+        sn, cn, dn, K, j = _ellipj_reduced(u, 1.0 - m1)
+    jm = np.mod(j, 4.0)
+    if jm != 0.0:
+        sgn = -1.0 if jm >= 2.0 else 1.0  # j = 2, 3 carry a sign
+        if jm == 1.0 or jm == 3.0:
+            sn, cn, dn = _quarter_shift(sn, cn, dn, m1)
+        sn, cn = sgn * sn, sgn * cn
+    return sn, cn, dn, K
+
+
+def _pendulum_one(S, C, Dn, h0, s):
+    """:func:`_pendulum` of one state."""
+    m1 = (Dn - C) * (Dn + C)
+    if m1 >= 0.0:
+        sn, cn, dn, _ = _jacobi_one(s, m1)
+    else:
+        m = S * S + C * C
+        k = np.sqrt(m)
+        snr, cnr, dnr, Kr = _jacobi_one(k * s, -m1 / m)
+        sn, cn, dn = snr / k, dnr, cnr
+    S1, C1, D1 = _addition(S, C, Dn, sn, cn, dn)
+    if m1 >= 0.0:
+        return S1, C1, D1, _libration_branch(h0, S1, D1)
+    return S1, C1, D1, _rotation_branch(h0, C, S1, D1, s, 2.0 * Kr / k)
+
+
+def _phase_step_one(theta, dtheta, s2, t):
+    """:func:`_phase_step` of one state: ``theta``, ``dtheta``, ``s2``, ``t`` floats; the same doubles."""
+    theta, dtheta, s2, t = np.float64(theta), np.float64(dtheta), np.float64(s2), np.float64(t)
+    return _phase_flow(theta, dtheta, s2, t, s2, _pendulum_one)
