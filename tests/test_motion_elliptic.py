@@ -237,7 +237,8 @@ def test_one_state_step_is_the_array_step_to_the_last_bit():
     # and the array function hands one state to the per-state path, shaped as its input
     for shape in ((), (1,), (1, 1)):
         a, b = _phase_step(np.full(shape, th[7]), om[7], s[7], np.full(shape, t[7]))
-        assert a.shape == b.shape == shape and a.item() == want_th[7] and b.item() == want_om[7]
+        assert type(a) is type(b) is np.ndarray and a.shape == b.shape == shape
+        assert a.item() == want_th[7] and b.item() == want_om[7]
 
 
 @settings(max_examples=200, deadline=None)

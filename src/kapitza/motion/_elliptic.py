@@ -303,7 +303,7 @@ def _phase_step(theta, dtheta, s2, t):
     if np.size(theta) == 1 and np.size(dtheta) == 1 and np.size(s2) == 1 and np.size(t) == 1:
         shape = np.broadcast_shapes(np.shape(theta), np.shape(dtheta), np.shape(s2), np.shape(t))
         th1, om1 = _phase_step_one(*(np.ravel(a)[0] for a in (theta, dtheta, s2, t)))
-        return np.reshape(th1, shape), np.reshape(om1, shape)
+        return np.full(shape, th1), np.full(shape, om1)
     theta, dtheta, s2, t = np.broadcast_arrays(
         np.asarray(theta, float), np.asarray(dtheta, float), np.asarray(s2, float), np.asarray(t, float))
     shape = theta.shape
