@@ -10,7 +10,7 @@ from scipy.special import ellipj
 
 from kapitza import KapitzaValueError
 from kapitza.motion import phase_flow
-from kapitza.motion._elliptic import _jacobi, _phase_step, _phase_step_one, _series
+from kapitza.motion._elliptic import _jacobi, _phase_step, _phase_step_arrays, _phase_step_one, _series
 
 W_H2 = (100.0 + 9.81) / 1.0  # w_h^2 for A = 100, l = 1
 W_E2 = (100.0 - 9.81) / 1.0
@@ -231,7 +231,7 @@ def test_one_state_step_is_the_array_step_to_the_last_bit():
     """The per-state path (each branch chosen by ``if``) and the array path (masks) give the same
     doubles on every branch: they share every formula and numpy's own functions."""
     th, om, s, t = twin_states()
-    want_th, want_om = _phase_step(th, om, s, t)  # many states: the array path
+    want_th, want_om = _phase_step_arrays(th, om, s, t)
     got = np.array([_phase_step_one(*x) for x in zip(th, om, s, t)])
     assert np.array_equal(got[:, 0], want_th) and np.array_equal(got[:, 1], want_om)
     # and the array function hands one state to the per-state path, shaped as its input
@@ -245,6 +245,6 @@ def test_one_state_step_is_the_array_step_to_the_last_bit():
 @given(th=st.floats(-20, 20), p=st.floats(-4, 4), s=st.floats(-400, 400), t=st.floats(0, 3))
 def test_one_state_step_is_the_array_step_property(th, p, s, t):
     om = p * np.sqrt(abs(s) + 1e-300)
-    want = _phase_step(np.array([th, th]), np.array([om, om]), np.array([s, s]), np.array([t, t]))
+    want = _phase_step_arrays(np.array([th]), np.array([om]), np.array([s]), np.array([t]))
     got = _phase_step_one(th, om, s, t)
     assert got[0] == want[0][0] and got[1] == want[1][0]

@@ -304,6 +304,11 @@ def _phase_step(theta, dtheta, s2, t):
         shape = np.broadcast_shapes(np.shape(theta), np.shape(dtheta), np.shape(s2), np.shape(t))
         th1, om1 = _phase_step_one(*(np.ravel(a)[0] for a in (theta, dtheta, s2, t)))
         return np.full(shape, th1), np.full(shape, om1)
+    return _phase_step_arrays(theta, dtheta, s2, t)
+
+
+def _phase_step_arrays(theta, dtheta, s2, t):
+    """:func:`_phase_step` on arrays, whatever their size (branches chosen by masks)."""
     theta, dtheta, s2, t = np.broadcast_arrays(
         np.asarray(theta, float), np.asarray(dtheta, float), np.asarray(s2, float), np.asarray(t, float))
     shape = theta.shape
