@@ -33,6 +33,15 @@ wherever ``m`` is close to 1:
 Arguments are reduced to ``|u| <= K/2`` by the quarter-period shifts
 ``sn(u + K) = cd u``, ``cn(u + K) = -k' sd u``, ``dn(u + K) = k' nd u``, so no
 function is evaluated where it is small and must be found by cancellation.
+
+One state or many
+-----------------
+:func:`_phase_step` takes arrays; one state (a motion takes one step per phase, one after
+another) goes to :func:`_phase_step_one`, which chooses each branch with ``if`` instead of
+masks and calls the same formula functions (:func:`_nome`, :func:`_theta_quotients`,
+:func:`_addition`, :func:`_quarter_shift`, the two unwrappings of ``q/2``, :func:`_phase_flow`)
+on one float: numpy's own ufuncs, so the doubles are the array path's to the last bit (tested),
+in 13-20 us a step instead of about 150 us of per-call overhead on one-element arrays.
 """
 from __future__ import annotations
 
