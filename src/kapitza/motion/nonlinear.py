@@ -310,7 +310,7 @@ def _exact_motion_plan(t, theta0, dtheta0, plan):
     s0 = np.empty(tf.size)
     lo = 0
     # one trajectory (a motion): its steps on one state, each in microseconds (the same doubles)
-    step = _phase_step if th.size > 1 else _phase_step_1
+    step = _phase_step_1 if th.size == 1 else _phase_step
     for p in range(last + 1):
         s, d = S[p % K], D[p % K]
         hi = int(np.searchsorted(ps, p, side="right"))
