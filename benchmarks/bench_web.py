@@ -12,6 +12,9 @@ in the same run:
   deep-zoom view of zone 2 (1e-5 wide), the stability report of one point (what
   ``kapitza stability --json`` prints), and the motion the page asks for a click (square wave; the
   server keeps it with the views) and the same moved by 1e-12 at every request;
+* for the motion, its nonlinear part in this process with the steps on one state (the route's path)
+  against the same steps each through the array function on one-element arrays, and whether both
+  give the same doubles;
 * the baseline: the same library call in this process, without HTTP (the chart's curves and
   their JSON; ``analyze``), median over repeats; the ratio of the 1-client p50 to it is the
   cost of the web layer;
@@ -80,6 +83,27 @@ def baseline(name):
         return orjson.dumps(dict(y=c.mu, zones=[dict(lo=c.eps_lo[i], hi=c.eps_hi[i]) for i in range(c.n.size)]),
                             option=orjson.OPT_SERIALIZE_NUMPY)
     return chart
+
+
+def motion_steps(repeats):
+    """The page's nonlinear motion (``kapitza.simulate``) with its steps on one state (what the route
+    runs) and, as the baseline, with each step through the array function on one-element arrays:
+    ``(median per-state, median arrays, same doubles)`` [s]."""
+    import kapitza.motion.nonlinear as nl
+    from kapitza.motion._elliptic import _phase_step_arrays
+
+    def run():
+        return kapitza.simulate(MOTION["theta0"], 0.0, MOTION["T"], MOTION["A"], MOTION["l"], MOTION["g"],
+                                periods=MOTION["periods"], points_per_period=MOTION["points_per_period"])
+
+    one, ref = median_time(run, repeats)[0], run()
+    saved = nl._phase_step_1
+    nl._phase_step_1 = _phase_step_arrays
+    try:
+        arrays, got = median_time(run, repeats)[0], run()
+    finally:
+        nl._phase_step_1 = saved
+    return one, arrays, bool(np.array_equal(ref.theta, got.theta) and np.array_equal(ref.dtheta, got.dtheta))
 
 
 def load(base, path, params, clients, requests, seconds):
@@ -172,6 +196,11 @@ def main():
                                  timeout=120).content)
             print(f"\n{name}: GET {path} ({size / 1024:.0f} KiB)")
             print(f"  baseline: the library call in-process, no HTTP: median {1e3 * med:.2f} ms (min {1e3 * lo:.2f})")
+            if path == "/api/motion":
+                one, arrays, same = motion_steps(5 if args.tiny else 21)
+                print(f"  its nonlinear motion in-process: {1e3 * one:.2f} ms with the steps on one state; "
+                      f"baseline, each step on one-element arrays: {1e3 * arrays:.2f} ms; ratio "
+                      f"{arrays / one:.2f}x; same doubles: {same}")
             for c in levels:
                 t, err, wall = load(base, path, params, c, max(args.requests, c), args.seconds)
                 p50, p99 = (1e3 * np.percentile(t, q) for q in (50, 99))

@@ -74,6 +74,8 @@ def test_bench_web_tiny_runs():
                    "point (stability report)", "motion (square wave, the page's request)",
                    "motion, start moved by 1e-12", "baseline: the library call in-process", "p50 / baseline"):
         assert needle in out, needle
+    # both motion queries compare the steps on one state with the array function's, same doubles
+    assert out.count("each step on one-element arrays") == 2 and out.count("same doubles: True") == 2
     # six queries at two levels of clients each, none answered with an error
     assert "never cached" in out and out.count("errors 0") == 12
 

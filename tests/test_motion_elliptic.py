@@ -10,7 +10,7 @@ from scipy.special import ellipj
 
 from kapitza import KapitzaValueError
 from kapitza.motion import phase_flow
-from kapitza.motion._elliptic import _jacobi, _series
+from kapitza.motion._elliptic import _jacobi, _phase_step, _phase_step_arrays, _phase_step_one, _series
 
 W_H2 = (100.0 + 9.81) / 1.0  # w_h^2 for A = 100, l = 1
 W_E2 = (100.0 - 9.81) / 1.0
@@ -200,3 +200,51 @@ def test_phase_flow_validates():
         phase_flow(1.0, np.nan, 0.0, 1.0)
     with pytest.raises(KapitzaValueError, match="s must be finite"):
         phase_flow(1.0, 0.0, 0.0, np.inf)
+
+
+# ------------------------------------------------------------------ one state and many: twins
+def twin_states():
+    """States of every branch: libration, rotation, on and a hair off the separatrix (m1 = 0 exactly,
+    tiny |m1| either side), both sides of the switch of method at m = 1/2, free flight, small
+    amplitudes, several turns, and times of many quarter periods (``w t`` up to 210)."""
+    rng = np.random.default_rng(5)
+    th, om, s, t = [], [], [], []
+    for s_ in (W_H2, -W_E2, 4.0, -4.0, 0.0):
+        for th_ in (0.0, 1e-9, 0.05, 0.7, 2.0, -2.6, np.pi, 9.0, -30.0):
+            d = -np.sin(th_ / 2) if s_ > 0 else np.cos(th_ / 2)
+            for m1 in (0.9, 0.51, 0.5, 0.49, 1e-2, 1e-10, 0.0, -1e-10, -1e-2, -0.5, -3.0):
+                if d * d >= m1:
+                    v = 2.0 * np.sqrt(abs(s_) or 1.0) * np.sqrt(d * d - m1)
+                    for sign in (1.0, -1.0):
+                        for t_ in (0.0, 1e-7, 0.15, 0.3, 2.7, 20.0):
+                            th.append(th_), om.append(sign * v), s.append(s_), t.append(t_)
+    n = 3000
+    w = rng.uniform(0.5, 30.0, n)
+    th += list(rng.uniform(-12, 12, n))
+    om += list(rng.normal(0, 2, n) * w)
+    s += list(rng.choice([-1.0, 1.0], n) * w * w)
+    t += list(rng.exponential(1.0, n) / w)
+    return (np.array(v) for v in (th, om, s, t))
+
+
+def test_one_state_step_is_the_array_step_to_the_last_bit():
+    """The per-state path (each branch chosen by ``if``) and the array path (masks) give the same
+    doubles on every branch: they share every formula and numpy's own functions."""
+    th, om, s, t = twin_states()
+    want_th, want_om = _phase_step_arrays(th, om, s, t)
+    got = np.array([_phase_step_one(*x) for x in zip(th, om, s, t)])
+    assert np.array_equal(got[:, 0], want_th) and np.array_equal(got[:, 1], want_om)
+    # and the array function hands one state to the per-state path, shaped as its input
+    for shape in ((), (1,), (1, 1)):
+        a, b = _phase_step(np.full(shape, th[7]), om[7], s[7], np.full(shape, t[7]))
+        assert type(a) is type(b) is np.ndarray and a.shape == b.shape == shape
+        assert a.item() == want_th[7] and b.item() == want_om[7]
+
+
+@settings(max_examples=200, deadline=None)
+@given(th=st.floats(-20, 20), p=st.floats(-4, 4), s=st.floats(-400, 400), t=st.floats(0, 3))
+def test_one_state_step_is_the_array_step_property(th, p, s, t):
+    om = p * np.sqrt(abs(s) + 1e-300)
+    want = _phase_step_arrays(np.array([th]), np.array([om]), np.array([s]), np.array([t]))
+    got = _phase_step_one(th, om, s, t)
+    assert got[0] == want[0][0] and got[1] == want[1][0]

@@ -86,6 +86,19 @@ def test_exact_motion_arbitrary_times_shapes_and_order():
     assert th[0, 1] == 0.2 and om[0, 1] == 0.0
 
 
+@pytest.mark.parametrize("p", [STABLE, UNSTABLE, dict(T=0.5, A=9.81, l=1.0, g=9.81), dict(T=0.5, A=4.0, l=1.0, g=9.81)])
+def test_one_motion_is_the_same_doubles_as_one_of_many(p):
+    """One start takes its steps on one state (a float path), several starts together on arrays:
+    the same motion to the last bit, over many periods, falling and turning included."""
+    th0 = np.array([0.1, 2.5, -1.0, 3.0])
+    om0 = np.array([0.0, 1.0, 12.0, -0.5])
+    t = np.linspace(0.0, 30 * 2 * p["T"], 601)
+    many = nonlinear_motion(t[:, None], th0, om0, **p)
+    for i in range(th0.size):
+        one = nonlinear_motion(t, th0[i], om0[i], **p)
+        assert np.array_equal(one[0], many[0][:, i]) and np.array_equal(one[1], many[1][:, i])
+
+
 def test_motion_is_continuous_across_the_switches():
     T = STABLE["T"]
     for k in range(1, 6):

@@ -556,16 +556,18 @@ def amplitude_edges(T, n, l, g):
 
 def linear_motion(t, theta0, dtheta0, T, A, l, g):
     """``theta(t), theta'(t)`` of :func:`kapitza.linear_motion` (undamped; validated arrays)."""
-    t, theta0, dtheta0, T, A, l, g = np.broadcast_arrays(t, theta0, dtheta0, T, A, l, g)
+    # one Floquet analysis and monodromy per parameter set, not per sample time
+    T, A, l, g = np.broadcast_arrays(T, A, l, g)
     eps, mu = arnold_trusted(T, A, l, g)
     tau, growth, theta, stable, _ = _floquet(eps, mu)
+    M = _monodromy(T, A, l, g)
+    t, theta0, dtheta0 = np.broadcast_arrays(t, theta0, dtheta0, T)[:3]
     k = np.floor(t / (2.0 * T))
     r = t - 2.0 * k * T
     # Rounding can put r a hair outside [0, 2T).
     over = r >= 2.0 * T
     k = np.where(over, k + 1.0, k)
     r = np.where(over, r - 2.0 * T, np.maximum(r, 0.0))
-    M = _monodromy(T, A, l, g)
     u1, u2 = _chebyshev_pair(k, tau, growth, theta, stable)
     with np.errstate(over="ignore", invalid="ignore"):
         th = (u1 * M[..., 0, 0] - u2) * theta0 + u1 * M[..., 0, 1] * dtheta0
@@ -583,7 +585,8 @@ def linear_motion(t, theta0, dtheta0, T, A, l, g):
         i = np.argwhere(bad)[0]
         raise OverflowError(
             "the motion grows beyond the range of a double "
-            f"(growth {float(growth[tuple(i)]):.4g} per period, t = {float(t[tuple(i)]):.6g} s)"
+            f"(growth {float(np.broadcast_to(growth, bad.shape)[tuple(i)]):.4g} per period, "
+            f"t = {float(t[tuple(i)]):.6g} s)"
         )
     return th, dth
 

@@ -20,7 +20,7 @@ from .. import _validate as _v
 from .._display import Summary, num
 from ..parameters import G_EARTH
 from ..propagation import linear_motion
-from ._elliptic import _phase_step
+from ._elliptic import _phase_step, _phase_step_one
 from ._integrate import (MAX_DOP853_SWEEP as MAX_DOP853_SWEEP, MAX_PERIODS as MAX_PERIODS, MAX_SAMPLES,
                          MAX_SCALED_PHASE, MAX_TRAJECTORY_PERIODS as MAX_TRAJECTORY_PERIODS, METHODS, _SPEED_LIMIT,
                          _add_turns, _budget, _check_speed, _choice, _damping, _drive_of, _integrated_drive,
@@ -309,6 +309,8 @@ def _exact_motion_plan(t, theta0, dtheta0, plan):
     om0 = np.empty(tf.size)
     s0 = np.empty(tf.size)
     lo = 0
+    # one trajectory (a motion): its steps on one state, each in microseconds (the same doubles)
+    step = _phase_step_1 if th.size == 1 else _phase_step
     for p in range(last + 1):
         s, d = S[p % K], D[p % K]
         hi = int(np.searchsorted(ps, p, side="right"))
@@ -318,11 +320,17 @@ def _exact_motion_plan(t, theta0, dtheta0, plan):
             th0[sel], om0[sel], s0[sel] = th[kk], om[kk], s[kk]
             lo = hi
         if p < last:
-            th, om = _phase_step(th, om, s, d)
+            th, om = step(th, om, s, d)
     th1, om1 = _phase_step(th0, om0, s0, rr)
     # At a switch itself the state is the boundary state, not a zero-length step of it.
     at = rr == 0.0
     return np.where(at, th0, th1).reshape(full), np.where(at, om0, om1).reshape(full)
+
+
+def _phase_step_1(th, om, s, d):
+    """:func:`~kapitza.motion._elliptic._phase_step` of arrays of one element each."""
+    th1, om1 = _phase_step_one(th[0], om[0], s[0], d[0])
+    return np.array([th1]), np.array([om1])
 
 
 # ------------------------------------------------------------------ a trajectory
