@@ -248,3 +248,26 @@ def test_one_state_step_is_the_array_step_property(th, p, s, t):
     want = _phase_step_arrays(np.array([th]), np.array([om]), np.array([s]), np.array([t]))
     got = _phase_step_one(th, om, s, t)
     assert got[0] == want[0][0] and got[1] == want[1][0]
+
+
+def test_the_saddle_stays_and_a_state_too_near_it_is_refused():
+    # exactly upright in the hyperbolic phase: the saddle of the separatrix, for any time (sech(w t)
+    # underflows beyond w t ~ 372 and its square beyond ~ 180; the flow once returned 0/0 there)
+    import warnings
+
+    from kapitza.motion import phase_flow
+    from kapitza._validate import KapitzaValueError
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for t in (30.0, 40.0, 80.0, 200.0):
+            assert phase_flow(t, 0.0, 0.0, 109.81) == (0.0, 0.0)
+        th, om = phase_flow(np.array([40.0, 0.3, 200.0]), np.array([0.0, 0.5, 0.0]), np.array([0.0, 1.0, 0.0]), 109.81)
+        assert th[0] == th[2] == om[0] == om[2] == 0.0
+        assert np.isfinite(th[1]) and np.isfinite(om[1])
+        # 1e-170 from it: still resolved while near the saddle (e^{w t} 1e-170), refused once the
+        # modulus' complement (1e-340) would carry the motion
+        th, _ = phase_flow(30.0, 1e-170, 0.0, 109.81)
+        assert 1e-35 < th < 1e-33
+        with pytest.raises(KapitzaValueError, match="within 1e-150 of the upright"):
+            phase_flow(40.0, 1e-170, 0.0, 109.81)

@@ -47,6 +47,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _validate as _v
+
 PI = np.pi
 TWO_PI = 2.0 * np.pi
 FOUR_PI = 4.0 * np.pi
@@ -199,7 +201,8 @@ def _jacobi(u, m1):
     if np.any(jm != 0.0):
         odd = (jm == 1.0) | (jm == 3.0)
         sgn = np.where(jm >= 2.0, -1.0, 1.0)  # j = 2, 3 carry a sign
-        sn_o, cn_o, dn_o = _quarter_shift(sn, cn, dn, m1)
+        with np.errstate(divide="ignore", invalid="ignore"):  # (rows not shifted may have dn = 0: k = 1)
+            sn_o, cn_o, dn_o = _quarter_shift(sn, cn, dn, m1)
         sn, cn, dn = (sgn * np.where(odd, sn_o, sn), sgn * np.where(odd, cn_o, cn), np.where(odd, dn_o, dn))
     return sn, cn, dn, K
 
@@ -265,6 +268,19 @@ def _addition(S, C, Dn, sn, cn, dn):
     # The denominator 1 - k^2 sn^2 a sn^2 s = 1 - S^2 sn^2 is written as cn^2 + Dn^2 sn^2
     # (no cancellation).
     den = cn * cn + Dn * Dn * sn * sn
+    tiny = den < 1e-290
+    if tiny.any():
+        # the squares underflow only beside the saddle of the separatrix (cn = dn = sech(s) with
+        # Dn, C small): the saddle itself (Dn = C = 0) stays where it is; a state near it but not on
+        # it has a modulus whose complement 1 - k^2 = Dn^2 is below the doubles' range
+        if ((Dn != 0.0) | (C != 0.0))[tiny].any() if np.ndim(tiny) else (Dn != 0.0 or C != 0.0):
+            raise _v.KapitzaValueError(
+                "the state is within 1e-150 of the upright without being on it: its motion over this time "
+                "leaves the range of doubles (start exactly upright, or further from it)")
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out = ((S * cn * dn + sn * C * Dn) / den, (C * cn - S * Dn * sn * dn) / den,
+                   (Dn * dn - S * C * sn * cn) / den)
+        return tuple(np.where(tiny, v0, v) for v0, v in zip((S, C, Dn), out))
     return (S * cn * dn + sn * C * Dn) / den, (C * cn - S * Dn * sn * dn) / den, (Dn * dn - S * C * sn * cn) / den
 
 
