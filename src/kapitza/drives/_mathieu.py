@@ -35,6 +35,8 @@ integers with as many bits as the growth needs where a verdict must be certified
 """
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from .. import _validate as _v
@@ -538,6 +540,34 @@ def _fixed(x, P):
         return int(mpmath.nint(mpmath.mpf(x) * mpmath.mpf(2) ** P))
 
 
+#: ``(h, h^2, h, trig, t, fixed t)`` per ``(steps, P)`` (:func:`_step_constants`): a search's final
+#: pairs and their neighbours share them
+_STEP_CONSTANTS: dict = {}
+_STEP_LOCK = threading.Lock()
+
+
+def _step_constants(steps, P):
+    """What the exact half-period's Taylor steps share at ``steps`` steps and ``P`` bits, whatever
+    ``eps`` and ``mu``: ``h = (pi/2)/steps`` (an mpf at ``P + 40`` bits), ``h^2`` and ``h`` over
+    ``2^P``, the ``(cos 2jh, sin 2jh)`` of each step's start over ``2^P``, and the lists ``t_j =
+    (2h)^j / j!`` (mpf) and ``t_j`` over ``2^P``, extended on demand by :func:`_exact_half_period`.
+    Kept, so that the points of one search pay the extended-precision trigonometry once."""
+    import mpmath
+
+    key = (steps, P)
+    c = _STEP_CONSTANTS.get(key)
+    if c is None:
+        with mpmath.workprec(P + 40):
+            h = mpmath.pi / 2 / steps
+            trig = [(_fixed(mpmath.cos(2 * j * h), P), _fixed(mpmath.sin(2 * j * h), P)) for j in range(steps)]
+            one = mpmath.mpf(1)
+            c = (h, _fixed(h * h, P), _fixed(h, P), trig, [one], [_fixed(one, P)])
+        if len(_STEP_CONSTANTS) >= 256:
+            _STEP_CONSTANTS.clear()
+        _STEP_CONSTANTS[key] = c
+    return c
+
+
 def _exact_half_period(eps, mu, P, zeta=0.0):
     """``(w_I, w_I', w_II, w_II')`` at ``z = pi/2`` as integers over ``2^P`` for the exact doubles
     ``eps, mu``: Mathieu's ``y'' = 2q (mu^2 + cos 2z) y`` with ``q = 16 eps^2/pi^2`` from ``y(0) = 1,
@@ -557,17 +587,19 @@ def _exact_half_period(eps, mu, P, zeta=0.0):
         q = 16 * e * e / mpmath.pi**2
         L = math.sqrt(2.0 * float(q) * (1.0 + float(m2))) + 2.0
         steps = max(1, math.ceil(0.5 * math.pi * L))
-        h = mpmath.pi / 2 / steps
+        h, hh, hf, trig, ts, fx = _step_constants(steps, P)
         twoq, c0 = _fixed(2 * q, P), _fixed(2 * q * m2, P)
-        hh, hf = _fixed(h * h, P), _fixed(h, P)
-        trig = [(_fixed(mpmath.cos(2 * j * h), P), _fixed(mpmath.sin(2 * j * h), P)) for j in range(steps)]
         # 2q (2h)^j / j!: the scaled Taylor coefficients of 2q cos(2 z0 + 2 s) without the trig factor
-        scale, t, j = [], mpmath.mpf(1), 0
+        scale, j = [], 0
         while True:
-            scale.append(twoq * _fixed(t, P) >> P)
+            scale.append(twoq * fx[j] >> P)
             j += 1
-            t = t * 2 * h / j
-            if j > 4 and t * 2 * q < mpmath.mpf(2) ** (-P - 8):
+            if j == len(fx):
+                with _STEP_LOCK:  # (the lists are shared: one thread extends them at a time)
+                    while len(fx) <= j:
+                        ts.append(ts[len(fx) - 1] * 2 * h / len(fx))
+                        fx.append(_fixed(ts[len(fx)], P))
+            if j > 4 and ts[j] * 2 * q < mpmath.mpf(2) ** (-P - 8):
                 break
     K = len(scale)
     cols = [[one, 0], [0, one]]
@@ -611,6 +643,10 @@ def _exact_tau(eps, mu):
     return float(tau), log_tau, abs(num) < (1 << 2 * P)
 
 
+#: the damped verdicts decided so far, by their exact doubles ``(eps, mu, zeta)``
+_DAMPED_EXACT: dict = {}
+
+
 def sine_damped_exact(eps, mu, zeta):
     """``[(stable, growth)]`` of the damped sine drive at the exact doubles (flat arrays): stable iff
     ``|tr M_phi| / 2 < cosh(kappa)`` (``M_phi`` at ``mu^2 (1 + zeta^2)``, ``kappa = 2 sqrt 8 zeta mu
@@ -623,6 +659,10 @@ def sine_damped_exact(eps, mu, zeta):
     out = []
     for e, m, z in zip(np.asarray(eps, float).tolist(), np.asarray(mu, float).tolist(),
                        np.asarray(zeta, float).tolist()):
+        known = _DAMPED_EXACT.get((e, m, z))
+        if known is not None:  # (a search asks its final pair again, and the report its edges)
+            out.append(known)
+            continue
         q = 16.0 * e * e / math.pi**2
         G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + m * m * (1.0 + z * z)))
         growth_bits = int(2.0 * G / math.log(2.0)) + 1
@@ -642,6 +682,9 @@ def sine_damped_exact(eps, mu, zeta):
         with mpmath.workprec(2 * P + 64):
             growth = (mpmath.acosh(abs(t)) if abs(t) > 1 else mpmath.mpf(0)) - kappa
             out.append((bool(diff < 0), float(growth)))
+        if len(_DAMPED_EXACT) >= 4096:
+            _DAMPED_EXACT.clear()
+        _DAMPED_EXACT[(e, m, z)] = out[-1]
     return out
 
 
