@@ -591,6 +591,7 @@ def _exact_half_period(eps, mu, P, zeta=0.0):
         twoq, c0 = _fixed(2 * q, P), _fixed(2 * q * m2, P)
         # 2q (2h)^j / j!: the scaled Taylor coefficients of 2q cos(2 z0 + 2 s) without the trig factor
         scale, j = [], 0
+        tiny = mpmath.mpf(2) ** (-P - 8)
         while True:
             scale.append(twoq * fx[j] >> P)
             j += 1
@@ -599,7 +600,7 @@ def _exact_half_period(eps, mu, P, zeta=0.0):
                     while len(fx) <= j:
                         ts.append(ts[len(fx) - 1] * 2 * h / len(fx))
                         fx.append(_fixed(ts[len(fx)], P))
-            if j > 4 and ts[j] * 2 * q < mpmath.mpf(2) ** (-P - 8):
+            if j > 4 and ts[j] * 2 * q < tiny:
                 break
     K = len(scale)
     cols = [[one, 0], [0, one]]
