@@ -381,25 +381,39 @@ def _continuant(p):
     """``(D, log_scale)`` with ``D e^log_scale`` the last term of ``D_i = D_{i-1} - p_i D_{i-2}``
     (``D_0 = D_{-1} = 1``; ``p`` of shape ``(..., N)``): the product of the steps' 2x2 matrices
     ``[[1, -p_i], [1, 0]]`` taken pairwise (log2 N rounds of products of all pairs at once, each
-    renormalised by its largest entry), not N rounds of the recurrence."""
+    renormalised by its largest entry), not N rounds of the recurrence. (Each round's products,
+    sums and scaling are formed in place: half the temporaries of the plain expressions, the same
+    roundings.)"""
     n = p.shape[-1]
     size = p.shape[:-1] + (1 << max(n - 1, 0).bit_length(),)   # identities fill up to a power of two
     a, b, c, d = np.ones(size), np.zeros(size), np.zeros(size), np.ones(size)
     b[..., :n] = -p
     c[..., :n] = 1.0
     d[..., :n] = 0.0
-    logs = np.zeros(p.shape[:-1] + (size[-1] // 2,))
-    first = True
+    logs = None
     while a.shape[-1] > 1:
         # later step (odd index) times earlier (even index)
         a0, b0, c0, d0 = a[..., 0::2], b[..., 0::2], c[..., 0::2], d[..., 0::2]
         a1, b1, c1, d1 = a[..., 1::2], b[..., 1::2], c[..., 1::2], d[..., 1::2]
-        a, b, c, d = a1 * a0 + b1 * c0, a1 * b0 + b1 * d0, c1 * a0 + d1 * c0, c1 * b0 + d1 * d0
-        big = np.maximum(np.maximum(np.abs(a), np.abs(b)), np.maximum(np.abs(c), np.abs(d)))
-        scale = np.where(big > 0, big, 1.0)
-        a, b, c, d = a / scale, b / scale, c / scale, d / scale
-        logs = np.log(scale) if first else logs[..., 0::2] + logs[..., 1::2] + np.log(scale)
-        first = False
+        a = a1 * a0
+        a += b1 * c0
+        b = a1 * b0
+        b += b1 * d0
+        c = c1 * a0
+        c += d1 * c0
+        d = c1 * b0
+        d += d1 * d0
+        scale = np.abs(a)
+        np.maximum(scale, np.abs(b), out=scale)
+        np.maximum(scale, np.abs(c), out=scale)
+        np.maximum(scale, np.abs(d), out=scale)
+        scale[~(scale > 0)] = 1.0
+        a /= scale
+        b /= scale
+        c /= scale
+        d /= scale
+        log_scale = np.log(scale)
+        logs = log_scale if logs is None else logs[..., 0::2] + logs[..., 1::2] + log_scale
     return a[..., 0] + b[..., 0], logs[..., 0]
 
 
@@ -767,14 +781,18 @@ def _half_period(eps, mu):
                 Y[k + 2] = np.einsum("ijb,ijbc->jbc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
             T_y = Y.sum(axis=0)                                # (steps, points, 2): row y of each map
             T_dy = np.einsum("k,kjbc->jbc", np.arange(_TERMS + 2.0), Y) / h
+            # the maps as (steps, 2, points, 1): (y, y') from y (M0) and from y' (M1); the state S
+            # holds y and y' (S[0], S[1]) of both solutions: one step is a few numpy calls
+            TT = np.stack([T_y, T_dy], axis=1)
+            M0, M1 = TT[..., 0, None], TT[..., 1, None]
+            S = np.stack([y, dy])
             for t in range(jj.size):
-                ty, td = T_y[t], T_dy[t]
-                y, dy = (ty[:, 0, None] * y + ty[:, 1, None] * dy, td[:, 0, None] * y + td[:, 1, None] * dy)
-                big = np.maximum(np.abs(y).max(axis=1), np.abs(dy).max(axis=1))
-                y /= big[:, None]
-                dy /= big[:, None]
+                S = M0[t] * S[0] + M1[t] * S[1]
+                big = np.abs(S).max(axis=(0, 2))
+                S /= big[:, None]
                 s += np.log(big)
                 s_max = np.maximum(s_max, s)
+            y, dy = S[0], S[1]
         out[:, sel] = y[:, 0], dy[:, 0], y[:, 1], dy[:, 1], s, s_max
     return out
 
