@@ -551,7 +551,7 @@ def _fixed(x, P):
     import mpmath
 
     with mpmath.workprec(P + 24):
-        return int(mpmath.nint(mpmath.mpf(x) * mpmath.mpf(2) ** P))
+        return int(mpmath.nint(mpmath.ldexp(mpmath.mpf(x), P)))  # (times 2^P exactly, no power formed)
 
 
 #: ``(h, h^2, h, trig, t, fixed t)`` per ``(steps, P)`` (:func:`_step_constants`): a search's final
