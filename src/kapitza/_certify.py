@@ -189,12 +189,11 @@ def taylor_step(cols, C, hf, hh, P):
     Taylor coefficients of ``c`` at the step's start scaled by ``h^i``, and with
     ``Y_k = y^(k) h^k / k!``, ``Y_(k+2) = h^2 sum_i C[i] Y_(k-i) / ((k + 1)(k + 2))``, summed until three
     terms in a row vanish at ``2^-P``."""
-    K = len(C)
     for col in cols:
         Y = [col[0], col[1] * hf >> P]
         k = 0
         while True:
-            # sum_i C[i] Y[k - i] over i <= min(k, K - 1) (integers: exact in any order)
+            # sum_i C[i] Y[k - i] over i <= min(k, len(C) - 1) (integers: exact in any order)
             acc = sum(map(operator.mul, C, Y[k::-1]))
             Y.append(((acc >> P) * hh >> P) // ((k + 1) * (k + 2)))
             k += 1
