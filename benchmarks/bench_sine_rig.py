@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import importlib.util
 import json
 import os
 import resource
@@ -68,8 +69,10 @@ def main(argv=None):
     for line in machine():
         print("  " + line)
     print(f"  load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
-    cached = not os.environ.get("PYTHONDONTWRITEBYTECODE")
-    print(f"  bytecode cache: {'on' if cached else 'off (PYTHONDONTWRITEBYTECODE set: every run compiles)'}")
+    origin = importlib.util.find_spec("kapitza").origin
+    cached = os.path.exists(importlib.util.cache_from_source(origin)) or not os.environ.get("PYTHONDONTWRITEBYTECODE")
+    print(f"  kapitza from {os.path.dirname(origin)}; bytecode cache: "
+          f"{'present' if cached else 'absent and not written (PYTHONDONTWRITEBYTECODE): every run compiles'}")
 
     run(["-m", "kapitza"] + BASE)  # warm-up: the disk cache, and the bytecode if it is written
     rig, base, report = [], [], []
