@@ -111,6 +111,13 @@ def test_bench_sine_tiny_runs():
         assert needle in out, needle
 
 
+def test_bench_sine_rig_tiny_runs():
+    out = run_tiny("bench_sine_rig.py")
+    for needle in ("whole command", "start-up alone", "damped sine rig", "x wall", "the start-up",
+                   "first call in a fresh process", "bytecode cache:"):
+        assert needle in out, needle
+
+
 def test_bench_renders_tiny_runs():
     out = run_tiny("bench_renders.py")
     for needle in ("animate:", "baseline (glyphs rasterised", "ratio (baseline / kapitza)", "pixels differing"):

@@ -50,10 +50,10 @@ from .periodic import BoundaryPeriod, PeriodicSolution, alpha, beta, boundary_pe
 # ---- the high-frequency limit
 from .limits import averaging_threshold, threshold_table
 
-from ._version import __version__  # noqa: E402, F401  (re-exported; pyproject.toml's, from the metadata)
-
 #: Loaded on first use: name -> (module, attribute or None for the module itself).
 _LAZY = {
+    # pyproject.toml's version, read from the installed metadata (importlib.metadata: tens of ms)
+    "__version__": ("kapitza._version", "__version__"),
     "motion": ("kapitza.motion", None),
     "simulate": ("kapitza.motion", "simulate"),
     "nonlinear_motion": ("kapitza.motion", "nonlinear_motion"),

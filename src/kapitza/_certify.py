@@ -12,6 +12,8 @@ keeps its speed.
 """
 from __future__ import annotations
 
+import operator
+
 import numpy as np
 
 _TOL = 16.0 * np.finfo(float).eps
@@ -207,14 +209,12 @@ def taylor_step(cols, C, hf, hh, P):
     Taylor coefficients of ``c`` at the step's start scaled by ``h^i``, and with
     ``Y_k = y^(k) h^k / k!``, ``Y_(k+2) = h^2 sum_i C[i] Y_(k-i) / ((k + 1)(k + 2))``, summed until three
     terms in a row vanish at ``2^-P``."""
-    K = len(C)
     for col in cols:
         Y = [col[0], col[1] * hf >> P]
         k = 0
         while True:
-            acc = 0
-            for i in range(min(k, K - 1) + 1):
-                acc += C[i] * Y[k - i]
+            # sum_i C[i] Y[k - i] over i <= min(k, len(C) - 1) (integers: exact in any order)
+            acc = sum(map(operator.mul, C, Y[k::-1]))
             Y.append(((acc >> P) * hh >> P) // ((k + 1) * (k + 2)))
             k += 1
             if k > 8 and abs(Y[-1]) < 16 and abs(Y[-2]) < 16 and abs(Y[-3]) < 16:

@@ -6,6 +6,8 @@ range, e.g. ``eps must be finite and > 0; got -1.0``.
 """
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 
 __all__ = ["positive", "finite", "nonnegative_int", "in_range", "arnold", "parameter_set", "physical_parameters",
@@ -51,7 +53,8 @@ def _as_float(name: str, value) -> np.ndarray:
     # are refused rather than read as numbers (or cut to their real part).
     if isinstance(value, (str, bytes)):
         raise KapitzaValueError(f"{what}; got the text {value!r}")
-    if isinstance(value, np.ma.MaskedArray) and np.ma.is_masked(value):
+    ma = sys.modules.get("numpy.ma")  # (a masked array exists only once numpy.ma is loaded: 15 ms otherwise)
+    if ma is not None and isinstance(value, ma.MaskedArray) and ma.is_masked(value):
         raise KapitzaValueError(f"{what}; got a masked array with masked entries")
     raw = _asarray(name, value, what)
     _no_time(name, value, raw, what)

@@ -6,10 +6,10 @@ one-line message with exit status 2.
 """
 from __future__ import annotations
 
+import argparse
 import sys
 
 from ._common import CLIError, Parser
-from .. import __version__
 
 #: Command modules, in the order their commands appear in ``kapitza --help``.
 COMMAND_MODULES = ["engine", "drives", "motion", "nonlinear", "sweep", "paper", "web", "tower"]
@@ -53,13 +53,24 @@ Run 'kapitza COMMAND --help' for each command's options.
 """
 
 
+class _Version(argparse.Action):
+    """``--version``: the version read when asked (reading the installed metadata costs every other
+    command tens of ms)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from .. import __version__
+
+        print(f"kapitza {__version__}")
+        parser.exit()
+
+
 def build_parser() -> Parser:
     import importlib
 
     from ..drives import text_forms
 
     parser = Parser(prog="kapitza", description=DESCRIPTION.format(drives=", ".join(text_forms())), epilog=EPILOG)
-    parser.add_argument("--version", action="version", version=f"kapitza {__version__}")
+    parser.add_argument("--version", action=_Version, nargs=0, help="show program's version number and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for name in COMMAND_MODULES:
         importlib.import_module(f".{name}", __name__).register(sub)

@@ -8,7 +8,6 @@ import numpy as np
 from .. import _io
 from .. import _validate as _v
 from ..analysis import analyze
-from ..motion.pair import parameters_summary
 from ._common import (CLIError, add_parameters, angles, count, finite_float, format_table, out_stem, parameters_from,
                       positive_float, print_json)
 
@@ -294,6 +293,8 @@ def cmd_animate(args):
                   linear=linear, tol=args.tol)
     if res.message:
         print(f"kapitza animate: {res.message}", file=sys.stderr)
+    from ..motion.pair import parameters_summary  # (the motion package only for the commands that move)
+
     summary = dict(parameters=parameters_summary(T, A, l, g, rep), theta0=args.theta0, dtheta0=args.dtheta0,
                    motion=traj.summary(), file=str(res.path), format=res.format, frames=res.frames,
                    fps=res.fps, slowdown=res.slowdown, message=res.message)
@@ -339,6 +340,8 @@ def cmd_basin(args):
         f"kapitza basin: T = {T!r} s, A = {A!r} m/s^2, l = {l!r} m, g = {g!r} m/s^2, damping c = {args.damping!r} 1/s; "
         f"window |theta| <= {args.tol!r} rad "
         f"for {args.periods} periods 2T (survived = 1)"]))
+    from ..motion.pair import parameters_summary
+
     summary = dict(parameters=parameters_summary(T, A, l, g, rep), tol=args.tol, periods=args.periods,
                    basins=[b.summary() for b in basins],
                    small_tilt=dict(theta0=probe, dtheta0=0.0, periods_survived=demo,

@@ -780,9 +780,9 @@ def along_amplitude(T, n, l, g, drive, c):
     else:
         hi = ladder[-1:]
     _, A_hi = search_bits(lambda A, _: reached(A, n + 1, False), np.zeros(1), hi,
-                          certified=lambda A, _: reached(A, n + 1, False, True))
+                          certified=lambda A, _: reached(A, n + 1, False, True), ways=drive._search_ways)
     A_lo, _ = search_bits(lambda A, _: reached(A, n, True), np.zeros(1), A_hi,
-                          certified=lambda A, _: reached(A, n, True, True))
+                          certified=lambda A, _: reached(A, n, True, True), ways=drive._search_ways)
     return float(A_lo[0]), float(A_hi[0])
 
 
@@ -810,10 +810,10 @@ def rig_margins(eps, mu, zone, drive, zeta, T, stroke):
     out = dict(stroke=float(stroke))
     above = level(lo)[0] < zone + 1   # still in the zone (or below it) at the smallest mu
     mu_lo = lo if above else search_bits(lambda m, _: level(m, False) < zone + 1, lo, hi,
-                                         certified=lambda m, _: level(m) < zone + 1)[0]
+                                         certified=lambda m, _: level(m) < zone + 1, ways=d._search_ways)[0]
     if level(hi)[0] <= zone:
         mu_hi = search_bits(lambda m, _: level(m, False) <= zone, lo, hi,
-                            certified=lambda m, _: level(m) <= zone)[1]
+                            certified=lambda m, _: level(m) <= zone, ways=d._search_ways)[1]
     else:
         mu_hi = hi
     if mu_lo[0] < mu_hi[0]:

@@ -568,6 +568,10 @@ class Drive:
     #: once, spread over decades of ``eps`` and ``A`` (:func:`kapitza.drives._api.point_margin`).
     _batched_points = False
 
+    #: Points per row and step of a one-point search along ``A`` or ``mu`` (:func:`kapitza.drives._api.search_bits`'s
+    #: ``ways``): many where a call costs the same for one point as for dozens, fewer where each point costs.
+    _search_ways = 64
+
     def _window0(self, mu, e_a, e_b):
         """``(rows, zone, lo, hi)``: the undamped zones meeting ``[e_a[i], e_b[i]]`` at ``mu[i]``
         (flat arrays, one entry per zone found), for a drive with :attr:`_windowed`."""

@@ -35,6 +35,8 @@ integers with as many bits as the growth needs where a verdict must be certified
 """
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from .. import _validate as _v
@@ -386,25 +388,39 @@ def _continuant(p):
     """``(D, log_scale)`` with ``D e^log_scale`` the last term of ``D_i = D_{i-1} - p_i D_{i-2}``
     (``D_0 = D_{-1} = 1``; ``p`` of shape ``(..., N)``): the product of the steps' 2x2 matrices
     ``[[1, -p_i], [1, 0]]`` taken pairwise (log2 N rounds of products of all pairs at once, each
-    renormalised by its largest entry), not N rounds of the recurrence."""
+    renormalised by its largest entry), not N rounds of the recurrence. (Each round's products,
+    sums and scaling are formed in place: half the temporaries of the plain expressions, the same
+    roundings.)"""
     n = p.shape[-1]
     size = p.shape[:-1] + (1 << max(n - 1, 0).bit_length(),)   # identities fill up to a power of two
     a, b, c, d = np.ones(size), np.zeros(size), np.zeros(size), np.ones(size)
     b[..., :n] = -p
     c[..., :n] = 1.0
     d[..., :n] = 0.0
-    logs = np.zeros(p.shape[:-1] + (size[-1] // 2,))
-    first = True
+    logs = None
     while a.shape[-1] > 1:
         # later step (odd index) times earlier (even index)
         a0, b0, c0, d0 = a[..., 0::2], b[..., 0::2], c[..., 0::2], d[..., 0::2]
         a1, b1, c1, d1 = a[..., 1::2], b[..., 1::2], c[..., 1::2], d[..., 1::2]
-        a, b, c, d = a1 * a0 + b1 * c0, a1 * b0 + b1 * d0, c1 * a0 + d1 * c0, c1 * b0 + d1 * d0
-        big = np.maximum(np.maximum(np.abs(a), np.abs(b)), np.maximum(np.abs(c), np.abs(d)))
-        scale = np.where(big > 0, big, 1.0)
-        a, b, c, d = a / scale, b / scale, c / scale, d / scale
-        logs = np.log(scale) if first else logs[..., 0::2] + logs[..., 1::2] + np.log(scale)
-        first = False
+        a = a1 * a0
+        a += b1 * c0
+        b = a1 * b0
+        b += b1 * d0
+        c = c1 * a0
+        c += d1 * c0
+        d = c1 * b0
+        d += d1 * d0
+        scale = np.abs(a)
+        np.maximum(scale, np.abs(b), out=scale)
+        np.maximum(scale, np.abs(c), out=scale)
+        np.maximum(scale, np.abs(d), out=scale)
+        scale[~(scale > 0)] = 1.0
+        a /= scale
+        b /= scale
+        c /= scale
+        d /= scale
+        log_scale = np.log(scale)
+        logs = log_scale if logs is None else logs[..., 0::2] + logs[..., 1::2] + log_scale
     return a[..., 0] + b[..., 0], logs[..., 0]
 
 
@@ -542,7 +558,35 @@ def _fixed(x, P):
     import mpmath
 
     with mpmath.workprec(P + 24):
-        return int(mpmath.nint(mpmath.mpf(x) * mpmath.mpf(2) ** P))
+        return int(mpmath.nint(mpmath.ldexp(mpmath.mpf(x), P)))  # (times 2^P exactly, no power formed)
+
+
+#: ``(h, h^2, h, trig, t, fixed t)`` per ``(steps, P)`` (:func:`_step_constants`): a search's final
+#: pairs and their neighbours share them
+_STEP_CONSTANTS: dict = {}
+_STEP_LOCK = threading.Lock()
+
+
+def _step_constants(steps, P):
+    """What the exact half-period's Taylor steps share at ``steps`` steps and ``P`` bits, whatever
+    ``eps`` and ``mu``: ``h = (pi/2)/steps`` (an mpf at ``P + 40`` bits), ``h^2`` and ``h`` over
+    ``2^P``, the ``(cos 2jh, sin 2jh)`` of each step's start over ``2^P``, and the lists ``t_j =
+    (2h)^j / j!`` (mpf) and ``t_j`` over ``2^P``, extended on demand by :func:`_exact_half_period`.
+    Kept, so that the points of one search pay the extended-precision trigonometry once."""
+    import mpmath
+
+    key = (steps, P)
+    c = _STEP_CONSTANTS.get(key)
+    if c is None:
+        with mpmath.workprec(P + 40):
+            h = mpmath.pi / 2 / steps
+            trig = [(_fixed(mpmath.cos(2 * j * h), P), _fixed(mpmath.sin(2 * j * h), P)) for j in range(steps)]
+            one = mpmath.mpf(1)
+            c = (h, _fixed(h * h, P), _fixed(h, P), trig, [one], [_fixed(one, P)])
+        if len(_STEP_CONSTANTS) >= 256:
+            _STEP_CONSTANTS.clear()
+        _STEP_CONSTANTS[key] = c
+    return c
 
 
 def _exact_half_period(eps, mu, P, zeta=0.0):
@@ -564,17 +608,20 @@ def _exact_half_period(eps, mu, P, zeta=0.0):
         q = 16 * e * e / mpmath.pi**2
         L = math.sqrt(2.0 * float(q) * (1.0 + float(m2))) + 2.0
         steps = max(1, math.ceil(0.5 * math.pi * L))
-        h = mpmath.pi / 2 / steps
+        h, hh, hf, trig, ts, fx = _step_constants(steps, P)
         twoq, c0 = _fixed(2 * q, P), _fixed(2 * q * m2, P)
-        hh, hf = _fixed(h * h, P), _fixed(h, P)
-        trig = [(_fixed(mpmath.cos(2 * j * h), P), _fixed(mpmath.sin(2 * j * h), P)) for j in range(steps)]
         # 2q (2h)^j / j!: the scaled Taylor coefficients of 2q cos(2 z0 + 2 s) without the trig factor
-        scale, t, j = [], mpmath.mpf(1), 0
+        scale, j = [], 0
+        tiny = mpmath.mpf(2) ** (-P - 8)
         while True:
-            scale.append(twoq * _fixed(t, P) >> P)
+            scale.append(twoq * fx[j] >> P)
             j += 1
-            t = t * 2 * h / j
-            if j > 4 and t * 2 * q < mpmath.mpf(2) ** (-P - 8):
+            if j == len(fx):
+                with _STEP_LOCK:  # (the lists are shared: one thread extends them at a time)
+                    while len(fx) <= j:
+                        ts.append(ts[len(fx) - 1] * 2 * h / len(fx))
+                        fx.append(_fixed(ts[len(fx)], P))
+            if j > 4 and ts[j] * 2 * q < tiny:
                 break
     K = len(scale)
     cols = [[one, 0], [0, one]]
@@ -618,6 +665,10 @@ def _exact_tau(eps, mu):
     return float(tau), log_tau, abs(num) < (1 << 2 * P)
 
 
+#: the damped verdicts decided so far, by their exact doubles ``(eps, mu, zeta)``
+_DAMPED_EXACT: dict = {}
+
+
 def sine_damped_exact(eps, mu, zeta):
     """``[(stable, growth)]`` of the damped sine drive at the exact doubles (flat arrays): stable iff
     ``|tr M_phi| / 2 < cosh(kappa)`` (``M_phi`` at ``mu^2 (1 + zeta^2)``, ``kappa = 2 sqrt 8 zeta mu
@@ -630,6 +681,10 @@ def sine_damped_exact(eps, mu, zeta):
     out = []
     for e, m, z in zip(np.asarray(eps, float).tolist(), np.asarray(mu, float).tolist(),
                        np.asarray(zeta, float).tolist()):
+        known = _DAMPED_EXACT.get((e, m, z))
+        if known is not None:  # (a search asks its final pair again, and the report its edges)
+            out.append(known)
+            continue
         q = 16.0 * e * e / math.pi**2
         G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + m * m * (1.0 + z * z)))
         growth_bits = int(2.0 * G / math.log(2.0)) + 1
@@ -649,6 +704,9 @@ def sine_damped_exact(eps, mu, zeta):
         with mpmath.workprec(2 * P + 64):
             growth = (mpmath.acosh(abs(t)) if abs(t) > 1 else mpmath.mpf(0)) - kappa
             out.append((bool(diff < 0), float(growth)))
+        if len(_DAMPED_EXACT) >= 4096:
+            _DAMPED_EXACT.clear()
+        _DAMPED_EXACT[(e, m, z)] = out[-1]
     return out
 
 
@@ -700,7 +758,7 @@ def _half_period(eps, mu):
     out = np.empty((6, eps.size))
     fact = np.cumprod(np.concatenate([[1.0], np.arange(1.0, _TERMS + 2)]))
     sign = np.array([1.0, -1.0, -1.0, 1.0])  # d^k/ds^k cos(x + s): cos, -sin, -cos, sin
-    for m in np.unique(steps):
+    for m in sorted(set(steps.tolist())):  # (np.unique would load numpy.ma: 15 ms of a first call)
         sel = np.flatnonzero(steps == m)
         qq, mm = q[sel], mu[sel]
         h = 0.5 * PI / m
@@ -730,14 +788,18 @@ def _half_period(eps, mu):
                 Y[k + 2] = np.einsum("ijb,ijbc->jbc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
             T_y = Y.sum(axis=0)                                # (steps, points, 2): row y of each map
             T_dy = np.einsum("k,kjbc->jbc", np.arange(_TERMS + 2.0), Y) / h
+            # the maps as (steps, 2, points, 1): (y, y') from y (M0) and from y' (M1); the state S
+            # holds y and y' (S[0], S[1]) of both solutions: one step is a few numpy calls
+            TT = np.stack([T_y, T_dy], axis=1)
+            M0, M1 = TT[..., 0, None], TT[..., 1, None]
+            S = np.stack([y, dy])
             for t in range(jj.size):
-                ty, td = T_y[t], T_dy[t]
-                y, dy = (ty[:, 0, None] * y + ty[:, 1, None] * dy, td[:, 0, None] * y + td[:, 1, None] * dy)
-                big = np.maximum(np.abs(y).max(axis=1), np.abs(dy).max(axis=1))
-                y /= big[:, None]
-                dy /= big[:, None]
+                S = M0[t] * S[0] + M1[t] * S[1]
+                big = np.abs(S).max(axis=(0, 2))
+                S /= big[:, None]
                 s += np.log(big)
                 s_max = np.maximum(s_max, s)
+            y, dy = S[0], S[1]
         out[:, sel] = y[:, 0], dy[:, 0], y[:, 1], dy[:, 1], s, s_max
     return out
 
