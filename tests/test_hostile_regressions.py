@@ -517,3 +517,14 @@ def test_linear_motion_under_overwhelming_damping_decays_without_a_warning():
 def test_linear_motion_of_any_drive_gives_scalars_for_scalars():
     th, dth = K.linear_motion(0.5, 0.1, 0.0, T=0.15, A=100.0, zeta=0.1, drive="sine")
     assert isinstance(th, np.float64) and isinstance(dth, np.float64)
+
+
+@pytest.mark.parametrize("call", [
+    lambda kw: K.stroboscopic_map(0.1, 0.0, T=0.15, A=100.0, periods=2, **kw),
+    lambda kw: K.survival(0.1, 0.0, T=0.15, A=100.0, periods=2, **kw),
+    lambda kw: K.basin(T=0.15, A=100.0, periods=2, n_theta=4, n_dtheta=4, **kw),
+], ids=["stroboscopic_map", "survival", "basin"])
+@pytest.mark.parametrize("name", ["zeta", "damping"])
+def test_motions_of_one_damping_refuse_an_array_by_the_name_given(call, name):
+    with pytest.raises(ValueError, match=f"^{name} must be a single number"):
+        call({name: [0.05, 0.06]})

@@ -28,6 +28,12 @@ def _damping(damping, zeta, l, g):
     return _v.damping(damping, zeta, l, g)[0]
 
 
+def _one_damping(damping, zeta, l, g):
+    """:func:`_damping` of a motion that takes one coefficient: a single number, refused by the name
+    it was given as."""
+    return float(_v.one("zeta" if zeta is not None else "damping", _damping(damping, zeta, l, g)))
+
+
 def _tolerances(rtol, atol):
     rtol = _v.one("rtol", _v.in_range("rtol", rtol, 1e-13, 1.0, lo_open=False))
     atol = _v.one("atol", _v.positive("atol", atol))

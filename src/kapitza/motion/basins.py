@@ -36,7 +36,7 @@ from .. import _validate as _v
 from .._display import Summary, num
 from ..drives import Drive, as_drive
 from ..parameters import G_EARTH
-from ._integrate import MAX_PERIODS, _budget, _check_speed, _choice, _damping, _peak, _physical
+from ._integrate import MAX_PERIODS, _budget, _check_speed, _choice, _one_damping, _peak, _physical
 from ._maps import bound_ensemble, chunk_results, step_plan
 from ._periods import (INTEGRATED_ATOL as INTEGRATED_ATOL, INTEGRATED_RTOL as INTEGRATED_RTOL,
                        MIN_SAMPLES as MIN_SAMPLES, SAMPLE_SPACING as SAMPLE_SPACING, _ExactPeriod, _IntegratedPeriod)
@@ -160,7 +160,7 @@ def survival(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     dtheta0 = _v.finite("dtheta0", dtheta0)
     theta0, dtheta0 = np.broadcast_arrays(theta0, dtheta0)
     T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
-    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
+    c = _one_damping(damping, zeta, l, g)
     periods = _v.bounded_count("periods", periods, MAX_PERIODS, minimum=1)
     tol = _tolerance(tol)
     _choice("model", model, MODELS)
@@ -376,7 +376,7 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     n_dtheta = _v.bounded_count("n_dtheta", n_dtheta, MAX_GRID, minimum=2)
     _v.bounded_work("n_theta * n_dtheta", n_theta * n_dtheta, 25_000_000, what="grid points held in memory")
     d = as_drive(drive)
-    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
+    c = _one_damping(damping, zeta, l, g)
     if model == "nonlinear" and exact_path(d, c):
         # the window's corner speed starts a motion: refuse it here, by this function's name for it
         plan = step_plan(d, T, A, l, g)

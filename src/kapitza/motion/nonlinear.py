@@ -24,7 +24,7 @@ from ._elliptic import _phase_step, _phase_step_one
 from ._integrate import (MAX_DOP853_SWEEP as MAX_DOP853_SWEEP, MAX_PERIODS as MAX_PERIODS, MAX_SAMPLES,
                          MAX_SCALED_PHASE, MAX_TRAJECTORY_PERIODS as MAX_TRAJECTORY_PERIODS, METHODS, _SPEED_LIMIT,
                          _add_turns, _budget, _check_speed, _choice, _damping, _drive_of, _integrated_drive,
-                         _method, _peak, _physical, _reduce_angle, _single_set, _tolerances)
+                         _method, _one_damping, _peak, _physical, _reduce_angle, _single_set, _tolerances)
 from ._maps import step_plan
 from ._pivot import _checked
 
@@ -568,7 +568,7 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     theta0 = _v.one("theta0", _v.finite("theta0", theta0))
     dtheta0 = _v.one("dtheta0", _v.finite("dtheta0", dtheta0))
     T, A, l, g = (_v.one(name, v) for name, v in zip("TAlg", _physical(T, A, l, g, eps, mu)))
-    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
+    c = _one_damping(damping, zeta, l, g)
     _choice("model", model, MODELS)
     drive = _drive_of(drive)
     method = _method(method, c, drive)

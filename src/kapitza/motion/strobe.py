@@ -15,7 +15,7 @@ import numpy as np
 from .. import _validate as _v
 from .._display import Summary, num, span
 from ..parameters import G_EARTH
-from ._integrate import (MAX_PERIODS, MAX_SAMPLES, _add_turns, _budget, _check_speed, _choice, _damping, _drive_of,
+from ._integrate import (MAX_PERIODS, MAX_SAMPLES, _add_turns, _budget, _check_speed, _choice, _drive_of, _one_damping,
                          _integrated_drive, _method, _peak, _physical, _reduce_angle, _tolerances)
 from ._maps import STEPS, bound_ensemble, chunk_results, step_plan
 from .nonlinear import MODELS
@@ -198,7 +198,7 @@ def stroboscopic_map(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=N
     if every is not None:
         every = _v.bounded_count("every", every, MAX_PERIODS, minimum=1)
     _choice("model", model, MODELS)
-    c = float(_v.one("damping", _damping(damping, zeta, l, g)))
+    c = _one_damping(damping, zeta, l, g)
     drive = _drive_of(drive)
     method = _method(method, c, drive)
     chunk = _v.bounded_count("chunk", chunk, 10**7, minimum=1)
