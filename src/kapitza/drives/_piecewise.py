@@ -141,7 +141,8 @@ def extended_verdicts(eps, mu, zeta, levels, durations):
     growth = np.where(np.abs(tau) > 1.0, acosh_from_log(log_tau, tau), 0.0) - kappa
     with np.errstate(over="ignore", invalid="ignore"):
         tau_error = 0.5 * err * np.exp(L) + unit * (8.0 + 4.0 * np.abs(L)) * np.abs(tau)
-    return decided, stable, tau.astype(float), log_tau.astype(float), growth.astype(float), tau_error.astype(float)
+        # (beyond the doubles' range tau and its bound are infinite, as the double product gives them)
+        return decided, stable, tau.astype(float), log_tau.astype(float), growth.astype(float), tau_error.astype(float)
 
 
 def extended_half_trace(eps, mu, levels, durations, errors=False):
