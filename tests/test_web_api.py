@@ -288,3 +288,19 @@ def test_served_connections_send_small_answers_at_once():
         return value
 
     assert asyncio.run(accepted_nodelay()) != 0
+
+
+def test_a_fresh_servers_first_requests_at_once_all_answer():
+    # a page's first load asks the motion, the safe tilt, the report and the chart together; each
+    # route imports what it needs where first needed, so the server imports those modules before
+    # it answers (two first imports of one package in two threads once left a route failing)
+    from concurrent.futures import ThreadPoolExecutor
+
+    q = "T=0.15&A=100&l=1&g=9.81&drive=square"
+    paths = [f"/api/motion?{q}&zeta=0&theta0=0.1", f"/api/safe_tilt?{q}&periods=40", f"/api/point?{q}",
+             f"/api/verdict?{q}"]
+    for _ in range(2):
+        with running_server() as (base, _, _proc), httpx.Client(timeout=300) as client:
+            with ThreadPoolExecutor(len(paths)) as pool:
+                codes = list(pool.map(lambda p: client.get(base.rstrip("/") + p).status_code, paths))
+        assert codes == [200] * len(paths), dict(zip(paths, codes))

@@ -344,6 +344,12 @@ def _iterable(value):
         return [value]
 
 
+#: Imported at the server's start (see ``lifespan`` in :func:`create_app`), not by each route's first call.
+_ROUTE_MODULES = ("kapitza.motion", "kapitza.motion.basins", "kapitza.motion.pair", "kapitza.motion.chain",
+                  "kapitza.safety", "kapitza.propagation", "kapitza.zones", "kapitza.curves", "kapitza.rig_plane",
+                  "kapitza.system", "kapitza.chain")
+
+
 def create_app(hosts=None) -> FastAPI:
     """The explorer: the page at ``/``, the JSON API under ``/api``, its schema at ``/openapi.json``.
 
@@ -390,9 +396,17 @@ def create_app(hosts=None) -> FastAPI:
     async def lifespan(app):
         # The routes compute with numpy: more threads than CPUs only take turns at the GIL, and
         # ten requests at once then all finish late. One thread per CPU keeps them in a queue.
+        import importlib
+
         import anyio.to_thread
 
         anyio.to_thread.current_default_thread_limiter().total_tokens = max(2, _v.cpus())
+        # The modules the routes import where they are first needed are imported here, once, before
+        # any request: two first requests in two threads (a page's first load asks the motion and
+        # the safe tilt at once) would otherwise import one package together, and the second can
+        # find it half made (an ImportError, a route that never answers)
+        for name in _ROUTE_MODULES:
+            importlib.import_module(name)
         yield
 
     app = FastAPI(title="kapitza explorer", version=__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
