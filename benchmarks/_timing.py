@@ -47,3 +47,13 @@ def machine():
     except OSError:
         pass
     return lines
+
+
+def header(name):
+    """Print a benchmark's first lines: its name and the time, the machine, the load average."""
+    import datetime
+
+    print(f"{name}  {datetime.datetime.now().isoformat(timespec='seconds')}")
+    for line in machine():
+        print("  " + line)
+    print(f"  load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}")

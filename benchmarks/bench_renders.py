@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import datetime
 import io
 import os
 import re
@@ -36,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine  # noqa: E402
+from _timing import header  # noqa: E402
 
 import matplotlib  # noqa: E402
 
@@ -148,10 +147,7 @@ def main(argv=None):
     p.add_argument("--only", choices=("animate", "chart"), help="run one part only")
     args = p.parse_args(argv)
     reps = 1 if args.tiny else args.repeats
-    print(f"bench_renders  {datetime.datetime.now().isoformat(timespec='seconds')}")
-    for line in machine():
-        print("  " + line)
-    print(f"  load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    header('bench_renders')
     tmp = Path(tempfile.mkdtemp(prefix="kapitza-bench-"))
 
     if args.only != "animate":

@@ -19,7 +19,6 @@ script says which it measured.
 from __future__ import annotations
 
 import argparse
-import datetime
 import importlib.util
 import json
 import os
@@ -30,7 +29,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine  # noqa: E402
+from _timing import header  # noqa: E402
 
 RIG = ["stability", "--drive", "sine", "--frequency", "50", "--amplitude", "0.003", "--rod", "0.25",
        "--damping", "0.1"]
@@ -65,10 +64,7 @@ def main(argv=None):
     p.add_argument("--runs", type=int, default=9, help="runs of each command, in turns (default 9)")
     args = p.parse_args(argv)
     runs = 1 if args.tiny else args.runs
-    print(f"bench_sine_rig  {datetime.datetime.now().isoformat(timespec='seconds')}")
-    for line in machine():
-        print("  " + line)
-    print(f"  load average {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    header('bench_sine_rig')
     origin = importlib.util.find_spec("kapitza").origin
     cached = os.path.exists(importlib.util.cache_from_source(origin)) or not os.environ.get("PYTHONDONTWRITEBYTECODE")
     print(f"  kapitza from {os.path.dirname(origin)}; bytecode cache: "
