@@ -66,3 +66,23 @@ def test_each_damped_edge_is_the_unstable_double_beside_the_zone(drive, mu, zeta
                 continue
             assert not K.is_stable(edge, mu, drive=drive, zeta=zeta)
             assert K.is_stable(np.nextafter(edge, inward), mu, drive=drive, zeta=zeta)
+
+
+@pytest.mark.parametrize("drive, mu, zeta", [(K.SquareWave(), 0.5, 1e-9), (K.SquareWave(), 0.95, 1e-12),
+                                             (K.RectangularWave(0.3), 0.6, 1e-9),
+                                             (K.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3]), 0.5, 1e-10)],
+                         ids=lambda v: v.text() if hasattr(v, "text") else repr(v))
+def test_light_damping_beside_the_undamped_edges(drive, mu, zeta):
+    # with light damping the damped edges lie within an ulp or so of the undamped ones, where the
+    # doubles cannot decide the undamped verdict either: both are settled in one exact product, and
+    # the zone reported is the one whose edge the point is at (stable) or none (unstable)
+    for n in (0, 1, 2):
+        lo, hi = (float(x) for x in K.zone_edges(mu, n, drive=drive))
+        for edge in (lo, hi):
+            eps = (np.array([edge]).view(np.int64) + np.arange(-4, 5)).view(np.float64)
+            got = K.is_stable(eps, mu, drive=drive, zeta=zeta)
+            want = [oracle_stable(float(x), mu, zeta, drive) for x in eps]
+            assert got.tolist() == want, (n, edge)
+            zone = np.asarray(K.zone_index(eps, mu, drive=drive, zeta=zeta))
+            assert np.array_equal(zone >= 0, got)
+            assert set(zone[got].tolist()) <= {n}, (n, edge, zone)

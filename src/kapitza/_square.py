@@ -259,12 +259,13 @@ def _tau_error(x, u, mu, tau):
                 + _certify.TOL * (x + 4.0) * np.abs(tau))
 
 
-def _floquet(eps, mu, certify=True, trace=False, phi=None, exact=None):
+def _floquet(eps, mu, certify=True, trace=False, phi=None, with_unsure=False):
     """(tau, growth, theta, stable, n) for trusted eps > 0, mu > 0 (any mu). ``certify``: decide
-    the points within the rounding bound of an edge in extended precision (a search that needs
-    the predicate only away from its last few ulp switches it off, and certifies its final bracket)
-    by ``exact(eps, mu)``, ``(tau, log|tau|, stable, angle)`` arrays (default, and wherever the trace
-    is reported: :func:`kapitza._certify.exact_half_trace`).
+    the points within the rounding bound of an edge in extended precision
+    (:func:`kapitza._certify.exact_half_trace`; a search that needs the predicate only away from its
+    last few ulp switches it off, and certifies its final bracket). ``with_unsure`` (without
+    ``certify`` or ``trace``): a sixth item marks those points, where the verdict of the doubles
+    may not be the exact one.
 
     ``trace``: the trace is reported: a sixth item bounds the absolute error of ``tau``
     (:func:`_tau_error`), and where that exceeds :data:`kapitza._certify.TRACE_RTOL` ``|tau|`` the
@@ -294,10 +295,7 @@ def _floquet(eps, mu, certify=True, trace=False, phi=None, exact=None):
         # signs lost to rounding (or an unstable point whose excess rounded to zero):
         # the exact trace decides the verdict, the growth and the angle
         tau, growth, theta, a, b = (np.array(v, dtype=float) for v in (tau, growth, theta, a, b))
-        if exact is not None and not trace:
-            t_e, _, st, acos_e = exact(eps[check], mu[check])
-        else:
-            t_e, _, st, acos_e = _certify.exact_half_trace(eps[check], m_x[check], None if z_x is None else z_x[check])
+        t_e, _, st, acos_e = _certify.exact_half_trace(eps[check], m_x[check], None if z_x is None else z_x[check])
         nn = n[check]
         even = np.mod(nn, 2.0) == 0.0
         acos_t = np.where(st, acos_e, 0.0)
@@ -324,7 +322,7 @@ def _floquet(eps, mu, certify=True, trace=False, phi=None, exact=None):
     stable = ell & (a > 0) & (b < 0)
     out = tau, growth, theta, stable, np.where(stable, n, -1).astype(np.int64)
     if not trace:
-        return out
+        return out + (check,) if with_unsure else out
     # exact product: tau correctly rounded; no elliptic phase: every term of tau is positive
     # (docs/theory.md section 3), each good to a few units of the phases
     # (damped, the verdict's points were decided at the rounded mu_c: their bound stays the closed forms')

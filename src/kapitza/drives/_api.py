@@ -68,12 +68,21 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
                                         np.asarray(zeta, float))
     damped = np.any(zeta > 0)
     mu_c = mu * np.sqrt(1.0 + zeta * zeta) if damped else mu
+    # certified damped verdicts about as cheap as the doubles: the points whose phi-verdict the
+    # doubles leave open are settled with the damped excess's (one extended product for both)
+    exact_all = bool(certify and damped and not trace and drive._damped_certified
+                     and drive._certified_cheap(True))
+    f = None
     if trace and _traced(drive):
         phi = (mu.reshape(-1), zeta.reshape(-1)) if damped else None
         f = drive._floquet0(eps, mu_c, certify, trace=True, phi=phi)
-    else:
-        # (damped, the phi-system's verdict is certified, its angle need not be to the last bit)
-        f = drive._floquet0(eps, mu_c, "verdict" if certify and damped else certify)
+    elif exact_all:
+        f = drive._floquet0(eps, mu_c, False)
+        if f.unsure is None:   # (a drive that does not say which: its own certified verdicts)
+            f = None
+    if f is None:
+        f = drive._floquet0(eps, mu_c, certify)
+        exact_all = False
     extra = ()
     if trace:
         extra = (np.full(eps.shape, np.inf) if f.tau_error is None else f.tau_error,)
@@ -83,16 +92,22 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
     # |tr M_phi| < 2 cosh(kappa), compared in logarithms (both sides may overflow), or
     # without cancellation where tr M_phi / 2 is near 1 (_damped_excess).
     with np.errstate(divide="ignore"):
-        G = _damped_excess(drive, eps, mu_c, kappa, f.log_tau, f.zone < 0).reshape(eps.shape)
+        # (with exact_all every G near 0 is settled exactly below: no cancellation-free form needed)
+        G = _damped_excess(drive, eps, mu_c, kappa, f.log_tau, f.zone < 0,
+                           cancel_free=not exact_all).reshape(eps.shape)
         stable = (f.zone >= 0) | (G < 0)
     growth = f.growth - kappa
     if certify and drive._damped_certified:
         # where rounding may decide, the exact doubles decide in extended precision
         # (kapitza._certify.damped_mp): G near 0 by less than it moves over 32 ulp of eps (its own
         # rounding, and that of mu_c, move it by the like of a few ulp of eps); a drive whose exact
-        # verdicts cost about what the doubles do is asked for every G near 0
+        # verdicts cost about what the doubles do is asked for every G near 0, and for every point
+        # whose phi-verdict the doubles left open
         Gf = G.reshape(-1)
-        cand = np.flatnonzero(np.abs(Gf) < 1e-4)
+        near0 = np.abs(Gf) < 1e-4
+        if exact_all:
+            near0 |= f.unsure.reshape(-1)
+        cand = np.flatnonzero(near0)
         unsure = cand
         if cand.size and not drive._certified_cheap(True):
             e, m, z = eps.reshape(-1)[cand], mu.reshape(-1)[cand], zeta.reshape(-1)[cand]
@@ -111,7 +126,8 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
             stable, growth = np.array(stable, bool, copy=True), np.array(growth, float, copy=True)
             stable.reshape(-1)[unsure] = [r[0] for r in res]
             growth.reshape(-1)[unsure] = [r[1] for r in res]
-    zone = np.where(f.zone >= 0, f.zone, -1)
+    # (a phi-zone the doubles gave where the exact verdict says unstable: the point is past its edge)
+    zone = np.where((f.zone >= 0) & stable, f.zone, -1)
     gap = stable & (f.zone < 0)
     if np.any(gap):
         # Stable only thanks to the damping: the point sits in the gap between zones
@@ -151,15 +167,15 @@ def _excess(drive, eps, mu, zeta):
     return G.reshape(shape)
 
 
-def _damped_excess(drive, eps, mu_c, kappa, log_tau=None, where=None):
+def _damped_excess(drive, eps, mu_c, kappa, log_tau=None, where=None, cancel_free=True):
     """``G = log|tau_phi| - log cosh(kappa)``, without cancellation where ``tau_phi > 0`` and the
     drive gives ``y = tau_phi - 1`` accurately (short phases): there
     ``G = log1p((y - 2 sinh^2(kappa/2)) / cosh(kappa))``, whose terms are of the size of the result.
 
     Below zone 0 at small ``mu`` both logarithms are of order ``eps^2 mu^2`` and ``G`` of order
     ``eps^4`` (``docs/drives.md``, section 3). With ``log_tau`` given, ``G`` is formed from it
-    except at the rows (of ``where``, all by default) with ``tau_phi`` near 1; without it, rows
-    the drive cannot form are NaN. Flat arrays.
+    except at the rows (of ``where``, all by default) with ``tau_phi`` near 1 (``cancel_free=False``:
+    at none); without it, rows the drive cannot form are NaN. Flat arrays.
     """
     eps, mu_c, kappa = (np.asarray(v, float).reshape(-1) for v in np.broadcast_arrays(eps, mu_c, kappa))
     if log_tau is None:
@@ -170,6 +186,8 @@ def _damped_excess(drive, eps, mu_c, kappa, log_tau=None, where=None):
         with np.errstate(divide="ignore"):
             G = log_tau - log_cosh(kappa)
         near = (log_tau < 0.5) & (kappa < 1.0)
+        if not cancel_free:
+            return G
     if where is not None:
         near &= np.asarray(where).reshape(-1)
     if not near.any():

@@ -55,7 +55,9 @@ class Floquet0:
     rotation angle per period (in ``(n pi, (n + 1) pi)`` on zone ``n``, a multiple of
     ``pi`` off the zones), ``zone`` the zone index (-1 where unstable). ``tau_error``, given
     when the trace is asked for (``trace=True``), bounds the absolute error of ``tau`` (``inf``
-    where ``tau`` overflows or nothing is known).
+    where ``tau`` overflows or nothing is known). ``unsure``, which a drive may give with
+    ``certify=False``, marks the points whose verdict the rounding of these doubles may have
+    decided (those ``certify`` would settle in extended precision); None: not known.
     """
 
     tau: np.ndarray
@@ -64,6 +66,7 @@ class Floquet0:
     theta: np.ndarray
     zone: np.ndarray
     tau_error: np.ndarray | None = None
+    unsure: np.ndarray | None = None
 
 
 class Drive:
@@ -229,8 +232,8 @@ class Drive:
         product does so in mpmath); the generic engine's ``tr M / 2`` is accurate to about
         1e-13 relative, and its verdicts are those of that value unless the drive gives its shape
         as linear pieces (:meth:`_linear_pieces`): then the points near the threshold are decided
-        in extended precision. ``certify="verdict"`` (the damping layer) asks for the verdict and
-        ``tr M`` settled so, the angle and growth only as accurately as that makes them cheap.
+        in extended precision. Without ``certify`` a drive that knows which points those are may
+        say so (:attr:`Floquet0.unsure`): the damping layer then settles them with its own.
 
         ``trace`` says the trace will be reported: the result then carries ``tau_error``, a bound
         on the absolute error of ``tau`` (here :meth:`_trace_error`, a half ulp where the trace was

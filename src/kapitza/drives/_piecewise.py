@@ -349,7 +349,8 @@ def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=N
     zone = np.where(stable, zone_stable, -1).astype(np.int64)
     return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),
                     theta=theta.reshape(shape), zone=zone.reshape(shape),
-                    tau_error=None if tau_error is None else tau_error.reshape(shape))
+                    tau_error=None if tau_error is None else tau_error.reshape(shape),
+                    unsure=None if certify or trace else unsure.reshape(shape))
 
 
 class PiecewiseConstant(Drive):

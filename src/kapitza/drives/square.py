@@ -14,7 +14,7 @@ import numpy as np
 from .. import _square as S
 from .. import _validate as _v
 from ._base import Floquet0, log_cosh
-from ._piecewise import PiecewiseConstant, extended_half_trace
+from ._piecewise import PiecewiseConstant
 
 
 def _undamped(zeta) -> bool:
@@ -65,18 +65,14 @@ class SquareWave(PiecewiseConstant):
 
     def _floquet0(self, eps, mu, certify=True, trace=False, phi=None):
         # the closed forms are certified at no cost off a band a few ulp wide about each edge; in it
-        # mpmath gives the angle to the last bit, or (certify="verdict") the long double product
-        # settles the verdict where it can
-        exact = None
-        if certify == "verdict":
-            def exact(e, m):
-                res = extended_half_trace(e, m, self.levels, self._durations)
-                return tuple(np.array([r[i] for r in res]) for i in range(4))
-        tau, growth, theta, stable, zone, *err = S._floquet(eps, mu, bool(certify), trace, phi, exact)
+        # mpmath gives the angle to the last bit
+        tau, growth, theta, stable, zone, *extra = S._floquet(eps, mu, bool(certify), trace, phi,
+                                                             with_unsure=not (certify or trace))
         with np.errstate(divide="ignore"):
             log_tau = np.where(np.isfinite(tau), np.log(np.abs(tau)), log_cosh(growth))
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone,
-                        tau_error=err[0] if err else None)
+                        tau_error=extra[0] if trace else None,
+                        unsure=None if (certify or trace) else extra[0])
 
     def _log_tau0(self, eps, mu):
         return self._floquet0(eps, mu, certify=False).log_tau
