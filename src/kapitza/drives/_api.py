@@ -570,9 +570,13 @@ class _Levels:
     def __call__(self, e, m, certify, with_tau=False):
         e, m = np.broadcast_arrays(np.asarray(e, float), np.asarray(m, float))
         shape = e.shape
-        keys = list(zip(e.ravel().tolist(), m.ravel().tolist()))
-        todo = np.array([not (certify and k in self.known) for k in keys], bool)
-        lv, tau = np.empty(len(keys)), np.empty(len(keys))
+        size = e.size
+        if certify:
+            keys = list(zip(e.ravel().tolist(), m.ravel().tolist()))
+            todo = np.fromiter((k not in self.known for k in keys), bool, size)
+        else:   # (only certified answers are remembered)
+            todo = np.ones(size, bool)
+        lv, tau = np.empty(size), np.empty(size)
         if todo.any():
             count = int(todo.sum())
             t, _, theta, st, zn, kappa = self.drive._floquet(e.ravel()[todo], m.ravel()[todo],
@@ -582,8 +586,9 @@ class _Levels:
                 tau[todo] = t / np.cosh(kappa)
             if certify:
                 self.known.update(zip((k for k, d in zip(keys, todo) if d), zip(lv[todo].tolist(), tau[todo].tolist())))
-        for i in np.flatnonzero(~todo):
-            lv[i], tau[i] = self.known[keys[i]]
+        if certify:
+            for i in np.flatnonzero(~todo):
+                lv[i], tau[i] = self.known[keys[i]]
         lv, tau = lv.reshape(shape), tau.reshape(shape)
         return (lv, tau) if with_tau else lv
 
