@@ -133,12 +133,15 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
         # Stable only thanks to the damping: the point sits in the gap between zones
         # k - 1 and k (theta = k pi). It belongs to the zone whose edge it is nearer,
         # i.e. to k - 1 while |tau| still rises with eps, to k once it falls again.
+        # (below zone 0, k = 0, there is nothing to ask)
         k = np.rint(f.theta / PI).astype(np.int64)
-        e, m, z = eps[gap], mu[gap], zeta[gap]
-        h = 1e-7 * e
-        up, down = _excess(drive, np.stack([e + h, e - h]), m, z)   # (one call for both sides)
-        rising = up > down
-        zone[gap] = np.maximum(np.where(rising, k[gap] - 1, k[gap]), 0)
+        zone[gap & (k <= 0)] = 0
+        ask = gap & (k > 0)
+        if np.any(ask):
+            e, m, z = eps[ask], mu[ask], zeta[ask]
+            h = 1e-7 * e
+            up, down = _excess(drive, np.stack([e + h, e - h]), m, z)   # (one call for both sides)
+            zone[ask] = np.where(up > down, k[ask] - 1, k[ask])
     return (f.tau, growth, f.theta, stable, zone, kappa) + extra
 
 
