@@ -293,3 +293,229 @@ def pieces_mp(eps, mu, zeta, pieces):
                     break
             P *= 2
     return out
+
+
+# ---------------------------------------------------------------- piecewise-linear shapes in long double
+#: numpy's long double where it carries more bits than a double (x86's 80-bit format), else None
+_LD = np.longdouble if np.finfo(np.longdouble).nmant >= 60 else None
+#: whether that tier is there
+HAS_LONG_DOUBLE = _LD is not None
+
+#: Points times Taylor steps handled at once by :func:`pieces_ld` (its terms are kept for the sums)
+_LD_CHUNK = 16384
+
+#: Beyond this many Taylor steps a period the long double tier declines (mpmath decides)
+_LD_MAX_STEPS = 4096
+
+
+def _pieces_ld_chunk(e, m2, pieces, steps, unit):
+    """``(tr M, bound, e)`` (``tr M`` of the ``phi``-equation scaled by ``2^-e``, ``bound`` its error at
+    that scale) of the linear pieces at long double ``e = eps`` and ``m2 = mu^2 (1 + zeta^2)``, with
+    ``steps[i]`` Taylor steps on piece ``i`` (see :func:`pieces_ld`)."""
+    LD = e.dtype.type
+    E = 8.0 * e * e
+    a_l, b_l, h_l, da_l = [], [], [], []
+    for (x0, x1, s0, s1), k in zip(pieces, steps):
+        width = LD(x1) - LD(x0)
+        if not width > 0:
+            continue
+        S0, dS = LD(s0), LD(s1) - LD(s0)
+        h = width / k
+        hh = h * h
+        j = np.arange(k, dtype=LD)[:, None]
+        A = E * (m2 + (S0 + dS * j / k))                 # c at each step's start
+        a = A * hh
+        b = np.broadcast_to(E * dS / k * hh, a.shape)   # c' h, times h^2
+        # the coefficients' own rounding (from the exact doubles): A to 8 units of E (m2 + |s0| + |dS|),
+        # h^2 to 5, b to 9 of itself, and the time steps' lengths (2 units each) as a coefficient's change
+        da = (8.0 * unit * E * (m2 + abs(S0) + abs(dS)) * hh + 12.0 * unit * np.abs(a)) + 12.0 * unit * np.abs(b)
+        a_l.append(a)
+        b_l.append(b)
+        h_l.append(np.full((k, 1), h, LD))
+        da_l.append(da)
+    a, b, h, da = np.concatenate(a_l), np.concatenate(b_l), np.concatenate(h_l), np.concatenate(da_l)
+    # Taylor terms of both columns (y(0), y'(0) h) = (1, 0) and (0, 1), a step of length 1 in u = x/h:
+    # W_(k+2) = (a W_k + b W_(k-1)) / ((k + 1)(k + 2))
+    s = np.abs(a) + np.abs(b)
+    s_max = float(np.max(s))
+    W = [np.stack([np.ones_like(a), np.zeros_like(a)]), np.stack([np.zeros_like(a), np.ones_like(a)])]
+    prev = np.zeros_like(W[0])
+    # terms until the majorant's tail (a scalar series at the largest |a| + |b|, <= 3) is below unit / 64
+    r = [1.0, 1.0]
+    k = 0
+    while True:
+        nxt = (a * W[k] + b * (W[k - 1] if k >= 1 else prev)) / ((k + 1) * (k + 2))
+        W.append(nxt)
+        r.append(s_max * max(r[-2], r[-3] if len(r) >= 3 else 0.0) / ((k + 1) * (k + 2)))
+        k += 1
+        K = len(W) - 1
+        if K > 8 and 4.0 * s_max * max(r[-1], r[-2], r[-3]) / (K * (K + 1)) < unit / 64.0:
+            break
+    K = len(W) - 1
+    val = W[K].copy()
+    der = K * W[K]
+    for i in range(K - 1, -1, -1):   # (smallest terms first: the sums' rounding is u sum (k + 1)|W_k|)
+        val = val + W[i]
+        der = der + i * W[i]
+    # majorants (comparison with y'' = s y): sums of |W_k|, k |W_k|, k^2 |W_k| for each column
+    sig = np.sqrt(s)
+    ch, sh = np.cosh(sig), np.where(sig > 0, np.sinh(sig) / np.where(sig > 0, sig, 1.0), 1.0)  # sinh(sig)/sig
+    sums = ((ch, s * sh, s * ch + s * sh), (sh, ch, s * sh + ch))   # col 1: (sum, sum k, sum k^2); col 2
+    delta = da   # |change of a + b u| on the step
+    tail = unit / 64.0
+    err_v, err_d = [], []
+    # a change d of the coefficient moves y(1) by at most d int_0^1 G(1, v) |y(v)| dv (G the majorant's
+    # Green's function, sinh(sig (1 - v)) / sig, and |y| <= cosh(sig v) or sinh(sig v) / sig), y'(1)
+    # likewise with cosh(sig (1 - v)): for the first column sinh(sig)/(2 sig) and (cosh + sinh/sig)/2,
+    # for the second (cosh - sinh/sig)/(2 s) <= cosh/4 and sinh(sig)/(2 sig); a quarter more for the
+    # second order
+    green = ((0.5 * sh, 0.5 * (ch + sh)), (0.25 * ch, 0.5 * sh))
+    for (S, Sk, Sk2), (gv, gd) in zip(sums, green):
+        # the terms' recursion (2 k units of W_k), the reverse sums, k W_k, the coefficient's rounding
+        # and the tail left out
+        err_v.append(unit * (3.0 * Sk + S) + 1.25 * delta * gv + tail * S)
+        err_d.append(unit * (3.0 * Sk2 + 3.0 * Sk) + 1.25 * delta * gd + tail * Sk)
+    # the step's matrix on (y, y' / w), w a power of two near the largest sqrt|c| (the trace does not
+    # depend on the basis; in this one the steps are near rotations where c < 0)
+    _, kw = np.frexp(np.sqrt(E * (m2 + max(abs(float(p[2])) for p in pieces) + max(abs(float(p[3])) for p in pieces))))
+    hv = np.ldexp(h * val[1], kw)
+    hd = np.ldexp(der[0] / h, -kw)
+    S = (val[0], hv, hd, der[1])
+    # entrywise error bounds, then the step's Frobenius error with the product's rounding (2 units of
+    # |S| |P| an entry, counted here as a change of the step)
+    dS = (err_v[0], np.ldexp(h * err_v[1], kw) + 2.0 * unit * np.abs(hv),
+          np.ldexp(err_d[0] / h, -kw) + 2.0 * unit * np.abs(hd), err_d[1])
+    fro = np.sqrt(sum(x * x for x in dS)) + 2.0 * unit * np.sqrt(sum(x * x for x in S))
+    # the product's error: sum_j suffix_j dS_j prefix_(j-1) (first order), each norm taken from the
+    # computed prefixes and suffixes (two scans, kept near 1 by powers of two)
+    pre, pre_e = _scan(S, False)      # pre[j] = S_(j+1) ... S_1 (j + 1 steps)
+    suf, suf_e = _scan(S, True)       # suf[j] = S_m ... S_(j+1)
+    p00, p01, p10, p11 = (x[-1] for x in pre)
+    ex = pre_e[-1]
+    norm_p = np.sqrt(p00 * p00 + p01 * p01 + p10 * p10 + p11 * p11)
+    fro_pre = _norm2(pre)
+    fro_suf = _norm2(suf)
+    # step j (0-based): left factor suf[j + 1] (identity for the last), right factor pre[j - 1] (identity)
+    sqrt2 = np.sqrt(_LD(2.0))
+    left = np.concatenate([fro_suf[1:], np.full((1,) + e.shape, sqrt2, e.dtype)])
+    left_e = np.concatenate([suf_e[1:], np.zeros((1,) + e.shape, np.int64)])
+    right = np.concatenate([np.full((1,) + e.shape, sqrt2, e.dtype), fro_pre[:-1]])
+    right_e = np.concatenate([np.zeros((1,) + e.shape, np.int64), pre_e[:-1]])
+    acc = np.sum(np.ldexp(left * fro * right, left_e + right_e - ex[None, :]), axis=0)
+    tr = p00 + p11
+    bound = np.sqrt(_LD(2.0)) * acc * (1.0 + 1e-6) + 2.0 * unit * norm_p
+    return tr, bound, ex
+
+
+def _norm2(P):
+    """Spectral norms of 2x2 matrices given by entry tuples (arrays), from the Frobenius norm and the
+    determinant (raised by a few units for their rounding)."""
+    F2 = sum(x * x for x in P)
+    det = P[0] * P[3] - P[1] * P[2]
+    return np.sqrt(0.5 * (F2 + np.sqrt(np.maximum(F2 * F2 - 4.0 * det * det, 0.0)))) * (1.0 + 1e-15)
+
+
+def _mul(A, B):
+    """2x2 products ``A B`` of entry tuples ``(a00, a01, a10, a11)`` (arrays)."""
+    return (A[0] * B[0] + A[1] * B[2], A[0] * B[1] + A[1] * B[3],
+            A[2] * B[0] + A[3] * B[2], A[2] * B[1] + A[3] * B[3])
+
+
+def _renorm(P, e):
+    """``P`` scaled by a power of two to entries below 1 in size, and ``e`` raised by it."""
+    big = np.maximum(np.maximum(np.abs(P[0]), np.abs(P[1])), np.maximum(np.abs(P[2]), np.abs(P[3])))
+    _, sc = np.frexp(np.where(big > 0, big, 1.0))
+    return tuple(np.ldexp(x, -sc) for x in P), e + sc
+
+
+def _scan(S, backward):
+    """Inclusive scan of the steps ``S = (s00, s01, s10, s11)`` (arrays ``[step, point]``), each
+    partial product as entries over ``2^e``: prefixes ``S_(j+1) ... S_1`` at ``j``, or (``backward``)
+    suffixes ``S_m ... S_(j+1)``; in ``log2`` levels (Hillis and Steele)."""
+    X, e = _renorm(tuple(np.array(x, copy=True) for x in S), np.zeros(S[0].shape, np.int64))
+    m = S[0].shape[0]
+    d = 1
+    while d < m:
+        if backward:   # X[j] <- X[j + d] X[j]
+            Y, ey = _renorm(_mul(tuple(x[d:] for x in X), tuple(x[:-d] for x in X)), e[d:] + e[:-d])
+            X = tuple(np.concatenate([y, x[m - d:]]) for y, x in zip(Y, X))
+            e = np.concatenate([ey, e[m - d:]])
+        else:          # X[j] <- X[j] X[j - d]
+            Y, ey = _renorm(_mul(tuple(x[d:] for x in X), tuple(x[:-d] for x in X)), e[d:] + e[:-d])
+            X = tuple(np.concatenate([x[:d], y]) for y, x in zip(Y, X))
+            e = np.concatenate([e[:d], ey])
+        d *= 2
+    return X, e
+
+
+def pieces_ld(eps, mu, zeta, pieces):
+    """The long double tier of :func:`pieces_mp`: the same Taylor steps in numpy's long double, with a
+    bound on their rounding (the terms' recursion and sums, the coefficients' rounding, the products),
+    for flat arrays. Returns ``(decided, stable, tau, log_tau, growth)``: where ``decided``, ``stable``
+    is the exact verdict (``|tau| < 1``; damped, ``|tau_phi| < cosh(kappa)``) and ``tau``,
+    ``log|tau|`` and ``growth`` are the long double's, as doubles. Nothing is decided where numpy's
+    long double is the double, nor past :data:`_LD_MAX_STEPS` steps. A sixth item bounds the error of
+    the long double ``tau`` (before its rounding to a double; ``inf`` where nothing is known)."""
+
+    eps = np.asarray(eps, float).ravel()
+    mu = np.asarray(mu, float).ravel()
+    z = np.zeros(eps.size) if zeta is None else np.asarray(zeta, float).ravel()
+    n = eps.size
+    out = (np.zeros(n, bool), np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan),
+           np.full(n, np.inf))
+    if _LD is None or n == 0:
+        return out
+    unit = float(np.finfo(_LD).eps) / 2.0
+    m2f = mu * mu * (1.0 + z * z)
+    decided, stable, tau, log_tau, growth, tau_error = out
+    # each point's steps per piece (pieces_mp's), then points of like totals (within a factor 1.25)
+    # taken together at their largest counts
+    per = []
+    for x0, x1, s0, s1 in pieces:
+        width = float(x1) - float(x0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            peak = 8.0 * eps * eps * np.maximum(np.abs(m2f + s0), np.abs(m2f + s1))
+            per.append(np.maximum(1.0, np.ceil(width * np.sqrt(peak) * (1.0 + 1e-9))) if width > 0
+                       else np.zeros(n))
+    per = np.array(per)
+    total = per.sum(axis=0)
+    usable = np.isfinite(total) & (total <= _LD_MAX_STEPS)
+    bucket = np.where(usable, np.ceil(np.log(np.where(usable, total, 1.0)) / np.log(1.25)), -1)
+    for b in np.unique(bucket[usable]):
+        idx = np.flatnonzero(bucket == b)
+        steps = [int(x) for x in per[:, idx].max(axis=1)]
+        total = sum(steps)
+        for c0 in range(0, idx.size, max(1, _LD_CHUNK // total)):
+            sub = idx[c0:c0 + max(1, _LD_CHUNK // total)]
+            e = eps[sub].astype(_LD)
+            m, zz = mu[sub].astype(_LD), z[sub].astype(_LD)
+            m2 = m * m * (1.0 + zz * zz)
+            with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+                tr, bound, ex = _pieces_ld_chunk(e, m2, pieces, steps, unit)
+                kappa = 2.0 * np.sqrt(_LD(8.0)) * zz * m * e
+                thr = np.ldexp(2.0 * np.cosh(kappa), -ex)
+                ok = np.abs(np.abs(tr) - thr) > bound + unit * (8.0 + 4.0 * kappa) * thr
+                ok &= np.isfinite(tr) & np.isfinite(bound) & (tr != 0)
+                lt = np.log(np.abs(0.5 * tr)) + ex * np.log(_LD(2.0))
+                t = np.sign(tr) * np.exp(lt)
+                gr = np.where(np.abs(t) > 1.0, lt + np.log1p(np.sqrt(-np.expm1(-2.0 * lt))), 0.0) - kappa
+                err = np.ldexp(0.5 * bound, ex)
+            decided[sub] = ok
+            stable[sub] = np.abs(tr) < thr
+            tau[sub], log_tau[sub], growth[sub] = t.astype(float), lt.astype(float), gr.astype(float)
+            tau_error[sub] = np.where(np.isfinite(err), err, np.inf).astype(float)
+    return decided, stable, tau, log_tau, growth, tau_error
+
+
+def pieces_exact(eps, mu, zeta, pieces):
+    """:func:`pieces_mp`'s answers, from the long double tier (:func:`pieces_ld`) where it decides and
+    from mpmath elsewhere."""
+    dec, st, tau, log_tau, growth, _ = pieces_ld(eps, mu, zeta, pieces)
+    out = list(zip(tau.tolist(), log_tau.tolist(), st.tolist(), growth.tolist()))
+    rest = np.flatnonzero(~dec)
+    if rest.size:
+        eps, mu = np.asarray(eps, float).ravel(), np.asarray(mu, float).ravel()
+        z = None if zeta is None else np.asarray(zeta, float).ravel()[rest]
+        for i, r in zip(rest, pieces_mp(eps[rest], mu[rest], z, pieces)):
+            out[i] = r
+    return out

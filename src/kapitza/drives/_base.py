@@ -330,18 +330,18 @@ class Drive:
 
     def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth):
         """The engine's undamped data with the verdicts near the threshold decided in extended
-        precision (:func:`kapitza._certify.pieces_mp`; flat arrays). Where the exact verdict differs
+        precision (:func:`kapitza._certify.pieces_exact`; flat arrays). Where the exact verdict differs
         from the engine's, the zone follows it: a point found stable in the gap ``theta = k pi`` lies
         in zone ``k - 1`` while ``|tau|`` rises with ``eps`` there, in zone ``k`` where it falls; one
         found unstable on zone ``n`` lies in the gap its trace's sign gives (``(-1)^k``)."""
-        from .._certify import MAX_PHASE, pieces_mp, pieces_phase
+        from .._certify import MAX_PHASE, pieces_exact, pieces_phase
 
         near = (np.abs(np.abs(tau) - 1.0) <= self._trace_error(eps, mu)) & (pieces_phase(eps, mu, pieces) <= MAX_PHASE)
         idx = np.flatnonzero(near)
         if not idx.size:
             return tau, log_tau, theta, zone, growth
         tau, log_tau, theta, zone, growth = (np.array(v, copy=True) for v in (tau, log_tau, theta, zone, growth))
-        res = pieces_mp(eps[idx], mu[idx], None, pieces)
+        res = pieces_exact(eps[idx], mu[idx], None, pieces)
         for i, (t, lt, st, gr) in zip(idx.tolist(), res):
             tau[i], log_tau[i] = t, lt
             if st and zone[i] < 0:
@@ -610,9 +610,9 @@ class Drive:
             pieces = self._certified_pieces()
             if pieces is None:
                 return None
-            from .._certify import pieces_mp
+            from .._certify import pieces_exact
 
-            return [(st, gr) for _, _, st, gr in pieces_mp(eps, mu, zeta, pieces)]
+            return [(st, gr) for _, _, st, gr in pieces_exact(eps, mu, zeta, pieces)]
         from .._certify import damped_mp
 
         levels, fractions = steps

@@ -12,7 +12,8 @@ averaging edge ``eps_K = mu sqrt(15)/2``. The stability data come from the gener
 (:mod:`kapitza.engines`) on a grid aligned with the kinks at ``tau = 1/2, 3/2``: the acceleration
 is linear on every step, where the sixth-order Magnus step is accurate to rounding; where that
 trace lies within its accuracy of the threshold, the verdict is decided in extended precision on
-the three linear pieces (:func:`kapitza._certify.pieces_mp`), with and without damping.
+the three linear pieces (:func:`kapitza._certify.pieces_exact`: long double, mpmath where that
+cannot decide), with and without damping.
 """
 from __future__ import annotations
 
