@@ -567,9 +567,12 @@ class Drive:
     #: certified verdict puts them at (a drive whose edges come from its verdict itself: False).
     _edges_need_sides = True
 
-    #: One point's searches (margin, rig intervals) may ask the drive for many points of a row at
-    #: once, spread over decades of ``eps`` and ``A`` (:func:`kapitza.drives._api.point_margin`).
-    _batched_points = False
+    @property
+    def _batched_points(self) -> bool:
+        """Whether one point's searches (margin, rig intervals) may ask the drive for many points of a
+        row at once, spread over decades of ``eps`` and ``A`` (:func:`kapitza.drives._api.point_margin`):
+        where its certified verdicts are cheap (a drive of linear pieces, decided in long double)."""
+        return self._certified_cheap(False)
 
     #: Points per row and step of a one-point search along ``A`` or ``mu`` (:func:`kapitza.drives._api.search_bits`'s
     #: ``ways``): many where a call costs the same for one point as for dozens, fewer where each point costs.
@@ -598,8 +601,12 @@ class Drive:
         """Whether the certified verdicts (:meth:`_floquet0` with ``certify``, and :meth:`_damped_exact`
         where ``damped``) cost about what the double computation does (a long double product, mpmath
         only where that cannot decide): the one-point searches then ask them at every step, and the
-        damping layer asks :meth:`_damped_exact` wherever its verdict is near the edge."""
-        return False
+        damping layer asks :meth:`_damped_exact` wherever its verdict is near the edge. A drive of
+        linear pieces: where the long double tier (:func:`kapitza._certify.pieces_ld`) is there to
+        decide them."""
+        from .._certify import HAS_LONG_DOUBLE
+
+        return HAS_LONG_DOUBLE and self._certified_pieces() is not None
 
     def _damped_exact(self, eps, mu, zeta):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points
