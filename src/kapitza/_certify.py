@@ -334,22 +334,49 @@ def _pieces_ld_chunk(e, m2, pieces, steps, unit):
         h_l.append(np.full((k, 1), h, LD))
         da_l.append(da)
     a, b, h, da = np.concatenate(a_l), np.concatenate(b_l), np.concatenate(h_l), np.concatenate(da_l)
-    # Taylor terms of both columns (y(0), y'(0) h) = (1, 0) and (0, 1), a step of length 1 in u = x/h:
-    # W_(k+2) = (a W_k + b W_(k-1)) / ((k + 1)(k + 2))
-    s = np.abs(a) + np.abs(b)
+    # the basis (y, y' / w), w a power of two near the largest sqrt|c| (the trace does not depend on the
+    # basis; in this one the steps are near rotations where c < 0)
+    _, kw = np.frexp(np.sqrt(E * (m2 + max(abs(float(p[2])) for p in pieces) + max(abs(float(p[3])) for p in pieces))))
+    S, fro = taylor_ld([a, b], da, h, kw, unit)
+    (p00, _, _, p11), acc, ex = product_ld(S, fro, unit)
+    tr = p00 + p11
+    # |tr dP| <= sqrt(2) |dP|_F
+    return tr, np.sqrt(LD(2.0)) * acc + unit * np.abs(tr), ex
+
+
+def taylor_ld(coef, delta, h, kw, unit):
+    """The Taylor steps of ``y'' = c y`` in long double, and their errors: ``coef[i]`` (arrays ``[step,
+    point]``) are the coefficients of ``c`` in ``u`` (the step is ``x = x_j + h u``, ``u`` in ``[0, 1]``)
+    times ``h^2``, ``delta`` bounds their total rounding (from the exact doubles), ``h`` the step
+    lengths (``[step, 1]``), ``kw`` the exponent of the basis ``(y, y' / 2^kw)``. Returns the steps'
+    entries ``(s00, s01, s10, s11)`` and a bound on each step's error (Frobenius norm), its share of
+    the product's rounding (two units of ``|S| |P|`` an entry) counted in.
+
+    With ``W_k = y^(k) h^k / k!``, ``W_(k+2) = sum_i coef_i W_(k-i) / ((k + 1)(k + 2))``. The series is
+    majorised by that of ``y'' = s y``, ``s = sum_i |coef_i|`` (comparison on ``[0, 1]``): the sums of
+    ``|W_k|``, ``k |W_k|``, ``k^2 |W_k|`` are at most ``cosh``, ``sqrt s sinh``, ``s cosh + sqrt s sinh`` of
+    ``sqrt s`` (first column; the second ``sinh/sqrt s``, ``cosh``, ``s sinh/sqrt s + cosh``)."""
+    shape = coef[0].shape
+    n_c = len(coef)
+    s = sum(np.abs(c) for c in coef)
     s_max = float(np.max(s))
-    W = [np.stack([np.ones_like(a), np.zeros_like(a)]), np.stack([np.zeros_like(a), np.ones_like(a)])]
-    prev = np.zeros_like(W[0])
-    # terms until the majorant's tail (a scalar series at the largest |a| + |b|, <= 3) is below unit / 64
+    one, zero = np.ones(shape, coef[0].dtype), np.zeros(shape, coef[0].dtype)
+    W = [np.stack([one, zero]), np.stack([zero, one])]
+    # terms until the majorant's tail is below unit / 64: the same recursion in scalars, on the largest
+    # |coef_i| (R_k >= |W_k| for both columns); past K each next term is at most s_max / (K (K + 1))
+    # of the largest of the last n_c, so the tail is below 2 s_max max(R) / (K (K + 1)) (s_max <= 3, K > 8)
+    A = [float(np.max(np.abs(c))) for c in coef]
     r = [1.0, 1.0]
     k = 0
     while True:
-        nxt = (a * W[k] + b * (W[k - 1] if k >= 1 else prev)) / ((k + 1) * (k + 2))
-        W.append(nxt)
-        r.append(s_max * max(r[-2], r[-3] if len(r) >= 3 else 0.0) / ((k + 1) * (k + 2)))
+        acc = coef[0] * W[k]
+        for i in range(1, min(k, n_c - 1) + 1):
+            acc = acc + coef[i] * W[k - i]
+        W.append(acc / ((k + 1) * (k + 2)))
+        r.append(sum(A[i] * r[k - i] for i in range(min(k, n_c - 1) + 1)) / ((k + 1) * (k + 2)))
         k += 1
         K = len(W) - 1
-        if K > 8 and 4.0 * s_max * max(r[-1], r[-2], r[-3]) / (K * (K + 1)) < unit / 64.0:
+        if K > 8 and 4.0 * max(s_max, 1e-300) * max(r[-n_c - 1:]) / (K * (K + 1)) < unit / 64.0:
             break
     K = len(W) - 1
     val = W[K].copy()
@@ -357,54 +384,53 @@ def _pieces_ld_chunk(e, m2, pieces, steps, unit):
     for i in range(K - 1, -1, -1):   # (smallest terms first: the sums' rounding is u sum (k + 1)|W_k|)
         val = val + W[i]
         der = der + i * W[i]
-    # majorants (comparison with y'' = s y): sums of |W_k|, k |W_k|, k^2 |W_k| for each column
     sig = np.sqrt(s)
     ch, sh = np.cosh(sig), np.where(sig > 0, np.sinh(sig) / np.where(sig > 0, sig, 1.0), 1.0)  # sinh(sig)/sig
     sums = ((ch, s * sh, s * ch + s * sh), (sh, ch, s * sh + ch))   # col 1: (sum, sum k, sum k^2); col 2
-    delta = da   # |change of a + b u| on the step
     tail = unit / 64.0
-    err_v, err_d = [], []
+    # each term: n_c products and sums and a division, (n_c + 3)/2 units per unit of k
+    grow = 0.5 * (n_c + 3)
     # a change d of the coefficient moves y(1) by at most d int_0^1 G(1, v) |y(v)| dv (G the majorant's
     # Green's function, sinh(sig (1 - v)) / sig, and |y| <= cosh(sig v) or sinh(sig v) / sig), y'(1)
     # likewise with cosh(sig (1 - v)): for the first column sinh(sig)/(2 sig) and (cosh + sinh/sig)/2,
     # for the second (cosh - sinh/sig)/(2 s) <= cosh/4 and sinh(sig)/(2 sig); a quarter more for the
     # second order
     green = ((0.5 * sh, 0.5 * (ch + sh)), (0.25 * ch, 0.5 * sh))
+    err_v, err_d = [], []
     for (S, Sk, Sk2), (gv, gd) in zip(sums, green):
-        # the terms' recursion (2 k units of W_k), the reverse sums, k W_k, the coefficient's rounding
-        # and the tail left out
-        err_v.append(unit * (3.0 * Sk + S) + 1.25 * delta * gv + tail * S)
-        err_d.append(unit * (3.0 * Sk2 + 3.0 * Sk) + 1.25 * delta * gd + tail * Sk)
-    # the step's matrix on (y, y' / w), w a power of two near the largest sqrt|c| (the trace does not
-    # depend on the basis; in this one the steps are near rotations where c < 0)
-    _, kw = np.frexp(np.sqrt(E * (m2 + max(abs(float(p[2])) for p in pieces) + max(abs(float(p[3])) for p in pieces))))
+        # the terms' recursion, the reverse sums, k W_k, the coefficients' rounding, the tail left out
+        err_v.append(unit * ((grow + 1.0) * Sk + S) + 1.25 * delta * gv + tail * S)
+        err_d.append(unit * ((grow + 1.0) * Sk2 + 3.0 * Sk) + 1.25 * delta * gd + tail * Sk)
     hv = np.ldexp(h * val[1], kw)
     hd = np.ldexp(der[0] / h, -kw)
     S = (val[0], hv, hd, der[1])
-    # entrywise error bounds, then the step's Frobenius error with the product's rounding (2 units of
-    # |S| |P| an entry, counted here as a change of the step)
     dS = (err_v[0], np.ldexp(h * err_v[1], kw) + 2.0 * unit * np.abs(hv),
           np.ldexp(err_d[0] / h, -kw) + 2.0 * unit * np.abs(hd), err_d[1])
     fro = np.sqrt(sum(x * x for x in dS)) + 2.0 * unit * np.sqrt(sum(x * x for x in S))
-    # the product's error: sum_j suffix_j dS_j prefix_(j-1) (first order), each norm taken from the
-    # computed prefixes and suffixes (two scans, kept near 1 by powers of two)
+    return S, fro
+
+
+def product_ld(S, fro, unit):
+    """The product ``S_m ... S_1`` of the steps (entries ``[step, point]``) as ``(p, bound, e)``: entries
+    ``p`` with the product ``2^e p``, and ``bound`` on the Frobenius norm of its error at that scale:
+    ``sum_j |S_m ... S_(j+1)| |dS_j| |S_(j-1) ... S_1|`` (first order; ``fro`` the steps' errors), the
+    partial products' norms from two scans kept near 1 by powers of two."""
+    shape = S[0].shape[1:]
     pre, pre_e = _scan(S, False)      # pre[j] = S_(j+1) ... S_1 (j + 1 steps)
     suf, suf_e = _scan(S, True)       # suf[j] = S_m ... S_(j+1)
-    p00, p01, p10, p11 = (x[-1] for x in pre)
+    p = tuple(x[-1] for x in pre)
     ex = pre_e[-1]
-    norm_p = np.sqrt(p00 * p00 + p01 * p01 + p10 * p10 + p11 * p11)
-    fro_pre = _norm2(pre)
-    fro_suf = _norm2(suf)
-    # step j (0-based): left factor suf[j + 1] (identity for the last), right factor pre[j - 1] (identity)
-    sqrt2 = np.sqrt(_LD(2.0))
-    left = np.concatenate([fro_suf[1:], np.full((1,) + e.shape, sqrt2, e.dtype)])
-    left_e = np.concatenate([suf_e[1:], np.zeros((1,) + e.shape, np.int64)])
-    right = np.concatenate([np.full((1,) + e.shape, sqrt2, e.dtype), fro_pre[:-1]])
-    right_e = np.concatenate([np.zeros((1,) + e.shape, np.int64), pre_e[:-1]])
+    n_pre, n_suf = _norm2(pre), _norm2(suf)
+    # step j (0-based): left factor suf[j + 1] (the identity for the last), right factor pre[j - 1]
+    one = np.ones((1,) + shape, S[0].dtype)
+    zero = np.zeros((1,) + shape, np.int64)
+    left = np.concatenate([n_suf[1:], one])
+    left_e = np.concatenate([suf_e[1:], zero])
+    right = np.concatenate([one, n_pre[:-1]])
+    right_e = np.concatenate([zero, pre_e[:-1]])
     acc = np.sum(np.ldexp(left * fro * right, left_e + right_e - ex[None, :]), axis=0)
-    tr = p00 + p11
-    bound = np.sqrt(_LD(2.0)) * acc * (1.0 + 1e-6) + 2.0 * unit * norm_p
-    return tr, bound, ex
+    norm_p = np.sqrt(sum(x * x for x in p))
+    return p, acc * (1.0 + 1e-6) + 2.0 * unit * norm_p, ex
 
 
 def _norm2(P):

@@ -121,7 +121,7 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
                 e, m * np.sqrt(1.0 + z * z)) / np.maximum(np.abs(f.tau.reshape(-1)[cand]), 1.0)
             unsure = cand[~(np.abs(Gf[cand]) > swing + acc)]
         res = drive._damped_exact(eps.reshape(-1)[unsure], mu.reshape(-1)[unsure],
-                                  zeta.reshape(-1)[unsure]) if unsure.size else None
+                                  zeta.reshape(-1)[unsure], growth=trace) if unsure.size else None
         if res is not None:
             stable, growth = np.array(stable, bool, copy=True), np.array(growth, float, copy=True)
             stable.reshape(-1)[unsure] = [r[0] for r in res]

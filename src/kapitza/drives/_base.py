@@ -608,10 +608,12 @@ class Drive:
 
         return HAS_LONG_DOUBLE and self._certified_pieces() is not None
 
-    def _damped_exact(self, eps, mu, zeta):
+    def _damped_exact(self, eps, mu, zeta, growth=True):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points
         where rounding may decide), decided in extended precision; None where the drive has no
-        exact monodromy (a drive given by its shape: its damped verdicts are the engine's)."""
+        exact monodromy (a drive given by its shape: its damped verdicts are the engine's).
+        ``growth``: the growth will be reported (without, only the verdict need be exact, and a
+        drive may give a growth only as good as its extended-precision trace, which is cheaper)."""
         steps = self._steps()
         if steps is None:
             pieces = self._certified_pieces()

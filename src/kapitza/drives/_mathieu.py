@@ -669,22 +669,40 @@ def _exact_tau(eps, mu):
 _DAMPED_EXACT: dict = {}
 
 
-def sine_damped_exact(eps, mu, zeta):
+def sine_damped_exact(eps, mu, zeta, growth=True):
     """``[(stable, growth)]`` of the damped sine drive at the exact doubles (flat arrays): stable iff
     ``|tr M_phi| / 2 < cosh(kappa)`` (``M_phi`` at ``mu^2 (1 + zeta^2)``, ``kappa = 2 sqrt 8 zeta mu
-    eps``), from the fixed-point trace of :func:`_exact_half_period`, its precision doubled until
-    the difference is resolved beyond the trace's error bound (to 3,000 bits)."""
+    eps``), from the long double tier (:func:`sine_ld`) where it decides, else from the fixed-point
+    trace of :func:`_exact_half_period`, its precision doubled until the difference is resolved beyond
+    the trace's error bound (to 3,000 bits). ``growth``: the growth is to be good to 1e-12 (reported);
+    without, only the verdict need be exact, and a long double growth stands (as good as its trace)."""
     import math
 
     import mpmath
 
     out = []
-    for e, m, z in zip(np.asarray(eps, float).tolist(), np.asarray(mu, float).tolist(),
-                       np.asarray(zeta, float).tolist()):
-        known = _DAMPED_EXACT.get((e, m, z))
-        if known is not None:  # (a search asks its final pair again, and the report its edges)
-            out.append(known)
+    eps, mu, zeta = (np.asarray(v, float).ravel() for v in (eps, mu, zeta))
+    keys = list(zip(eps.tolist(), mu.tolist(), zeta.tolist()))
+
+    def known(key):   # (a search asks its final pair again, and the report its edges)
+        hit = _DAMPED_EXACT.get(key)
+        return None if hit is None or (growth and not hit[2]) else hit[:2]
+
+    todo = np.array([known(k) is None for k in keys], bool)
+    if _ld_pays(eps[todo], mu[todo]):   # the long double tier first; mpmath where it cannot decide
+        dec, st, tau, _, gr, err = sine_ld(eps[todo], mu[todo], zeta[todo])
+        # acosh|tau| moves by tau's error over sqrt(tau^2 - 1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            good = np.where(np.abs(tau) > 1.0, err / np.sqrt(np.abs(tau * tau - 1.0)), 0.0) <= 1e-12 * np.abs(gr)
+        for key, d, s_, g, ok in zip((k for k, t in zip(keys, todo) if t), dec, st, gr, good):
+            if d and (ok or not growth):
+                _remember(key, (bool(s_), float(g), bool(ok)))
+    for key in keys:
+        hit = known(key)
+        if hit is not None:
+            out.append(hit)
             continue
+        e, m, z = key
         q = 16.0 * e * e / math.pi**2
         G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + m * m * (1.0 + z * z)))
         growth_bits = int(2.0 * G / math.log(2.0)) + 1
@@ -702,12 +720,16 @@ def sine_damped_exact(eps, mu, zeta):
                     break
             P *= 2
         with mpmath.workprec(2 * P + 64):
-            growth = (mpmath.acosh(abs(t)) if abs(t) > 1 else mpmath.mpf(0)) - kappa
-            out.append((bool(diff < 0), float(growth)))
-        if len(_DAMPED_EXACT) >= 4096:
-            _DAMPED_EXACT.clear()
-        _DAMPED_EXACT[(e, m, z)] = out[-1]
+            g = (mpmath.acosh(abs(t)) if abs(t) > 1 else mpmath.mpf(0)) - kappa
+            out.append((bool(diff < 0), float(g)))
+        _remember(key, out[-1] + (True,))
     return out
+
+
+def _remember(key, value):
+    if len(_DAMPED_EXACT) >= 4096:
+        _DAMPED_EXACT.clear()
+    _DAMPED_EXACT[key] = value
 
 
 def _certify(eps, mu, c_lo, c_hi):
@@ -717,8 +739,14 @@ def _certify(eps, mu, c_lo, c_hi):
     tau = np.empty(eps.size)
     log_tau = np.empty(eps.size)
     count = np.empty(eps.size, np.int64)
+    # the long double tier first (for a few points or more), mpmath where it cannot decide
+    ld = sine_ld(eps, mu) if _ld_pays(eps, mu) else None
     for i in range(eps.size):
-        t, lt, stable = _exact_tau(eps[i], mu[i])
+        # (the long double's where its trace, which is reported, is good to 1e-13)
+        if ld is not None and ld[0][i] and ld[5][i] <= 1e-13 * abs(ld[2][i]):
+            t, lt, stable = ld[2][i], ld[3][i], bool(ld[1][i])
+        else:
+            t, lt, stable = _exact_tau(eps[i], mu[i])
         tau[i], log_tau[i] = t, lt
         lo, hi = int(min(c_lo[i], c_hi[i])), int(max(c_lo[i], c_hi[i]))
         if stable:
@@ -900,3 +928,116 @@ def sine_grid(eps, mu, out):
         rr, jj = key // W, key % W
         out[rr, jj] = sine_floquet0(eps[jj], mu[rr])[4] >= 0
     return out
+
+
+# ---------------------------------------------------------------- the exact trace in long double first
+#: Points times Taylor steps of one call of :func:`_sine_ld_chunk`
+_LD_CHUNK = 8192
+#: Beyond this many steps a half period the long double tier declines (mpmath decides)
+_LD_MAX_STEPS = 2048
+#: Fewer points than this go to mpmath directly, unless the half period takes more than
+#: ``_LD_MIN_STEPS`` steps: the tier costs a few ms a call whatever the points, and beside a damped
+#: edge at small ``eps`` or a thin zone it often cannot decide, where mpmath takes a few ms a point;
+#: at large ``q`` mpmath takes seconds a point (thousands of bits over hundreds of steps)
+_LD_MIN_POINTS = 4
+_LD_MIN_STEPS = 40
+
+
+def _ld_pays(eps, mu):
+    """Whether :func:`sine_ld` is worth asking first for these points."""
+    if eps.size >= _LD_MIN_POINTS:
+        return True
+    if not eps.size:
+        return False
+    q = 16.0 * float(np.max(eps)) ** 2 / PI**2
+    return 0.5 * PI * (np.sqrt(2.0 * q * (1.0 + float(np.max(mu)) ** 2)) + 2.0) > _LD_MIN_STEPS
+
+
+def _sine_ld_chunk(e, m2, steps, unit):
+    """``(w_I w_II', bound, ex)`` at long double ``e = eps``, ``m2 = mu^2 (1 + zeta^2)``: the product
+    ``w_I(pi/2) w_II'(pi/2)`` times ``2^-(2 ex)`` and a bound on its error at that scale, from the
+    half period in ``steps`` Taylor steps (:func:`kapitza._certify.taylor_ld`; the Mathieu form of
+    :func:`_exact_half_period`)."""
+    from .._certify import product_ld, taylor_ld
+
+    LD = e.dtype.type
+    pi = LD("3.14159265358979323846264338327950288")
+    q2 = 32.0 * e * e / (pi * pi)                       # 2q
+    h = pi / (2 * steps)
+    hh = h * h
+    z2 = (2.0 * np.arange(steps, dtype=LD) * h)[:, None]   # 2 z at each step's start
+    cj, sj = np.cos(z2), np.sin(z2)
+    # c(z0 + h u) = 2q m2 + 2q cos(2 z0 + 2 h u): its Taylor coefficients in u, times h^2, until the
+    # rest of the series is below unit / 256 of the first (its tail goes to the coefficients' error)
+    coef = [q2 * (m2 + cj) * hh]
+    t, i = LD(1.0), 0
+    while True:
+        i += 1
+        t = t * (2.0 * h) / i
+        if float(t) < unit / 256.0 and i > 2:
+            break
+        trig = (cj, -sj, -cj, sj)[i % 4]
+        coef.append(q2 * t * trig * hh)
+    rest = q2 * hh * t * 2.0                                # sum_(k >= i) (2h)^k / k! <= 2 (2h)^i / i! (2h <= 1)
+    # the coefficients' rounding: 2q to 6 units, m2 to 4, each trigonometric value to 2 + 2 pi (its
+    # argument), each (2h)^i / i! to 2 i, h^2 to 5 (and the steps' lengths, 12 units of the whole)
+    delta = (unit * q2 * hh * (20.0 * (m2 + 1.0) + 16.0 * np.exp(2.0 * h)) + rest
+             + 12.0 * unit * sum(np.abs(c) for c in coef))
+    _, kw = np.frexp(np.sqrt(q2 * (m2 + 1.0)))
+    coef = [np.broadcast_to(c, (steps, e.size)) for c in coef]
+    S, fro = taylor_ld(coef, np.broadcast_to(delta, (steps, e.size)), np.full((steps, 1), h, LD), kw, unit)
+    (p00, _, _, p11), bound, ex = product_ld(S, fro, unit)
+    prod = p00 * p11
+    return prod, (np.abs(p00) + np.abs(p11)) * bound + bound * bound + 2.0 * unit * np.abs(prod), ex
+
+
+def sine_ld(eps, mu, zeta=None):
+    """The exact sine verdicts in long double (flat arrays): ``(decided, stable, tau, log_tau, growth,
+    tau_error)`` as :func:`kapitza._certify.pieces_ld` gives them for linear pieces, from the half
+    period's Taylor steps (:func:`_exact_half_period`'s, with ``tau = 2 w_I w_II' - 1``) and their
+    rounding bound. ``zeta``: the damped system's ``phi``-equation and its verdict ``|tau_phi| <
+    cosh(kappa)``. Nothing is decided where numpy's long double is the double."""
+    import math
+
+    from .._certify import HAS_LONG_DOUBLE
+
+    eps = np.asarray(eps, float).ravel()
+    mu = np.asarray(mu, float).ravel()
+    z = np.zeros(eps.size) if zeta is None else np.asarray(zeta, float).ravel()
+    n = eps.size
+    out = (np.zeros(n, bool), np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan),
+           np.full(n, np.inf))
+    if not HAS_LONG_DOUBLE or n == 0:
+        return out
+    LD = np.longdouble
+    unit = float(np.finfo(LD).eps) / 2.0
+    decided, stable, tau, log_tau, growth, tau_error = out
+    q = 16.0 * eps * eps / PI**2
+    with np.errstate(over="ignore", invalid="ignore"):
+        # (steps of at most 1/8: fewer Taylor terms of the steps and of the coefficient, and the steps
+        # are taken all at once)
+        steps = np.maximum(np.ceil(0.5 * PI * (np.sqrt(2.0 * q * (1.0 + mu * mu * (1.0 + z * z))) + 2.0)), 13.0)
+    usable = np.isfinite(steps) & (steps <= _LD_MAX_STEPS)
+    bucket = np.where(usable, np.ceil(np.log(np.where(usable, steps, 1.0)) / math.log(1.25)), -1)
+    for b in np.unique(bucket[usable]):
+        idx = np.flatnonzero(bucket == b)
+        k = int(steps[idx].max())
+        size = max(1, _LD_CHUNK // k)
+        for c0 in range(0, idx.size, size):
+            sub = idx[c0:c0 + size]
+            e, m, zz = eps[sub].astype(LD), mu[sub].astype(LD), z[sub].astype(LD)
+            with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+                prod, bound, ex = _sine_ld_chunk(e, m * m * (1.0 + zz * zz), k, unit)
+                t = 2.0 * np.ldexp(prod, 2 * ex) - 1.0
+                err = 2.0 * np.ldexp(bound, 2 * ex) + unit * (np.abs(t) + 1.0)
+                kappa = 2.0 * np.sqrt(LD(8.0)) * zz * m * e
+                thr = np.cosh(kappa)
+                ok = ((np.abs(np.abs(t) - thr) > err + unit * (4.0 + 4.0 * kappa) * thr)
+                      & np.isfinite(t) & np.isfinite(err))
+                lt = np.log(np.abs(t))
+                gr = np.where(np.abs(t) > 1.0, lt + np.log1p(np.sqrt(-np.expm1(-2.0 * lt))), 0.0) - kappa
+            decided[sub] = ok
+            stable[sub] = np.abs(t) < thr
+            tau[sub], log_tau[sub], growth[sub] = t.astype(float), lt.astype(float), gr.astype(float)
+            tau_error[sub] = np.where(np.isfinite(err), err, np.inf).astype(float)
+    return decided, stable, tau, log_tau, growth, tau_error

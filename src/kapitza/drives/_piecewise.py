@@ -433,7 +433,7 @@ class PiecewiseConstant(Drive):
     def _certified_cheap(self, damped):
         return _LD is not None
 
-    def _damped_exact(self, eps, mu, zeta):
+    def _damped_exact(self, eps, mu, zeta, growth=True):
         # long double first; mpmath where its rounding bound leaves the verdict open
         eps, mu, zeta = (np.asarray(v, float).ravel() for v in (eps, mu, zeta))
         dec, stable, _, _, growth, _ = extended_verdicts(eps, mu, zeta, self.levels, self._durations)

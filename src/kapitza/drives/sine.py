@@ -119,10 +119,10 @@ class SineWave(Drive):
     def _damped_certified(self) -> bool:
         return True
 
-    def _damped_exact(self, eps, mu, zeta):
+    def _damped_exact(self, eps, mu, zeta, growth=True):
         from ._mathieu import sine_damped_exact
 
-        return sine_damped_exact(eps, mu, zeta)
+        return sine_damped_exact(eps, mu, zeta, growth)
 
     def paint(self, eps, mu, zeta, out):
         if zeta > 0:
