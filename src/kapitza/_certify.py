@@ -474,6 +474,17 @@ def _scan(S, backward):
     return X, e
 
 
+def ld_arrays(eps, mu, zeta):
+    """Flat ``eps, mu, zeta`` (zeros for None) and the long double tiers' answers before any is decided:
+    ``(decided, stable, tau, log_tau, growth, tau_error)``, False, NaN and (the bound) ``inf``."""
+    eps = np.asarray(eps, float).ravel()
+    mu = np.asarray(mu, float).ravel()
+    z = np.zeros(eps.size) if zeta is None else np.asarray(zeta, float).ravel()
+    n = eps.size
+    return eps, mu, z, (np.zeros(n, bool), np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan),
+                        np.full(n, np.nan), np.full(n, np.inf))
+
+
 def pieces_ld(eps, mu, zeta, pieces):
     """The long double tier of :func:`pieces_mp`: the same Taylor steps in numpy's long double, with a
     bound on their rounding (the terms' recursion and sums, the coefficients' rounding, the products),
@@ -483,12 +494,8 @@ def pieces_ld(eps, mu, zeta, pieces):
     long double is the double, nor past :data:`_LD_MAX_STEPS` steps. A sixth item bounds the error of
     the long double ``tau`` (before its rounding to a double; ``inf`` where nothing is known)."""
 
-    eps = np.asarray(eps, float).ravel()
-    mu = np.asarray(mu, float).ravel()
-    z = np.zeros(eps.size) if zeta is None else np.asarray(zeta, float).ravel()
+    eps, mu, z, out = ld_arrays(eps, mu, zeta)
     n = eps.size
-    out = (np.zeros(n, bool), np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan),
-           np.full(n, np.inf))
     if _LD is None or n == 0:
         return out
     unit = float(np.finfo(_LD).eps) / 2.0

@@ -999,14 +999,10 @@ def sine_ld(eps, mu, zeta=None):
     cosh(kappa)``. Nothing is decided where numpy's long double is the double."""
     import math
 
-    from .._certify import HAS_LONG_DOUBLE
+    from .._certify import HAS_LONG_DOUBLE, ld_arrays
 
-    eps = np.asarray(eps, float).ravel()
-    mu = np.asarray(mu, float).ravel()
-    z = np.zeros(eps.size) if zeta is None else np.asarray(zeta, float).ravel()
+    eps, mu, z, out = ld_arrays(eps, mu, zeta)
     n = eps.size
-    out = (np.zeros(n, bool), np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan),
-           np.full(n, np.inf))
     if not HAS_LONG_DOUBLE or n == 0:
         return out
     LD = np.longdouble
