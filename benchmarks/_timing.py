@@ -56,4 +56,7 @@ def header(name):
     print(f"{name}  {datetime.datetime.now().isoformat(timespec='seconds')}")
     for line in machine():
         print("  " + line)
-    print(f"  load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    try:
+        print(f"  load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    except OSError:   # (no load average on this platform)
+        pass

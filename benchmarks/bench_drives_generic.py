@@ -16,7 +16,6 @@ The first call of each drive (the engine's grid, numba's cached compilation) is 
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 import time
@@ -24,7 +23,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 
 import kapitza  # noqa: E402
 from kapitza.drives import _api, from_samples  # noqa: E402
@@ -51,9 +50,7 @@ def main():
     ap.add_argument("--tiny", action="store_true", help="seconds-long smoke run")
     a = ap.parse_args()
     samples, n_chart, repeats = (50, 16, 2) if a.tiny else (1000, 512, 7)
-    print(f"bench_drives_generic {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
-    print("\n".join(machine()))
-    print(f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
+    header("bench_drives_generic")
     from kapitza.engines import _compiled
 
     print(f"engine: {'compiled loop (numba)' if _compiled.available() else 'numpy tree (numba not installed)'}")

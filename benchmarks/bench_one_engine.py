@@ -14,7 +14,6 @@ baseline each other drive is divided by:
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 import time
@@ -22,7 +21,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_cpu_time, median_time  # noqa: E402
+from _timing import header, median_cpu_time, median_time  # noqa: E402
 
 import kapitza  # noqa: E402
 from kapitza import Pendulum, Rig, RectangularWave, SineWave, SquareWave, StepDrive  # noqa: E402
@@ -43,13 +42,7 @@ def main(argv=None):
     p.add_argument("--tiny", action="store_true", help="a quick smoke run")
     args = p.parse_args(argv)
     reps = 3 if args.tiny else 15
-    print(f"bench_one_engine  {datetime.datetime.now().isoformat(timespec='seconds')}")
-    for line in machine():
-        print("  " + line)
-    try:
-        print(f"  load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
-    except OSError:
-        pass
+    header("bench_one_engine")
 
     print("\nanalyze(T=0.15, A=100): median of", reps, "calls")
     base = cpu_base = None

@@ -17,7 +17,6 @@ series jump branches), kapitza's are checked against mpmath in ``tests/test_sine
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 import time
@@ -27,7 +26,7 @@ from scipy.optimize import brentq
 from scipy.special import mathieu_a, mathieu_b
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 
 import kapitza as K  # noqa: E402
 
@@ -90,13 +89,7 @@ def main(argv=None):
     p.add_argument("--repeats", type=int, default=5)
     args = p.parse_args(argv)
     size, n_mu, reps = (32, 8, 1) if args.tiny else (args.size, 200, args.repeats)
-    print(f"bench_sine  {datetime.datetime.now().isoformat(timespec='seconds')}")
-    for line in machine():
-        print("  " + line)
-    try:
-        print(f"  load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
-    except OSError:
-        pass
+    header("bench_sine")
 
     eps, mu = axes(size)
     ours = K.stability_grid(eps, mu, drive="sine")

@@ -27,11 +27,9 @@ Every level is bounded in requests (``--requests``) and time (``--seconds``).
 from __future__ import annotations
 
 import argparse
-import datetime
 import itertools
 import os
 import statistics
-import subprocess
 import sys
 import threading
 import time
@@ -42,7 +40,7 @@ import orjson
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 from web_server import running_server  # noqa: E402
 
 import kapitza  # noqa: E402
@@ -172,13 +170,7 @@ def main():
         args.requests, args.seconds, args.levels, args.starts, args.mixed_clients = 6, 10.0, "1,2", 1, 4
     levels = [int(x) for x in args.levels.split(",")]
 
-    print(f"bench_web  {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
-    for line in machine():
-        print("  " + line)
-    try:
-        print(f"  load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f} at start")
-    except OSError:
-        pass
+    header("bench_web")
     if args.only_mixed:
         return mixed(args)
     firsts = first_response(args.starts)
