@@ -111,7 +111,9 @@ class Drive:
       bound the trace's error for :attr:`kapitza.Floquet.trace_error`, ``inf`` otherwise),
       ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
-      (see each).
+      (see each);
+    - exact verdicts: ``_damped_exact(eps, mu, zeta, growth=True)`` and ``_certified_cheap(damped)``
+      (see each), and :attr:`Floquet0.unsure` from ``_floquet0`` without ``certify``.
 
     Conventions: in ``tau`` the undamped linearisation is
     ``phi'' = 8 eps^2 (mu^2 + s(tau)) phi`` (module notes); zone ``n`` is where the rotation
