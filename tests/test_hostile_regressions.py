@@ -159,6 +159,10 @@ def test_messages_name_the_parameter(call, needle):
     (["basin", "--T", "0.15", "--A", "100", "--periods", "1000000000", "--quiet"], ["periods"]),
     (["simulate", "--T", "0.15", "--A", "100", "--damping", "1e6"], ["c / (2 sqrt(g/l))"]),
     (["simulate", "--T", "0.15", "--A", "100", "--damping", "3e4", "--periods", "20"], ["stiff"]),
+    # a motion of 5e-324 periods: its time axis had no width, and matplotlib's warning leaked
+    (["animate", "--T", "0.15", "--A", "100", "--periods", "5e-324", "--quiet", "--out", "a.gif"],
+     ["periods", "[0.001, inf)"]),
+    (["simulate", "--T", "0.15", "--A", "100", "--periods", "1e-9", "--out", "s"], ["periods", "[0.001, inf)"]),
 ])
 def test_cli_refuses_in_one_line(argv, needles, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)

@@ -67,7 +67,7 @@ def test_simulate_unstable_linear_overflow_is_reported_not_fatal(capsys):
     (["simulate", "--T", "-1", "--A", "100"], ["T must be finite and > 0"]),
     (["simulate", "--eps", "0.5"], ["--eps and --mu must be given together"]),
     (["simulate", "--T", "0.1", "--A", "100", "--damping", "1", "--method", "exact"], ["method='exact'"]),
-    (["simulate", "--T", "0.1", "--A", "100", "--periods", "0"], ["periods must be finite and > 0"]),
+    (["simulate", "--T", "0.1", "--A", "100", "--periods", "0"], ["periods must lie in [0.001, inf)"]),
     (["simulate", "--T", "0.1", "--A", "100", "--orbits", "0"], ["--orbits must be an integer >= 1"]),
     (["simulate", "--T", "0.1", "--A", "nan"], ["must be finite"]),
     (["basin", "--T", "0.15", "--A", "100", "--tol", "4"], ["tol must lie in"]),

@@ -530,7 +530,7 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
         Arnold's parameters instead of ``T`` and ``A`` (keywords; with ``l`` and ``g``):
         ``A = g / mu^2``, ``T = eps sqrt(8 l / A)``. Give ``(eps, mu)`` or ``(T, A)``.
     periods : float, optional
-        Duration in drive periods ``2T`` (ignored when ``t`` is given); > 0.
+        Duration in drive periods ``2T`` (ignored when ``t`` is given); >= 0.001.
     points_per_period : int, optional
         Samples per period ``2T``, evenly spaced (>= 4).
     t : array_like, optional
@@ -574,7 +574,8 @@ def simulate(theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=
     method = _method(method, c, drive)
     rtol, atol = _tolerances(rtol, atol)
     if t is None:
-        periods = _v.one("periods", _v.positive("periods", periods))
+        # (a thousandth of a period at least, as for the tower: below it there is no motion to show)
+        periods = _v.one("periods", _v.in_range("periods", periods, 1e-3, np.inf, lo_open=False))
         ppp = _v.bounded_count("points_per_period", points_per_period, MAX_SAMPLES, minimum=4)
         _v.bounded_work("periods * points_per_period", np.ceil(periods * ppp), MAX_SAMPLES,
                         what="samples held in memory")
