@@ -72,17 +72,13 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
     # doubles leave open are settled with the damped excess's (one extended product for both)
     exact_all = bool(certify and damped and not trace and drive._damped_certified
                      and drive._certified_cheap(True))
-    f = None
     if trace and _traced(drive):
         phi = (mu.reshape(-1), zeta.reshape(-1)) if damped else None
         f = drive._floquet0(eps, mu_c, certify, trace=True, phi=phi)
-    elif exact_all:
-        f = drive._floquet0(eps, mu_c, False)
-        if f.unsure is None:   # (a drive that does not say which: its own certified verdicts)
-            f = None
-    if f is None:
-        f = drive._floquet0(eps, mu_c, certify)
-        exact_all = False
+    else:
+        f = drive._floquet0(eps, mu_c, False if exact_all else certify)
+        if exact_all and f.unsure is None:   # (a drive that does not say which: its own certified verdicts)
+            f, exact_all = drive._floquet0(eps, mu_c, certify), False
     extra = ()
     if trace:
         extra = (np.full(eps.shape, np.inf) if f.tau_error is None else f.tau_error,)
