@@ -295,11 +295,14 @@ def pieces_mp(eps, mu, zeta, pieces):
     return out
 
 
-# ---------------------------------------------------------------- piecewise-linear shapes in long double
-#: numpy's long double where it carries more bits than a double (x86's 80-bit format), else None
-_LD = np.longdouble if np.finfo(np.longdouble).nmant >= 60 else None
-#: whether that tier is there
-HAS_LONG_DOUBLE = _LD is not None
+# ---------------------------------------------------------------- long double tiers
+#: numpy's long double where it carries more bits than a double (x86's 80-bit format), else None: the
+#: tiers between the doubles and mpmath (step products, linear pieces, the sine's Taylor steps and counts)
+LONG_DOUBLE = np.longdouble if np.finfo(np.longdouble).nmant >= 60 else None
+#: whether those tiers are there
+HAS_LONG_DOUBLE = LONG_DOUBLE is not None
+#: its unit roundoff
+LD_UNIT = float(np.finfo(np.longdouble).eps) / 2.0
 
 #: Points times Taylor steps handled at once by :func:`pieces_ld` (its terms are kept for the sums)
 _LD_CHUNK = 16384
@@ -309,9 +312,9 @@ _LD_MAX_STEPS = 4096
 
 
 def _pieces_ld_chunk(e, m2, pieces, steps, unit):
-    """``(tr M, bound, e)`` (``tr M`` of the ``phi``-equation scaled by ``2^-e``, ``bound`` its error at
-    that scale) of the linear pieces at long double ``e = eps`` and ``m2 = mu^2 (1 + zeta^2)``, with
-    ``steps[i]`` Taylor steps on piece ``i`` (see :func:`pieces_ld`)."""
+    """``(tau, bound)``: ``tr M / 2`` of the ``phi``-equation and a bound on its error (long double) of
+    the linear pieces at long double ``e = eps`` and ``m2 = mu^2 (1 + zeta^2)``, with ``steps[i]``
+    Taylor steps on piece ``i`` (see :func:`pieces_ld`)."""
     LD = e.dtype.type
     E = 8.0 * e * e
     a_l, b_l, h_l, da_l = [], [], [], []
@@ -340,8 +343,8 @@ def _pieces_ld_chunk(e, m2, pieces, steps, unit):
     S, fro = taylor_ld([a, b], da, h, kw, unit)
     (p00, _, _, p11), acc, ex = product_ld(S, fro, unit)
     tr = p00 + p11
-    # |tr dP| <= sqrt(2) |dP|_F
-    return tr, np.sqrt(LD(2.0)) * acc + unit * np.abs(tr), ex
+    # |tr dP| <= sqrt(2) |dP|_F; back to scale (the long double's range holds 2^ex)
+    return np.ldexp(0.5 * tr, ex), np.ldexp(0.5 * (np.sqrt(LD(2.0)) * acc + unit * np.abs(tr)), ex)
 
 
 def taylor_ld(coef, delta, h, kw, unit):
@@ -474,77 +477,79 @@ def _scan(S, backward):
     return X, e
 
 
-def ld_arrays(eps, mu, zeta):
-    """Flat ``eps, mu, zeta`` (zeros for None) and the long double tiers' answers before any is decided:
-    ``(decided, stable, tau, log_tau, growth, tau_error)``, False, NaN and (the bound) ``inf``."""
+def ld_tier(eps, mu, zeta, counts, evaluate, max_steps, chunk):
+    """The frame of the long double tiers (:func:`pieces_ld`, :func:`kapitza.drives._mathieu.sine_ld`):
+    flat ``eps, mu, zeta`` (``zeta`` None: undamped), each point's Taylor steps ``counts(eps, m2)``
+    (rows of counts summed per point, ``m2 = mu^2 (1 + zeta^2)``; past ``max_steps`` in all the tier
+    declines), points of like totals (within a factor 1.25) taken together at their largest counts, at
+    most ``chunk`` points times steps a call of ``evaluate(e, m2, rows)`` on long doubles, which gives
+    ``tau`` and a bound on its error. Where the bound decides ``|tau| < cosh(kappa)``, that is the exact
+    verdict. Returns ``(decided, stable, tau, log_tau, growth, tau_error)``: ``tau``, ``log|tau|`` and
+    the growth ``acosh|tau| - kappa`` (0 on a zone, undamped) are the long double's, as doubles
+    (``tau_error`` ``inf`` where nothing is known). Nothing is decided where numpy's long double is the
+    double."""
     eps = np.asarray(eps, float).ravel()
     mu = np.asarray(mu, float).ravel()
     z = np.zeros(eps.size) if zeta is None else np.asarray(zeta, float).ravel()
     n = eps.size
-    return eps, mu, z, (np.zeros(n, bool), np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan),
-                        np.full(n, np.nan), np.full(n, np.inf))
+    out = (np.zeros(n, bool), np.zeros(n, bool), np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan),
+           np.full(n, np.inf))
+    if not HAS_LONG_DOUBLE or n == 0:
+        return out
+    decided, stable, tau, log_tau, growth, tau_error = out
+    LD = LONG_DOUBLE
+    with np.errstate(over="ignore", invalid="ignore"):
+        per = np.atleast_2d(counts(eps, mu * mu * (1.0 + z * z)))
+    total = per.sum(axis=0)
+    usable = np.isfinite(total) & (total <= max_steps)
+    bucket = np.where(usable, np.ceil(np.log(np.where(usable, total, 1.0)) / np.log(1.25)), -1)
+    for b in np.unique(bucket[usable]):
+        idx = np.flatnonzero(bucket == b)
+        rows = [int(x) for x in per[:, idx].max(axis=1)]
+        size = max(1, chunk // sum(rows))
+        for c0 in range(0, idx.size, size):
+            sub = idx[c0:c0 + size]
+            e, m, zz = eps[sub].astype(LD), mu[sub].astype(LD), z[sub].astype(LD)
+            with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+                t, err = evaluate(e, m * m * (1.0 + zz * zz), rows)
+                kappa = 2.0 * np.sqrt(LD(8.0)) * zz * m * e
+                thr = np.cosh(kappa)
+                # (the threshold's own rounding: cosh(kappa)'s)
+                ok = ((np.abs(np.abs(t) - thr) > err + LD_UNIT * (4.0 + 4.0 * kappa) * thr)
+                      & np.isfinite(t) & np.isfinite(err) & (t != 0))
+                lt = np.log(np.abs(t))
+                gr = np.where(np.abs(t) > 1.0, lt + np.log1p(np.sqrt(-np.expm1(-2.0 * lt))), 0.0) - kappa
+            decided[sub] = ok
+            stable[sub] = np.abs(t) < thr
+            tau[sub], log_tau[sub], growth[sub] = t.astype(float), lt.astype(float), gr.astype(float)
+            tau_error[sub] = np.where(np.isfinite(err), err, np.inf).astype(float)
+    return out
 
 
 def pieces_ld(eps, mu, zeta, pieces):
     """The long double tier of :func:`pieces_mp`: the same Taylor steps in numpy's long double, with a
     bound on their rounding (the terms' recursion and sums, the coefficients' rounding, the products),
-    for flat arrays. Returns ``(decided, stable, tau, log_tau, growth)``: where ``decided``, ``stable``
-    is the exact verdict (``|tau| < 1``; damped, ``|tau_phi| < cosh(kappa)``) and ``tau``,
-    ``log|tau|`` and ``growth`` are the long double's, as doubles. Nothing is decided where numpy's
-    long double is the double, nor past :data:`_LD_MAX_STEPS` steps. A sixth item bounds the error of
-    the long double ``tau`` (before its rounding to a double; ``inf`` where nothing is known)."""
+    for flat arrays: ``(decided, stable, tau, log_tau, growth, tau_error)`` as :func:`ld_tier` gives
+    them; nothing is decided past :data:`_LD_MAX_STEPS` steps."""
 
-    eps, mu, z, out = ld_arrays(eps, mu, zeta)
-    n = eps.size
-    if _LD is None or n == 0:
-        return out
-    unit = float(np.finfo(_LD).eps) / 2.0
-    m2f = mu * mu * (1.0 + z * z)
-    decided, stable, tau, log_tau, growth, tau_error = out
-    # each point's steps per piece (pieces_mp's), then points of like totals (within a factor 1.25)
-    # taken together at their largest counts
-    per = []
-    for x0, x1, s0, s1 in pieces:
-        width = float(x1) - float(x0)
-        with np.errstate(over="ignore", invalid="ignore"):
-            peak = 8.0 * eps * eps * np.maximum(np.abs(m2f + s0), np.abs(m2f + s1))
-            per.append(np.maximum(1.0, np.ceil(width * np.sqrt(peak) * (1.0 + 1e-9))) if width > 0
-                       else np.zeros(n))
-    per = np.array(per)
-    total = per.sum(axis=0)
-    usable = np.isfinite(total) & (total <= _LD_MAX_STEPS)
-    bucket = np.where(usable, np.ceil(np.log(np.where(usable, total, 1.0)) / np.log(1.25)), -1)
-    for b in np.unique(bucket[usable]):
-        idx = np.flatnonzero(bucket == b)
-        steps = [int(x) for x in per[:, idx].max(axis=1)]
-        total = sum(steps)
-        for c0 in range(0, idx.size, max(1, _LD_CHUNK // total)):
-            sub = idx[c0:c0 + max(1, _LD_CHUNK // total)]
-            e = eps[sub].astype(_LD)
-            m, zz = mu[sub].astype(_LD), z[sub].astype(_LD)
-            m2 = m * m * (1.0 + zz * zz)
-            with np.errstate(over="ignore", under="ignore", invalid="ignore"):
-                tr, bound, ex = _pieces_ld_chunk(e, m2, pieces, steps, unit)
-                kappa = 2.0 * np.sqrt(_LD(8.0)) * zz * m * e
-                thr = np.ldexp(2.0 * np.cosh(kappa), -ex)
-                ok = np.abs(np.abs(tr) - thr) > bound + unit * (8.0 + 4.0 * kappa) * thr
-                ok &= np.isfinite(tr) & np.isfinite(bound) & (tr != 0)
-                lt = np.log(np.abs(0.5 * tr)) + ex * np.log(_LD(2.0))
-                t = np.sign(tr) * np.exp(lt)
-                gr = np.where(np.abs(t) > 1.0, lt + np.log1p(np.sqrt(-np.expm1(-2.0 * lt))), 0.0) - kappa
-                err = np.ldexp(0.5 * bound, ex)
-            decided[sub] = ok
-            stable[sub] = np.abs(tr) < thr
-            tau[sub], log_tau[sub], growth[sub] = t.astype(float), lt.astype(float), gr.astype(float)
-            tau_error[sub] = np.where(np.isfinite(err), err, np.inf).astype(float)
-    return decided, stable, tau, log_tau, growth, tau_error
+    def counts(eps, m2):   # pieces_mp's steps on each piece
+        rows = []
+        for x0, x1, s0, s1 in pieces:
+            width = float(x1) - float(x0)
+            peak = 8.0 * eps * eps * np.maximum(np.abs(m2 + s0), np.abs(m2 + s1))
+            rows.append(np.maximum(1.0, np.ceil(width * np.sqrt(peak) * (1.0 + 1e-9))) if width > 0
+                        else np.zeros(eps.size))
+        return rows
+
+    return ld_tier(eps, mu, zeta, counts, lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT),
+                   _LD_MAX_STEPS, _LD_CHUNK)
 
 
 def pieces_exact(eps, mu, zeta, pieces):
     """:func:`pieces_mp`'s answers, from the long double tier (:func:`pieces_ld`) where it decides and
     from mpmath elsewhere."""
-    dec, st, tau, log_tau, growth, _ = pieces_ld(eps, mu, zeta, pieces)
-    out = list(zip(tau.tolist(), log_tau.tolist(), st.tolist(), growth.tolist()))
+    dec, st, tau, log_tau, rate, _ = pieces_ld(eps, mu, zeta, pieces)
+    out = list(zip(tau.tolist(), log_tau.tolist(), st.tolist(), rate.tolist()))
     rest = np.flatnonzero(~dec)
     if rest.size:
         eps, mu = np.asarray(eps, float).ravel(), np.asarray(mu, float).ravel()

@@ -40,6 +40,7 @@ import threading
 import numpy as np
 
 from .. import _validate as _v
+from .._certify import LONG_DOUBLE
 
 
 PI = np.pi
@@ -521,7 +522,7 @@ def _total_count(eps, mu):
 
 #: Long double where it carries more bits than a double (x86's 80-bit format; elsewhere None): the
 #: Sturm counts beside an edge are taken again in it before the exact trace is asked.
-_LD = np.longdouble if np.finfo(np.longdouble).nmant >= 60 else None
+_LD = LONG_DOUBLE
 _PI_LD = np.longdouble("3.141592653589793238462643383279502884") if _LD is not None else None
 
 
@@ -954,16 +955,14 @@ def _ld_pays(eps, mu):
 
 
 def _sine_ld_chunk(e, m2, steps, unit):
-    """``(w_I w_II', bound, ex)`` at long double ``e = eps``, ``m2 = mu^2 (1 + zeta^2)``: the product
-    ``w_I(pi/2) w_II'(pi/2)`` times ``2^-(2 ex)`` and a bound on its error at that scale, from the
-    half period in ``steps`` Taylor steps (:func:`kapitza._certify.taylor_ld`; the Mathieu form of
-    :func:`_exact_half_period`)."""
+    """``(tau, bound)`` at long double ``e = eps``, ``m2 = mu^2 (1 + zeta^2)``: ``tau = tr M / 2 =
+    2 w_I(pi/2) w_II'(pi/2) - 1`` and a bound on its error, from the half period in ``steps`` Taylor
+    steps (:func:`kapitza._certify.taylor_ld`; the Mathieu form of :func:`_exact_half_period`)."""
     from .._certify import product_ld, taylor_ld
 
     LD = e.dtype.type
-    pi = LD("3.14159265358979323846264338327950288")
-    q2 = 32.0 * e * e / (pi * pi)                       # 2q
-    h = pi / (2 * steps)
+    q2 = 32.0 * e * e / (_PI_LD * _PI_LD)               # 2q
+    h = _PI_LD / (2 * steps)
     hh = h * h
     z2 = (2.0 * np.arange(steps, dtype=LD) * h)[:, None]   # 2 z at each step's start
     cj, sj = np.cos(z2), np.sin(z2)
@@ -988,52 +987,22 @@ def _sine_ld_chunk(e, m2, steps, unit):
     S, fro = taylor_ld(coef, np.broadcast_to(delta, (steps, e.size)), np.full((steps, 1), h, LD), kw, unit)
     (p00, _, _, p11), bound, ex = product_ld(S, fro, unit)
     prod = p00 * p11
-    return prod, (np.abs(p00) + np.abs(p11)) * bound + bound * bound + 2.0 * unit * np.abs(prod), ex
+    err = (np.abs(p00) + np.abs(p11)) * bound + bound * bound + 2.0 * unit * np.abs(prod)
+    t = 2.0 * np.ldexp(prod, 2 * ex) - 1.0
+    return t, 2.0 * np.ldexp(err, 2 * ex) + unit * (np.abs(t) + 1.0)
 
 
 def sine_ld(eps, mu, zeta=None):
     """The exact sine verdicts in long double (flat arrays): ``(decided, stable, tau, log_tau, growth,
-    tau_error)`` as :func:`kapitza._certify.pieces_ld` gives them for linear pieces, from the half
-    period's Taylor steps (:func:`_exact_half_period`'s, with ``tau = 2 w_I w_II' - 1``) and their
-    rounding bound. ``zeta``: the damped system's ``phi``-equation and its verdict ``|tau_phi| <
-    cosh(kappa)``. Nothing is decided where numpy's long double is the double."""
-    import math
+    tau_error)`` as :func:`kapitza._certify.ld_tier` gives them, from the half period's Taylor steps
+    (:func:`_exact_half_period`'s, with ``tau = 2 w_I w_II' - 1``) and their rounding bound. ``zeta``:
+    the damped system's ``phi``-equation and its verdict ``|tau_phi| < cosh(kappa)``."""
+    from .._certify import LD_UNIT, ld_tier
 
-    from .._certify import HAS_LONG_DOUBLE, ld_arrays
-
-    eps, mu, z, out = ld_arrays(eps, mu, zeta)
-    n = eps.size
-    if not HAS_LONG_DOUBLE or n == 0:
-        return out
-    LD = np.longdouble
-    unit = float(np.finfo(LD).eps) / 2.0
-    decided, stable, tau, log_tau, growth, tau_error = out
-    q = 16.0 * eps * eps / PI**2
-    with np.errstate(over="ignore", invalid="ignore"):
+    def counts(eps, m2):
         # (steps of at most 1/8: fewer Taylor terms of the steps and of the coefficient, and the steps
         # are taken all at once)
-        steps = np.maximum(np.ceil(0.5 * PI * (np.sqrt(2.0 * q * (1.0 + mu * mu * (1.0 + z * z))) + 2.0)), 13.0)
-    usable = np.isfinite(steps) & (steps <= _LD_MAX_STEPS)
-    bucket = np.where(usable, np.ceil(np.log(np.where(usable, steps, 1.0)) / math.log(1.25)), -1)
-    for b in np.unique(bucket[usable]):
-        idx = np.flatnonzero(bucket == b)
-        k = int(steps[idx].max())
-        size = max(1, _LD_CHUNK // k)
-        for c0 in range(0, idx.size, size):
-            sub = idx[c0:c0 + size]
-            e, m, zz = eps[sub].astype(LD), mu[sub].astype(LD), z[sub].astype(LD)
-            with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
-                prod, bound, ex = _sine_ld_chunk(e, m * m * (1.0 + zz * zz), k, unit)
-                t = 2.0 * np.ldexp(prod, 2 * ex) - 1.0
-                err = 2.0 * np.ldexp(bound, 2 * ex) + unit * (np.abs(t) + 1.0)
-                kappa = 2.0 * np.sqrt(LD(8.0)) * zz * m * e
-                thr = np.cosh(kappa)
-                ok = ((np.abs(np.abs(t) - thr) > err + unit * (4.0 + 4.0 * kappa) * thr)
-                      & np.isfinite(t) & np.isfinite(err))
-                lt = np.log(np.abs(t))
-                gr = np.where(np.abs(t) > 1.0, lt + np.log1p(np.sqrt(-np.expm1(-2.0 * lt))), 0.0) - kappa
-            decided[sub] = ok
-            stable[sub] = np.abs(t) < thr
-            tau[sub], log_tau[sub], growth[sub] = t.astype(float), lt.astype(float), gr.astype(float)
-            tau_error[sub] = np.where(np.isfinite(err), err, np.inf).astype(float)
-    return decided, stable, tau, log_tau, growth, tau_error
+        return np.maximum(np.ceil(0.5 * PI * (np.sqrt(32.0 * eps * eps / PI**2 * (1.0 + m2)) + 2.0)), 13.0)
+
+    return ld_tier(eps, mu, zeta, counts, lambda e, m2, rows: _sine_ld_chunk(e, m2, rows[0], LD_UNIT),
+                   _LD_MAX_STEPS, _LD_CHUNK)

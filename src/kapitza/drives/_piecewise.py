@@ -31,14 +31,14 @@ import math
 import numpy as np
 
 from .. import _validate as _v
-from .._certify import MAX_PHASE, TRACE_RTOL, tau_mp
+from .._certify import LONG_DOUBLE, MAX_PHASE, TRACE_RTOL, tau_mp
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
 LOG2 = np.log(2.0)
 #: x86's extended precision (a 64-bit significand) where numpy has it: the products below, taken in it
 #: with the same rounding bound, settle most verdicts the doubles cannot before mpmath is asked
-_LD = np.longdouble if np.finfo(np.longdouble).nmant >= 60 else None
+_LD = LONG_DOUBLE
 
 
 def _segments(eps, mu, levels, durations):
@@ -436,8 +436,8 @@ class PiecewiseConstant(Drive):
     def _damped_exact(self, eps, mu, zeta, growth=True):
         # long double first; mpmath where its rounding bound leaves the verdict open
         eps, mu, zeta = (np.asarray(v, float).ravel() for v in (eps, mu, zeta))
-        dec, stable, _, _, growth, _ = extended_verdicts(eps, mu, zeta, self.levels, self._durations)
-        out = [(bool(st), float(gr)) for st, gr in zip(stable, growth)]
+        dec, stable, _, _, rate, _ = extended_verdicts(eps, mu, zeta, self.levels, self._durations)
+        out = [(bool(st), float(gr)) for st, gr in zip(stable, rate)]
         rest = np.flatnonzero(~dec)
         if rest.size:
             for i, r in zip(rest, super()._damped_exact(eps[rest], mu[rest], zeta[rest])):
