@@ -545,10 +545,21 @@ def pieces_ld(eps, mu, zeta, pieces):
                    _LD_MAX_STEPS, _LD_CHUNK)
 
 
-def pieces_exact(eps, mu, zeta, pieces):
+def growth_good(tau, tau_error, growth, rtol=1e-12):
+    """Where a growth ``acosh|tau| (- kappa)`` from an extended-precision ``tau`` is good to ``rtol``:
+    it moves by ``tau``'s error over ``sqrt(tau^2 - 1)`` (0 on a zone)."""
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        err = np.where(np.abs(tau) > 1.0, tau_error / np.sqrt(np.abs(tau * tau - 1.0)), 0.0)
+    return err <= rtol * np.abs(growth)
+
+
+def pieces_exact(eps, mu, zeta, pieces, growth=True):
     """:func:`pieces_mp`'s answers, from the long double tier (:func:`pieces_ld`) where it decides and
-    from mpmath elsewhere."""
-    dec, st, tau, log_tau, rate, _ = pieces_ld(eps, mu, zeta, pieces)
+    from mpmath elsewhere (``growth``: also where the long double's growth is not good to 1e-12, for a
+    growth that is reported)."""
+    dec, st, tau, log_tau, rate, err = pieces_ld(eps, mu, zeta, pieces)
+    if growth:
+        dec &= growth_good(tau, err, rate)
     out = list(zip(tau.tolist(), log_tau.tolist(), st.tolist(), rate.tolist()))
     rest = np.flatnonzero(~dec)
     if rest.size:

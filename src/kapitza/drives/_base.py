@@ -251,7 +251,8 @@ class Drive:
         err = self._trace_error(e, m) if trace else None
         if pieces is not None:
             engine_tau = tau
-            tau, log_tau, theta, zone, growth = self._settle_pieces(pieces, e, m, tau, log_tau, theta, zone, growth)
+            tau, log_tau, theta, zone, growth = self._settle_pieces(pieces, e, m, tau, log_tau, theta, zone, growth,
+                                                                    exact_growth=trace)
             if trace:  # (a trace the exact one replaced is that one, correctly rounded)
                 err = np.where(tau != engine_tau, 0.5 * np.finfo(float).eps * np.abs(tau), err)
         sh = eps.shape
@@ -330,9 +331,10 @@ class Drive:
                 grow = 2.0 * SQRT8 * eps * np.sqrt(np.maximum(m2 + self._engine.s_max, 0.0))
             return self._ENGINE_BAND * np.exp(np.minimum(grow, 700.0))
 
-    def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth):
+    def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth, exact_growth=True):
         """The engine's undamped data with the verdicts near the threshold decided in extended
-        precision (:func:`kapitza._certify.pieces_exact`; flat arrays). Where the exact verdict differs
+        precision (:func:`kapitza._certify.pieces_exact`; flat arrays; ``exact_growth``: the growth is
+        reported, and is to be good to 1e-12 there). Where the exact verdict differs
         from the engine's, the zone follows it: a point found stable in the gap ``theta = k pi`` lies
         in zone ``k - 1`` while ``|tau|`` rises with ``eps`` there, in zone ``k`` where it falls; one
         found unstable on zone ``n`` lies in the gap its trace's sign gives (``(-1)^k``)."""
@@ -343,7 +345,7 @@ class Drive:
         if not idx.size:
             return tau, log_tau, theta, zone, growth
         tau, log_tau, theta, zone, growth = (np.array(v, copy=True) for v in (tau, log_tau, theta, zone, growth))
-        res = pieces_exact(eps[idx], mu[idx], None, pieces)
+        res = pieces_exact(eps[idx], mu[idx], None, pieces, exact_growth)
         for i, (t, lt, st, gr) in zip(idx.tolist(), res):
             tau[i], log_tau[i] = t, lt
             if st and zone[i] < 0:
@@ -623,7 +625,7 @@ class Drive:
                 return None
             from .._certify import pieces_exact
 
-            return [(st, gr) for _, _, st, gr in pieces_exact(eps, mu, zeta, pieces)]
+            return [(st, gr) for _, _, st, gr in pieces_exact(eps, mu, zeta, pieces, growth)]
         from .._certify import damped_mp
 
         levels, fractions = steps

@@ -40,7 +40,7 @@ import threading
 import numpy as np
 
 from .. import _validate as _v
-from .._certify import LONG_DOUBLE
+from .._certify import LONG_DOUBLE, growth_good
 
 
 PI = np.pi
@@ -692,9 +692,7 @@ def sine_damped_exact(eps, mu, zeta, growth=True):
     todo = np.array([known(k) is None for k in keys], bool)
     if _ld_pays(eps[todo], mu[todo]):   # the long double tier first; mpmath where it cannot decide
         dec, st, tau, _, gr, err = sine_ld(eps[todo], mu[todo], zeta[todo])
-        # acosh|tau| moves by tau's error over sqrt(tau^2 - 1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            good = np.where(np.abs(tau) > 1.0, err / np.sqrt(np.abs(tau * tau - 1.0)), 0.0) <= 1e-12 * np.abs(gr)
+        good = growth_good(tau, err, gr)
         for key, d, s_, g, ok in zip((k for k, t in zip(keys, todo) if t), dec, st, gr, good):
             if d and (ok or not growth):
                 _remember(key, (bool(s_), float(g), bool(ok)))

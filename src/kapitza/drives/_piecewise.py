@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from .. import _validate as _v
-from .._certify import LONG_DOUBLE, MAX_PHASE, TRACE_RTOL, tau_mp
+from .._certify import LONG_DOUBLE, MAX_PHASE, TRACE_RTOL, growth_good, tau_mp
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
@@ -434,9 +434,12 @@ class PiecewiseConstant(Drive):
         return _LD is not None
 
     def _damped_exact(self, eps, mu, zeta, growth=True):
-        # long double first; mpmath where its rounding bound leaves the verdict open
+        # long double first; mpmath where its rounding bound leaves the verdict open (or, for a
+        # reported growth, where the long double's is not good to 1e-12)
         eps, mu, zeta = (np.asarray(v, float).ravel() for v in (eps, mu, zeta))
-        dec, stable, _, _, rate, _ = extended_verdicts(eps, mu, zeta, self.levels, self._durations)
+        dec, stable, tau, _, rate, err = extended_verdicts(eps, mu, zeta, self.levels, self._durations)
+        if growth:
+            dec &= growth_good(tau, err, rate)
         out = [(bool(st), float(gr)) for st, gr in zip(stable, rate)]
         rest = np.flatnonzero(~dec)
         if rest.size:
