@@ -79,7 +79,8 @@ def test_the_verdicts_of_a_report_are_those_of_mpmath_alone(monkeypatch):
         assert fast == slow
 
 
-@pytest.mark.parametrize("drive, zeta", [(K.TriangleWave(), 0.0), (K.TriangleWave(), 0.1), (K.RectangularWave(0.3), 0.1)],
+@pytest.mark.parametrize("drive, zeta", [(K.TriangleWave(), 0.0), (K.TriangleWave(), 0.1), (K.RectangularWave(0.3), 0.0),
+                                         (K.RectangularWave(0.3), 0.1)],
                          ids=lambda v: v.describe() if hasattr(v, "describe") else repr(v))
 def test_a_reported_growth_beside_an_edge_is_the_exact_one(drive, zeta):
     # a search needs only the verdict there (the long double's growth, as good as its trace, stands);
@@ -89,7 +90,10 @@ def test_a_reported_growth_beside_an_edge_is_the_exact_one(drive, zeta):
     eps = (np.array([hi]).view(np.int64) + np.arange(0, 6)).view(np.float64)   # the unstable side
     got = np.asarray(K.floquet(eps, mu, drive=drive, zeta=zeta).growth)
     z = None if zeta == 0.0 else np.full(eps.size, zeta)
-    if drive._steps() is not None:
+    if drive._steps() is not None and zeta == 0.0:
+        levels, fractions = drive._steps()
+        want = np.array([r[3] for r in C.tau_mp(eps, np.full(eps.size, mu), levels, tuple(2.0 * f for f in fractions))])
+    elif drive._steps() is not None:
         levels, fractions = drive._steps()
         want = np.array([r[1] for r in C.damped_mp(eps, np.full(eps.size, mu), z, levels,
                                                    tuple(2.0 * f for f in fractions))])

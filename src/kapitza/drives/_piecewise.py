@@ -302,10 +302,17 @@ def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=N
         if phi is None:
             known[idx] = res_err
     tau_error = None
+    exact_growth = None
     if trace:
         with np.errstate(divide="ignore", invalid="ignore"):
             ill = ((np.isnan(known) & (err > TRACE_RTOL * np.abs(trN))) | (known > TRACE_RTOL * np.abs(tau))) \
                 & (rsum <= MAX_PHASE)
+            # a reported growth acosh|tau| beside an edge: tau's error over sqrt(tau^2 - 1) (a double's
+            # rounding alone is a per cent of it a few doubles out): mpmath's angle there
+            off = ~stable & (np.abs(tau) > 1.0) & (rsum <= MAX_PHASE)
+            off &= ~growth_good(tau, np.where(np.isnan(known), 0.0, known) + _U * np.abs(tau),
+                                acosh_from_log(log_tau, tau))
+        ill |= off
         if np.any(ill):
             idx = np.flatnonzero(ill)
             m_x, z_x = (mu[idx], None) if phi is None else (np.ravel(phi[0])[idx], np.ravel(phi[1])[idx])
@@ -313,10 +320,14 @@ def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=N
             log_tau[idx] = [r[1] for r in res]
             tau[idx] = [r[0] for r in res]
             known[idx] = _U * np.abs(tau[idx])
+            exact_growth = np.full(eps.size, np.nan)
+            exact_growth[idx] = [0.0 if r[2] else r[3] for r in res]
         with np.errstate(divide="ignore", over="ignore"):
             tau_error = np.where(np.isnan(known), np.exp(np.minimum(L + np.log(err) - LOG2, 710.0)), known)
     with np.errstate(invalid="ignore"):
         growth = np.where(stable | (np.abs(tau) <= 1.0), 0.0, acosh_from_log(log_tau, tau))
+    if exact_growth is not None:
+        growth = np.where(np.isnan(exact_growth), growth, exact_growth)
     # Rotation: a generic direction on the zones, an eigenvector off them.
     x0 = np.ones_like(eps)
     y0 = np.zeros_like(eps)
