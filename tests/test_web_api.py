@@ -290,6 +290,34 @@ def test_served_connections_send_small_answers_at_once():
     assert asyncio.run(accepted_nodelay()) != 0
 
 
+def test_the_server_imports_what_its_routes_import_before_it_answers():
+    # two first imports of one package in two threads can leave one of them with a half-made module:
+    # the modules the routes import where they are first needed are imported when the server starts
+    import ast
+
+    from kapitza.web import app as web_app
+
+    tree = ast.parse(open(web_app.__file__).read())
+    lazy = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            for sub in ast.walk(node):
+                if isinstance(sub, ast.ImportFrom) and sub.level == 2 and sub.module:
+                    lazy.add("kapitza." + sub.module)
+    # (imported by the module itself, or with kapitza: the drives)
+    at_top = {"kapitza." + n.module for n in tree.body if isinstance(n, ast.ImportFrom) and n.level == 2 and n.module}
+    at_top |= {name for name in lazy if name.startswith("kapitza.drives")}
+    assert lazy - at_top <= set(web_app._ROUTE_MODULES), sorted(lazy - at_top - set(web_app._ROUTE_MODULES))
+    # and the server's start does import them (a fresh interpreter: nothing imported before)
+    code = ("import sys; from fastapi.testclient import TestClient; from kapitza.web.app import create_app, "
+            "_ROUTE_MODULES\nbefore = [m for m in _ROUTE_MODULES if m in sys.modules]\n"
+            "with TestClient(create_app()):\n    after = [m for m in _ROUTE_MODULES if m not in sys.modules]\n"
+            "print(len(before), after)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=True).stdout
+    n_before, missing = out.split(" ", 1)
+    assert int(n_before) < len(web_app._ROUTE_MODULES) and missing.strip() == "[]", out
+
+
 def test_a_fresh_servers_first_requests_at_once_all_answer():
     # a page's first load asks the motion, the safe tilt, the report and the chart together; each
     # route imports what it needs where first needed, so the server imports those modules before

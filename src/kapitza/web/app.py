@@ -344,10 +344,12 @@ def _iterable(value):
         return [value]
 
 
-#: Imported at the server's start (see ``lifespan`` in :func:`create_app`), not by each route's first call.
+#: Imported at the server's start (see ``lifespan`` in :func:`create_app`), not by each route's first
+#: call: every module a route imports where it is first needed (``tests/test_web_api.py`` checks the list)
 _ROUTE_MODULES = ("kapitza.motion", "kapitza.motion.basins", "kapitza.motion.pair", "kapitza.motion.chain",
                   "kapitza.safety", "kapitza.propagation", "kapitza.zones", "kapitza.curves", "kapitza.rig_plane",
-                  "kapitza.system", "kapitza.chain")
+                  "kapitza.system", "kapitza.chain", "kapitza.figures._style", "kapitza.figures.chart",
+                  "kapitza.figures.motion")
 
 
 def create_app(hosts=None) -> FastAPI:
