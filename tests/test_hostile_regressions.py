@@ -142,6 +142,8 @@ def test_tiny_rods_are_refused_or_finite():
     (lambda: K.to_arnold([0.1, 0.2], [1.0, 2.0, 3.0]), "T, A, l, g must have shapes"),
     (lambda: nonlinear_motion([1.0, 2.0], [0.1, 0.2, 0.3], 0.0, 0.15, 100.0), "t, theta0"),
     (lambda: K.periodic_solution(100.0, index=1e300), "1e+300"),
+    (lambda: K.StepDrive([1.0, -1e-300], [1e-300, 1.0]), "rms velocity"),
+    (lambda: K.StepDrive([1e-200, -1e-200], [0.5, 0.5]), "rms velocity"),
 ])
 def test_messages_name_the_parameter(call, needle):
     msg = _refused(call, needle)
@@ -163,6 +165,11 @@ def test_messages_name_the_parameter(call, needle):
     (["animate", "--T", "0.15", "--A", "100", "--periods", "5e-324", "--quiet", "--out", "a.gif"],
      ["periods", "[0.001, inf)"]),
     (["simulate", "--T", "0.15", "--A", "100", "--periods", "1e-9", "--out", "s"], ["periods", "[0.001, inf)"]),
+    # a duty of 1e-300: the drive's stroke underflowed to 0, and numpy's division warning leaked
+    (["animate", "--T", "0.15", "--A", "100", "--drive", "rectangular", "--duty", "1e-300", "--quiet", "--out", "a.gif"],
+     ["duty", "[1e-06, 0.999999]"]),
+    (["stability", "--T", "0.15", "--A", "100", "--drive", "rectangular", "--duty", "0.9999999999"],
+     ["duty", "[1e-06, 0.999999]"]),
 ])
 def test_cli_refuses_in_one_line(argv, needles, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
@@ -329,7 +336,7 @@ def test_exact_flows_refuse_a_phase_longer_than_their_argument_reduction_resolve
             motion_pair(0.1, 0.0, 0.15, 100.0, 1e-300, 9.81)
         # a window in which no zone lies draws no legend, and warns of none
         code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", str(tmp_path / "c"), "--duty",
-                            "9e-27"], capsys)
+                            "1e-6"], capsys)
         assert code == 0 and "legend" not in err and (tmp_path / "c.png").exists()
 
 

@@ -148,4 +148,4 @@ def test_the_notebook_answers_the_drive_routes():
     assert "triangle" in [d["name"] for d in listed["drives"]]
     one = json.loads(answer("/api/drive?drive=rectangular%3A0.8")["json"])
     assert one["mu_max"] == pytest.approx(2.0)
-    assert answer("/api/drive?drive=rectangular%3A1.5")["detail"] == "duty must lie in (0, 1); got 1.5"
+    assert answer("/api/drive?drive=rectangular%3A1.5")["detail"] == "duty must lie in [1e-06, 0.999999]; got 1.5"

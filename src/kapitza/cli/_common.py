@@ -141,7 +141,8 @@ def add_drive(g):
                    help=f"{', '.join(text_forms())} (square, the paper's, by default; steps:LEVELS:FRACTIONS: "
                         "accelerations LEVELS x A for FRACTIONS of the period, zero mean)")
     g.add_argument("--duty", type=finite_float, metavar="D",
-                   help="shortcut for --drive rectangular:D (+A for the fraction D of the period)")
+                   help="shortcut for --drive rectangular:D (+A for the fraction D of the period, "
+                        "1e-6 <= D <= 1 - 1e-6)")
     g.add_argument("--drive-file", metavar="FILE.csv",
                    help="a measured drive: pivot acceleration samples, columns t,a (header optional), one period "
                         "(uniform times) or several with --drive-period; its mean is removed, A is its peak and T "

@@ -191,7 +191,7 @@ def parse_drive(text: str) -> Drive:
     >>> kapitza.parse_drive("rectangular:1.5")
     Traceback (most recent call last):
         ...
-    kapitza._validate.KapitzaValueError: duty must lie in (0, 1); got 1.5
+    kapitza._validate.KapitzaValueError: duty must lie in [1e-06, 0.999999]; got 1.5
     """
     if not isinstance(text, str) or not text.strip():
         raise _v.KapitzaValueError(f"drive must be a non-empty text such as 'square'; got {text!r}")

@@ -402,6 +402,10 @@ class PiecewiseConstant(Drive):
         cand += list((Z + V * tstar + 0.5 * s * tstar**2)[inside])
         self._stroke_coefficient = float(max(cand) - min(cand))
         self._mean_square_velocity = float(np.sum(V * V * h + V * s * h * h + s * s * h**3 / 3.0) / 2.0)
+        if not self._mean_square_velocity > 1e-100:  # Arnold's eps divides by its root
+            raise _v.KapitzaValueError(
+                "levels and fractions must move the pivot: their rms velocity must be at least 1e-50 A T; got "
+                f"{np.sqrt(max(self._mean_square_velocity, 0.0)):.3g} A T (a step too narrow, or levels too small)")
 
     # ------------------------------------------------------------ kinematics
     def _locate(self, tau):

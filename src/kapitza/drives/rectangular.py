@@ -4,7 +4,10 @@ from __future__ import annotations
 from .. import _validate as _v
 from ._piecewise import PiecewiseConstant
 
-_DUTY = (0.0, 1.0)  # the open interval of duty cycles (RectangularWave.parameters says so)
+# the closed interval of duty cycles (RectangularWave.parameters says so): a pulse narrower than a
+# millionth of the period has a negative level beyond the step drives' 1e6 A, and at a duty near
+# 1e-300 the drive's stroke underflows to zero
+_DUTY = (1e-6, 1.0 - 1e-6)
 
 
 class RectangularWave(PiecewiseConstant):
@@ -16,7 +19,7 @@ class RectangularWave(PiecewiseConstant):
     Parameters
     ----------
     duty : float
-        ``0 < duty < 1``.
+        ``1e-6 <= duty <= 1 - 1e-6``: the fraction of the period at ``+A``.
 
     Raises
     ------
@@ -42,7 +45,7 @@ class RectangularWave(PiecewiseConstant):
     name = "rectangular"
     text_form = "rectangular:DUTY"
     title = "rectangular, duty cycle"
-    #: the duty cycle, as the constructor checks it: ``0 < duty < 1``
+    #: the duty cycle, as the constructor checks it: ``1e-6 <= duty <= 1 - 1e-6``
     parameters = ({"name": "duty", "min": _DUTY[0], "max": _DUTY[1], "default": 0.3, "examples": (0.3, 0.7),
                    "description": "the fraction of the period at +A"},)
 
@@ -54,7 +57,7 @@ class RectangularWave(PiecewiseConstant):
         return cls(_v.number_text("duty", parameters))
 
     def __init__(self, duty):
-        d = _v.one("duty", _v.in_range("duty", duty, *_DUTY))
+        d = _v.one("duty", _v.in_range("duty", duty, *_DUTY, lo_open=False, hi_open=False))
         self.duty = d
         super().__init__((1.0, -d / (1.0 - d)), (d, 1.0 - d))
 
