@@ -655,7 +655,8 @@ def _search(drive, damped, pred, lo, hi):
     """:func:`search_bits` (guided) of the one-point searches, ``pred(x, rows, certify)`` returning
     ``(ok, f)``: where the drive's certified verdicts are cheap every step asks them, and the pair
     found is final; elsewhere the steps ask the fast predicate and the final pair is certified."""
-    return search_bits(pred, lo, hi, certified=lambda x, rows: pred(x, rows, True), guided=True,
+    return search_bits(pred, lo, hi, ways=drive._search_ways, certified=lambda x, rows: pred(x, rows, True),
+                       guided=True,
                        certified_steps=drive._certified_cheap(damped))
 
 
@@ -676,7 +677,7 @@ def point_margin(drive, eps, mu, zeta, levels=None):
     first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
     """
     levels = levels or _Levels(drive, zeta)
-    rows, = _prepared(levels, [_margin_rows(eps, mu)])
+    rows, = _prepared(levels, [_margin_rows(eps, mu, far_cost=drive._far_cost)])
     return None if rows is None else _searched(drive, zeta, levels, [rows])[0]
 
 
@@ -704,9 +705,10 @@ def _prepared(levels, builders):
     return out
 
 
-def _margin_rows(eps, mu, L0=None):
+def _margin_rows(eps, mu, L0=None, far_cost=False):
     """The rows of :func:`point_margin`'s search (a :class:`_Rows`), or None where it cannot answer: a
-    builder for :func:`_prepared`. ``L0``: the level at ``(eps, mu)``, when known."""
+    builder for :func:`_prepared`. ``L0``: the level at ``(eps, mu)``, when known; ``far_cost``: the
+    drive's verdicts cost more the larger ``eps`` (:attr:`Drive._far_cost`)."""
     if L0 is None:
         L0 = float((yield np.array([eps]), np.array([mu]))[0])
     if not abs(L0) < 2.0**50:  # no zone resolvable so far out (see margin): the array margin says so
@@ -720,10 +722,13 @@ def _margin_rows(eps, mu, L0=None):
         above = not stable and n == k
         rows += [(n, False, above), (n, True, above or stable)]
     # a top past the highest zone's upper edge, eight doublings a call (the first call also asks
-    # eight halvings below eps: the rungs then narrow every row's bracket to about a binade)
+    # eight halvings below eps: the rungs then narrow every row's bracket to about a binade); a drive
+    # whose cost grows with eps climbs two doublings first, then three (rungs far above the zones a
+    # point is near would cost more than the whole search)
     need = zones[-1] + 1
     top = None
-    ladder = eps * 2.0 ** np.arange(1.0, 9.0)
+    climb = iter((2, 3) if far_cost else ())
+    ladder = eps * 2.0 ** np.arange(1.0, 1.0 + next(climb, 8))
     rungs, rung_levels = [np.array([eps]), eps * 2.0 ** -np.arange(1.0, 9.0)], [np.array([L0])]
     while ladder[-1] <= _LADDER_TOP:
         rungs.append(ladder)
@@ -734,7 +739,7 @@ def _margin_rows(eps, mu, L0=None):
         if up.size:
             top = ladder[up[0]]
             break
-        ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
+        ladder = ladder[-1] * 2.0 ** np.arange(1.0, 1.0 + next(climb, 8))
     if top is None:  # not within the doubles' comfortable range: the array margin answers
         return None
     n_of = np.array([r[0] for r in rows], float)
@@ -867,13 +872,13 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     the drive per step for all of them."""
     levels = _Levels(drive, zeta)
     if level0 is not None and level0 != np.rint(level0):   # inside zone floor(level0): all at once
-        m_rows, r_rows = _prepared(levels, [_margin_rows(eps, mu, level0),
+        m_rows, r_rows = _prepared(levels, [_margin_rows(eps, mu, level0, drive._far_cost),
                                             _rig_rows(eps, mu, int(np.floor(level0)), T, A, l, g)])
         if m_rows is None:
             return None
         margin, rig = _searched(drive, zeta, levels, [m_rows, r_rows])
         return None if margin is None else (margin, rig)
-    m_rows, = _prepared(levels, [_margin_rows(eps, mu, level0)])
+    m_rows, = _prepared(levels, [_margin_rows(eps, mu, level0, drive._far_cost)])
     margin = None if m_rows is None else _searched(drive, zeta, levels, [m_rows])[0]
     if margin is None:
         return None

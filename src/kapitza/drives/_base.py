@@ -578,9 +578,20 @@ class Drive:
         where its certified verdicts are cheap (a drive of linear pieces, decided in long double)."""
         return self._certified_cheap(False)
 
-    #: Points per row and step of a one-point search along ``A`` or ``mu`` (:func:`kapitza.drives._api.search_bits`'s
-    #: ``ways``): many where a call costs the same for one point as for dozens, fewer where each point costs.
-    _search_ways = 64
+    @property
+    def _far_cost(self) -> bool:
+        """Whether a verdict costs more the larger ``eps`` (the Taylor steps of the linear pieces and
+        the engine's grow with it; an exact segment product's do not): one point's searches then ask
+        few rungs far above it at a time (:func:`kapitza.drives._api.point_margin`)."""
+        return self._steps() is None
+
+    @property
+    def _search_ways(self) -> int:
+        """Points per row and step of a one-point search (:func:`kapitza.drives._api.search_bits`'s
+        ``ways``): many where a call costs about the same for one point as for dozens (an exact
+        segment product), fewer where each point costs (Taylor steps, the engine's period: about
+        8 us a point against 70 us a call for the triangle)."""
+        return 16 if self._far_cost else 64
 
     def _window0(self, mu, e_a, e_b):
         """``(rows, zone, lo, hi)``: the undamped zones meeting ``[e_a[i], e_b[i]]`` at ``mu[i]``
