@@ -36,3 +36,27 @@ def test_the_joint_search_gives_the_reports_of_the_separate_ones(drive, zeta, mo
     monkeypatch.setattr(type(drive), "_joint_edges", lambda self, zeta: False)
     separate = _reports(drive, points, zeta)
     assert joint == separate
+
+
+@pytest.mark.parametrize("drive", [K.SineWave(), K.TriangleWave()], ids=lambda d: d.describe())
+@pytest.mark.parametrize("zeta", [0.0, 0.05])
+def test_the_rigs_edges_of_a_drive_without_steps_are_the_one_at_a_time_answers(drive, zeta):
+    """The rig's four edges searched together (every drive) against ``amplitude_edges`` (its own
+    bisection along A) and the verdict either side of each frequency edge."""
+    l, g = 1.0, 9.80665
+    for mu, n, where in [(0.3, 0, 0.5), (0.5, 1, 0.3), (0.2, 0, 0.9)]:
+        lo, hi = (float(v) for v in K.zone_edges(mu, n, drive=drive, zeta=zeta))
+        A = g / mu**2
+        T = (lo + where * (hi - lo)) * np.sqrt(8.0 * l / A)
+        rep = K.analyze(T=T, A=A, l=l, g=g, drive=drive, zeta=zeta)
+        assert rep.stable and rep.zone == n
+        assert (rep.A_lo, rep.A_hi) == tuple(float(v) for v in K.amplitude_edges(T, n, l, g, drive=drive, zeta=zeta))
+        # at this stroke, the frequency f: T = 1 / (2 f), A = stroke / (k T^2)
+        k = rep.stroke / (A * T * T)
+        for f, inside in [(rep.frequency_lo, 1.0 + 1e-9), (rep.frequency_lo, 1.0 - 1e-9),
+                          (rep.frequency_hi, 1.0 - 1e-9), (rep.frequency_hi, 1.0 + 1e-9)]:
+            if not np.isfinite(f):
+                continue
+            Tf = 0.5 / (f * inside)
+            stable = K.analyze(T=Tf, A=rep.stroke / (k * Tf * Tf), l=l, g=g, drive=drive, zeta=zeta).zone == n
+            assert stable == ((f == rep.frequency_lo) == (inside > 1.0))

@@ -813,51 +813,17 @@ def along_amplitude(T, n, l, g, drive, c):
     return float(A_lo[0]), float(A_hi[0])
 
 
-def rig_margins(eps, mu, zone, drive, zeta, T, stroke):
-    """Frequency interval of ``zone`` at this stroke and stroke interval at this frequency.
-
-    At a fixed stroke ``A`` grows like ``f^2`` and ``T = 1/(2f)``, so ``eps`` is fixed and
-    ``mu`` falls like ``1/f``; the zone is an interval of ``mu`` there (its edges ``eps_lo(mu)``,
-    ``eps_hi(mu)`` both grow with ``mu``), found by bisection on the zone index read from the
-    rotation angle. At a fixed frequency the stroke is proportional to ``A``.
-    """
-    d = drive
-    e = np.array([eps])
-    z = np.array([zeta])
-
-    def level(m, certify=True):
-        tau, growth, theta, st, zn, _ = d._floquet(np.broadcast_to(e, m.shape), m, np.broadcast_to(z, m.shape),
-                                                   certify)
-        return np.where(st, zn + 0.5, np.rint(theta / np.pi))
-
-    # The angle falls as mu grows: [mu_lo, mu_hi] is where it lies in zone `zone`. Below
-    # mu = 1e-6 (A > 1e12 g) nothing is searched: a zone reaching there has no upper frequency.
-    lo, hi = np.full(1, 1e-6), np.full(1, 4.0)
-    f = 0.5 / T
-    out = dict(stroke=float(stroke))
-    above = level(lo)[0] < zone + 1   # still in the zone (or below it) at the smallest mu
-    mu_lo = lo if above else search_bits(lambda m, _: level(m, False) < zone + 1, lo, hi,
-                                         certified=lambda m, _: level(m) < zone + 1, ways=d._search_ways)[0]
-    if level(hi)[0] <= zone:
-        mu_hi = search_bits(lambda m, _: level(m, False) <= zone, lo, hi,
-                            certified=lambda m, _: level(m) <= zone, ways=d._search_ways)[1]
-    else:
-        mu_hi = hi
-    if mu_lo[0] < mu_hi[0]:
-        out.update(frequency_lo=float(f * mu / mu_hi[0]),
-                   frequency_hi=float("inf") if above else float(f * mu / mu_lo[0]))
-    return out
-
-
 def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g, levels=None):
     """Zone ``zone`` of one physical point along ``A`` (at this ``T``) and along the frequency
     (at this stroke): ``A_lo, A_hi`` and, where the zone is reached, ``frequency_lo, frequency_hi``.
 
     The four edges are searched together (:func:`search_bits`, one call of the drive per step for
     all four): along ``A`` the zone index read from the rotation angle rises with ``A`` at fixed
-    ``T`` (:func:`along_amplitude`); at a fixed stroke ``eps`` is fixed and ``mu`` falls like
-    ``1/f``, the index falling as ``mu`` grows (:func:`rig_margins`). ``levels`` as in
-    :func:`point_margin`.
+    ``T`` (:func:`along_amplitude`). At a fixed stroke ``A`` grows like ``f^2`` and ``T = 1/(2f)``,
+    so ``eps`` is fixed and ``mu`` falls like ``1/f``; the zone is an interval of ``mu`` there (its
+    edges ``eps_lo(mu)``, ``eps_hi(mu)`` both grow with ``mu``), the index falling as ``mu`` grows;
+    below ``mu = 1e-6`` nothing is searched (a zone reaching there has no upper frequency).
+    ``levels`` as in :func:`point_margin`.
     """
     levels = levels or _Levels(drive, zeta)
     rows, = _prepared(levels, [_rig_rows(eps, mu, zone, T, A, l, g)])

@@ -573,9 +573,11 @@ class Drive:
 
     @property
     def _batched_points(self) -> bool:
-        """Whether one point's searches (margin, rig intervals) may ask the drive for many points of a
-        row at once, spread over decades of ``eps`` and ``A`` (:func:`kapitza.drives._api.point_margin`):
-        where its certified verdicts are cheap (a drive of linear pieces, decided in long double)."""
+        """Whether one point's margin may be searched with many points of a row at once, spread over
+        decades of ``eps``, and together with the rig's edges (:func:`kapitza.drives._api.point_margin`,
+        :func:`kapitza.drives._api.point_edges`): where its certified verdicts are cheap (steps or linear
+        pieces, decided in long double). The rig's edges alone are searched so for every drive
+        (:func:`kapitza.drives._api.rig_intervals`: their ladders stay within a few decades of the point)."""
         return self._certified_cheap(False)
 
     @property
@@ -791,12 +793,8 @@ class Drive:
             Tlo, Thi = self.period_edges(np.asarray(A, float), np.asarray(zone), np.asarray(l, float),
                                          np.asarray(g, float), np.asarray(c, float))
         out = dict(T_lo=float(Tlo), T_hi=float(Thi))
-        if rig is None and self._batched_points:
+        if rig is None:
             rig = _api.rig_intervals(eps, mu, zone, self, zeta, T, A, l, g)
-        elif rig is None:
-            Alo, Ahi = self.amplitude_edges(*(np.asarray(v, float) for v in (T, zone, l, g, c)))
-            rig = dict(A_lo=float(Alo), A_hi=float(Ahi))
-            rig.update(_api.rig_margins(eps, mu, zone, self, zeta, T, stroke))
         out.update(A_lo=rig["A_lo"], A_hi=rig["A_hi"], stroke_lo=stroke * rig["A_lo"] / A,
                    stroke_hi=stroke * rig["A_hi"] / A, stroke=stroke)
         out.update({k: v for k, v in rig.items() if k.startswith("frequency")})
