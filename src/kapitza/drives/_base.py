@@ -346,13 +346,19 @@ class Drive:
             return tau, log_tau, theta, zone, growth
         tau, log_tau, theta, zone, growth = (np.array(v, copy=True) for v in (tau, log_tau, theta, zone, growth))
         res = pieces_exact(eps[idx], mu[idx], None, pieces, exact_growth)
+        # whether |tau| rises with eps, where a point the engine put in a gap is stable (one engine call)
+        up = np.array([st and zone[i] < 0 for i, (_, _, st, _) in zip(idx.tolist(), res)], bool)
+        rises = {}
+        if up.any():
+            j = idx[up]
+            h = 1e-7 * eps[j]
+            lt = self._engine.log_tau(np.concatenate([eps[j] + h, eps[j] - h]), np.concatenate([mu[j], mu[j]]))[1]
+            rises = dict(zip(j.tolist(), (lt[:j.size] > lt[j.size:]).tolist()))
         for i, (t, lt, st, gr) in zip(idx.tolist(), res):
             tau[i], log_tau[i] = t, lt
             if st and zone[i] < 0:
                 k = int(np.rint(theta[i] / PI))
-                h = 1e-7 * eps[i]
-                rise = self._engine.log_tau(np.array([eps[i] + h, eps[i] - h]), np.array([mu[i], mu[i]]))[1]
-                zone[i] = max(k - 1 if rise[0] > rise[1] else k, 0)
+                zone[i] = max(k - 1 if rises[i] else k, 0)
             elif not st and zone[i] >= 0:
                 n = int(zone[i])
                 zone[i] = -1
