@@ -1117,10 +1117,11 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
 
     ``certified``: the same predicate decided to the last bit (``pred`` may err within a few ulp of
     its change, at a fraction of the cost). The final pair is checked with it; where it is not
-    False below and True above, the change is searched with it (by halves: each of its points may
-    cost an extended-precision product) in a window of 4 ulp either side, widened fourfold up to
-    2^20 ulp until it holds the change (a drive given by its shape may err by a thousand ulp where
-    its trace is flat), and kept where found there. Guided, ``certified`` returns ``(ok, f)`` too.
+    False below and True above, the change is searched with it (seven points a row a call, guided
+    like the steps: each of its points may cost an extended-precision product) in a window of 4 ulp
+    either side, widened sixteenfold (to 2^20 ulp at most) until it holds the change (a drive given
+    by its shape may err by a thousand ulp where its trace is flat), and kept where found there.
+    Guided, ``certified`` returns ``(ok, f)`` too.
 
     ``certified_steps``: the certified predicate costs about what ``pred`` does (a long double
     product): once every row's bracket is within 2^36 ulp (2^-16 of its value; the fast steps'
@@ -1169,8 +1170,9 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
     bad = inner[(ends[:, 0] & (a[inner] > lo_i[inner])) | (~ends[:, 1] & (b[inner] < hi_i[inner]))]
     if bad.size:
         rows, wa, wb = bad[:0], a[:0], b[:0]
-        width = 4
-        while bad.size and width <= 1 << 20:
+        for width in (4, 64, 1024, 1 << 14, 1 << 18, 1 << 20):
+            if not bad.size:
+                break
             ca, cb = np.maximum(a[bad] - width, lo_i[bad]), np.minimum(b[bad] + width, hi_i[bad])
             w_ends = decided(np.stack([ca, cb], axis=1).view(np.float64), bad)
             keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
@@ -1178,14 +1180,8 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
                             np.concatenate([wb, cb[keep]]))
             # (a window at both ends of the bracket cannot grow: its rows keep the pair found)
             bad = bad[~keep & ((ca > lo_i[bad]) | (cb < hi_i[bad]))]
-            width *= 4
-        for _ in range(64):
-            live = wb - wa > 1
-            if not live.any():
-                break
-            mid = wa + (wb - wa) // 2
-            ok = decided(mid[live, None].view(np.float64), rows[live])[:, 0]
-            wb[live] = np.where(ok, mid[live], wb[live])
-            wa[live] = np.where(ok, wa[live], mid[live])
-        a[rows], b[rows] = wa, wb
+        if rows.size:   # the change in each window: seven certified points a row a call (guided)
+            wa, wb = search_bits(lambda x, r: certified(x, rows[r]), wa.view(np.float64), wb.view(np.float64),
+                                 ways=8, guided=guided)
+            a[rows], b[rows] = wa.view(np.int64), wb.view(np.int64)
     return a.view(np.float64), b.view(np.float64)
