@@ -99,10 +99,6 @@ class SineWave(Drive):
             _DAMPED_EDGES[key] = found
         return found[0].reshape(mu.shape).copy(), found[1].reshape(mu.shape).copy()
 
-    #: a damped point costs Hill's sum and the half-period's Taylor steps per point: a search's
-    #: steps of 15 points, not 63, ask for about a third as many in half again as many calls
-    _search_ways = 16
-
     #: every zone of a window at once, from the Sturm counts at its right end
     _windowed = True
     #: edges and verdicts come from the same Sturm counts (the edges bisected on them)
