@@ -176,7 +176,8 @@ def test_chart_writes_png_svg_csv(tmp_path, capsys):
     for r in rows[::17]:
         mu = float(r[1])
         lo, hi = K.zone_edges(mu, int(r[0]))
-        assert (float(r[2]), float(r[3])) == (lo, hi)
+        # the curves drawn are the closed forms' roots, within 4 ulp of the certified edges
+        assert abs(float(r[2]) - lo) <= 4 * np.spacing(lo) and abs(float(r[3]) - hi) <= 4 * np.spacing(hi)
     assert not list(tmp_path.glob("figs/.*"))  # no temporary files left behind
 
 

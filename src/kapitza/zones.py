@@ -144,11 +144,15 @@ def zone_edges(mu, n, drive=None, zeta=0.0):
     Returns
     -------
     eps_lo, eps_hi : ndarray
-        Zone ``n`` is ``eps_lo < eps < eps_hi``; both are accurate to a few units
-        in the last place (at most 4 ulp against the 50-digit reference on the sweeps of
+        Zone ``n`` is ``eps_lo < eps < eps_hi``: each edge is the double the certified verdict
+        puts it at, ``eps_lo`` the last unstable double below the zone and ``eps_hi`` the first
+        unstable one above it, so :func:`is_stable` is False at both and True at the doubles next
+        to them inside (the sine drive's edges are on the unstable side of its characteristic
+        values' crossings instead: ``docs/mathieu.md``). For the square wave the closed forms'
+        roots lie within 4 ulp of these doubles (against the 50-digit reference on the sweeps of
         ``tests/test_zones_oracle.py``: 201 values of ``mu`` in [0.1, 0.2] for zone 0's
         lower edge, where the solver changes form, and ``mu`` in [0.01, 0.99] for both
-        edges of zones 0-2; no proof of a bound is claimed). The lower edge carries a 2T-periodic solution for even
+        edges of zones 0-2). The lower edge carries a 2T-periodic solution for even
         ``n`` (eq. 3.10) and a 4T-periodic one for odd ``n`` (eq. 3.12); the upper
         edge a 4T- (3.13) respectively 2T-periodic one (3.11).
 
