@@ -503,6 +503,10 @@ def ld_tier(eps, mu, zeta, counts, evaluate, max_steps, chunk):
     total = per.sum(axis=0)
     usable = np.isfinite(total) & (total <= max_steps)
     bucket = np.where(usable, np.ceil(np.log(np.where(usable, total, 1.0)) / np.log(1.25)), -1)
+    if usable.any() and usable.sum() * total[usable].max() <= chunk // 4:
+        # (a small call: its fixed cost, some hundreds of array operations, outweighs the extra
+        # steps of taking every point at the largest counts)
+        bucket = np.where(usable, 0.0, -1.0)
     for b in np.unique(bucket[usable]):
         idx = np.flatnonzero(bucket == b)
         rows = [int(x) for x in per[:, idx].max(axis=1)]
