@@ -104,3 +104,17 @@ def test_zones_joined_by_damping_share_one_edge_in_every_call(drive, zeta, mu):
             joined += 1
             assert hi[n] == lo[n + 1], n
     assert joined >= 2
+
+
+def test_a_thin_damped_sine_zone_asks_few_exact_traces(monkeypatch):
+    # zone 0 at mu = 0.7, zeta = 1 is an ulp or two wide at eps = 39; each certified verdict beside
+    # it is an exact trace of thousands of bits (about 0.7 s): the window of doubles that settles
+    # thin zones of drives with an extended-precision product is not asked of the sine
+    from kapitza.drives import _mathieu as M
+
+    calls = []
+    exact = M._exact_tau
+    monkeypatch.setattr(M, "_exact_tau", lambda *a, **k: calls.append(a) or exact(*a, **k))
+    rep = K.analyze(eps=2.0, mu=0.7, drive="sine", zeta=1.0)
+    assert rep.nearest_zone == 0 and rep.eps_hi - rep.eps_lo < 1e-13
+    assert len(calls) <= 8

@@ -380,7 +380,6 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     m = mu[live]
     L, H = lo[live].view(np.int64), hi[live].view(np.int64)
     half = np.maximum((H - L) // 2, 1)
-    reach = np.maximum(half, 8)
 
     z = None if zeta is None else np.broadcast_to(np.asarray(zeta, float), mu.shape)[live]
 
@@ -398,8 +397,12 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
 
     # a thin zone (edges found 16 ulp apart or less): every double from 8 below it to 8 above at
     # once, its edges where the certified verdict changes (the search below, doubling its steps,
-    # could step over a zone a double or two wide)
-    thin = np.flatnonzero(H - L <= 16)
+    # could step over a zone a double or two wide) -- for a drive whose certified verdicts come
+    # from an extended-precision product (steps, linear pieces: a window of doubles in one call);
+    # the sine's may cost an exact trace of thousands of bits each
+    windowed = drive._steps() is not None or drive._certified_pieces() is not None
+    thin = np.flatnonzero(H - L <= 16) if windowed else np.zeros(0, np.int64)
+    reach = np.maximum(half, 8) if windowed else half
     known = np.zeros(live.size, bool)
     new_L, new_H = L.copy(), H.copy()
     if thin.size:
@@ -447,8 +450,8 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
             rows = rows[~ok]
             if not rows.size:
                 break
-            # (widened to half the zone, or 8 ulp where it is thinner, so that edges a few ulp off
-            # about a thin zone are found: left as found beyond)
+            # (widened to half the zone, or 8 ulp where it is thinner and the verdicts cheap, so
+            # that edges a few ulp off about a thin zone are found: left as found beyond)
             rows = rows[k[rows] < reach[rows]]
             k[rows] = np.minimum(2 * k[rows], reach[rows])
             out[rows] = np.maximum(edge[rows] - inside * k[rows], 1)
