@@ -64,7 +64,7 @@ def test_drives_are_the_registry_with_a_users_class(server):
     assert [by[n]["page"] for n in ("square", "rectangular", "sine", "triangle", "my-skewed")] == [True] * 5
     assert by["steps"]["page"] is False and by["steps"]["parameters"] is None   # lists: no field for them
     (duty,) = by["rectangular"]["parameters"]
-    assert (duty["name"], duty["min"], duty["max"], duty["default"]) == ("duty", 0.0, 1.0, 0.3)
+    assert (duty["name"], duty["min"], duty["max"], duty["default"]) == ("duty", 1e-6, 1.0 - 1e-6, 0.3)
     assert by["rectangular"]["default"] == "rectangular:0.3"
     assert [x["text"] for x in by["rectangular"]["examples"]] == ["rectangular:0.3", "rectangular:0.7"]
     assert by["triangle"]["parameters"] == [] and by["triangle"]["default"] == "triangle"
