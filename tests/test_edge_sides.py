@@ -118,3 +118,19 @@ def test_a_thin_damped_sine_zone_asks_few_exact_traces(monkeypatch):
     rep = K.analyze(eps=2.0, mu=0.7, drive="sine", zeta=1.0)
     assert rep.nearest_zone == 0 and rep.eps_hi - rep.eps_lo < 1e-13
     assert len(calls) <= 8
+
+
+@pytest.mark.parametrize("drive", [K.SquareWave(), K.RectangularWave(0.3)], ids=lambda d: d.text())
+def test_certify_false_gives_the_curves_within_a_few_ulp(drive):
+    mu = np.linspace(0.05, 0.95, 60) * min(1.0, drive.mu_max)
+    lo, hi = K.zone_edges(mu[:, None], np.arange(3)[None, :], drive=drive)
+    flo, fhi = K.zone_edges(mu[:, None], np.arange(3)[None, :], drive=drive, certify=False)
+    ok = np.isfinite(lo)
+    assert ok.sum() >= 100 and np.array_equal(ok, np.isfinite(flo))
+    ulps = 4 if isinstance(drive, K.SquareWave) else 16   # (the root solves of steps: a few ulp, 6 seen)
+    for a, b in ((lo, flo), (hi, fhi)):
+        assert np.all(np.abs(a[ok] - b[ok]) <= ulps * np.spacing(a[ok]))
+    if isinstance(drive, K.SquareWave):   # the closed forms' roots, as the charts draw them
+        assert not (np.array_equal(lo, flo) and np.array_equal(hi, fhi))
+    with pytest.raises(ValueError, match="certify must be True or False"):
+        K.zone_edges(0.3, 0, drive=drive, certify="no")

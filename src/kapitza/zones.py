@@ -123,7 +123,7 @@ def zone_index(eps, mu, drive=None, zeta=0.0):
 
 
 @_v.shapes_named
-def zone_edges(mu, n, drive=None, zeta=0.0):
+def zone_edges(mu, n, drive=None, zeta=0.0, *, certify=True):
     """Edges ``eps_lo < eps_hi`` of stability zone ``n`` at the given ``mu``.
 
     Parameters
@@ -140,6 +140,12 @@ def zone_edges(mu, n, drive=None, zeta=0.0):
         ``docs/drives.md``); NaN where the
         drive has no such zone at this ``mu``; where damping has joined zones ``n`` and
         ``n + 1``, ``eps_hi`` of one is ``eps_lo`` of the other.
+    certify : bool, optional
+        Move each edge to the double the certified verdict puts it at (default; below). False
+        gives the solver's doubles, as charts draw them: for the square wave the closed forms'
+        roots, within 4 ulp of those doubles on either side, about a thousand times faster
+        (65 ns an edge against tens of us); for other drives the search's doubles, as accurate
+        as ``docs/drives.md`` says.
 
     Returns
     -------
@@ -181,7 +187,7 @@ def zone_edges(mu, n, drive=None, zeta=0.0):
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
     n = _v.nonnegative_int("n", n)
     mu = _v.positive("mu", mu)
-    lo, hi = d.edges(mu, n, zeta)
+    lo, hi = d.edges(mu, n, zeta, _v.flag("certify", certify))
     return _v.scalars(np.asarray(lo), np.asarray(hi))
 
 
