@@ -49,7 +49,9 @@ class StabilityReport(Summary):
     rotation_number : float
         Turns per period (see :class:`kapitza.Floquet`).
     eps_lo, eps_hi : float
-        Edges of ``nearest_zone`` in ``eps`` (NaN where ``A <= g``).
+        Edges of ``nearest_zone`` in ``eps`` (NaN where ``A <= g``): those of :func:`kapitza.zone_edges`,
+        except for the undamped square wave, whose report takes its closed forms' roots (within
+        4 ulp of them, either side).
     margin : float
         Signed relative distance along ``eps`` (equivalently ``T`` at fixed
         ``A``) to the nearest edge of ``nearest_zone``: > 0 inside, < 0 outside.
