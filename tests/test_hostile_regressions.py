@@ -143,6 +143,8 @@ def test_tiny_rods_are_refused_or_finite():
     (lambda: nonlinear_motion([1.0, 2.0], [0.1, 0.2, 0.3], 0.0, 0.15, 100.0), "t, theta0"),
     (lambda: K.periodic_solution(100.0, index=1e300), "1e+300"),
     (lambda: K.StepDrive([1.0, -1e-300], [1e-300, 1.0]), "rms velocity"),
+    # a window below the default floor named only the floor, which the user had not given
+    (lambda: K.safe_tilt(T=0.15, A=100.0, tol=1e-300), "tol must be > floor"),
     (lambda: K.StepDrive([1e-200, -1e-200], [0.5, 0.5]), "rms velocity"),
 ])
 def test_messages_name_the_parameter(call, needle):
