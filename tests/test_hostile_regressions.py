@@ -342,6 +342,14 @@ def test_exact_flows_refuse_a_phase_longer_than_their_argument_reduction_resolve
         assert code == 0 and "legend" not in err and (tmp_path / "c.png").exists()
 
 
+def test_the_averaging_threshold_beyond_a_double_is_inf_without_a_warning():
+    # mu = 1.8e308: mu / sqrt(2/3) overflowed with numpy's warning (found by the long fuzz run)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert K.averaging_threshold(1.7976931348623157e308) == np.inf
+        assert K.averaging_threshold(1e308, drive="sine") == pytest.approx(0.5 * np.pi * 1e308)
+
+
 def test_eps_mu_beyond_a_double_grows_without_limit_not_nan():
     # eps * mu = 9e307: x and v overflowed (a RuntimeWarning) and the growth came out NaN
     with warnings.catch_warnings():

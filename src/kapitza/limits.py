@@ -32,6 +32,8 @@ def averaging_threshold(mu, drive=None):
     Returns
     -------
     ndarray
+        ``inf`` where ``eps_K`` exceeds the largest double (``mu`` beyond about 1.5e308 for the
+        square wave).
 
     Raises
     ------

@@ -558,10 +558,11 @@ class Drive:
 
         ``<v^2> = k A^2 T^2`` gives ``8 k eps^2 = mu^2``: the classical high-frequency
         threshold ``eps = mu / sqrt(8 k)`` (``sqrt(3/2) mu`` for the square wave,
-        ``pi mu / 2`` for the sine).
+        ``pi mu / 2`` for the sine); ``inf`` where that exceeds the largest double.
         """
         mu = _v.positive("mu", mu)
-        return mu / np.sqrt(8.0 * self._mean_square_velocity)
+        with np.errstate(over="ignore"):
+            return mu / np.sqrt(8.0 * self._mean_square_velocity)
 
     # ------------------------------------------------------------ the questions
     # What the public functions of kapitza ask a drive, on validated float arrays that
