@@ -145,6 +145,7 @@ def test_tiny_rods_are_refused_or_finite():
     (lambda: K.StepDrive([1.0, -1e-300], [1e-300, 1.0]), "rms velocity"),
     # a window below the default floor named only the floor, which the user had not given
     (lambda: K.safe_tilt(T=0.15, A=100.0, tol=1e-300), "tol must be > floor"),
+    (lambda: K.safe_tilt(T=0.15, A=100.0, g=5e-324, damping=0.1), "damping c / (2 sqrt(g/l))"),
     (lambda: K.StepDrive([1e-200, -1e-200], [0.5, 0.5]), "rms velocity"),
 ])
 def test_messages_name_the_parameter(call, needle):
@@ -340,6 +341,13 @@ def test_exact_flows_refuse_a_phase_longer_than_their_argument_reduction_resolve
         code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", str(tmp_path / "c"), "--duty",
                             "1e-6"], capsys)
         assert code == 0 and "legend" not in err and (tmp_path / "c.png").exists()
+
+
+def test_safe_tilt_with_a_subnormal_g_gives_no_warning():
+    # g = 5e-324: l / g overflowed, and 0 damping times inf gave NaN with numpy's warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert K.safe_tilt(T=0.15, A=100.0, g=5e-324, tol=0.5, periods=2) >= 0.0
 
 
 def test_the_averaging_threshold_beyond_a_double_is_inf_without_a_warning():

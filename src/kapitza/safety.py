@@ -133,7 +133,11 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
     if linear_check:
         from .zones import is_stable
 
-        zz = 0.5 * c * np.sqrt(l_ / g_)
+        with np.errstate(over="ignore"):   # (l / g beyond a double where g is subnormal)
+            zz = 0.5 * c * np.sqrt(l_ / g_) if c > 0 else 0.0
+        if not np.isfinite(zz):
+            raise _v.KapitzaValueError(f"damping c / (2 sqrt(g/l)) must be finite; got damping={c!r}, g={g_!r}, "
+                                       f"l={l_!r}")
         todo = np.asarray(is_stable(np.ravel(e), np.ravel(m), drive=d, zeta=float(zz)), bool).ravel()
     if todo.any():
         out[todo] = _search(Tf[todo], Af[todo], l_, g_, float(c), d, periods, tol, accuracy, floor)
