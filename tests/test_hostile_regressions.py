@@ -343,6 +343,25 @@ def test_exact_flows_refuse_a_phase_longer_than_their_argument_reduction_resolve
         assert code == 0 and "legend" not in err and (tmp_path / "c.png").exists()
 
 
+def test_a_tower_growing_beyond_a_double_has_infinite_multipliers_without_a_warning():
+    # g = 1e6: the multipliers' scale e^L beyond a double, and a zero part times inf gave NaN
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        f = K.chain_floquet(K.Chain([0.2, 0.2], masses=[1.0, 1.0], links="rod"), T=0.15, A=100.0, g=1e6, rtol=1e-10)
+    m = np.asarray(f.multipliers)
+    assert not np.isnan(m.real).any() and not np.isnan(m.imag).any() and np.isinf(np.abs(m)).any()
+
+
+def test_a_huge_damping_ratio_on_the_command_line_gives_no_warning(capsys, tmp_path, monkeypatch):
+    # zeta = 9573: the long double threshold cosh(kappa) e^-L was inf times 0 (numpy's warning)
+    monkeypatch.chdir(tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code, _, err = run(["animate", "--T", "0.15", "--A", "100", "--periods", "0.1", "--dpi", "30", "--quiet",
+                            "--out", "a.gif", "--zeta", "9573"], capsys)
+    assert code == 0 and "Warning" not in err
+
+
 def test_safe_tilt_with_a_subnormal_g_gives_no_warning():
     # g = 5e-324: l / g overflowed, and 0 damping times inf gave NaN with numpy's warning
     with warnings.catch_warnings():

@@ -914,7 +914,13 @@ def chain_floquet(chain, *, T, A, g=G_EARTH, drive=None, rtol=1e-12, _certify=Tr
         stable = growth < 0.0
         method += " (verdict settled in mpmath)"
     with np.errstate(over="ignore", under="ignore"):
-        mult = w * math.exp(L) if L < 700 else w * np.inf
+        if L < 700:
+            mult = w * math.exp(L)
+        else:   # beyond a double: each nonzero part infinite (0 times inf would be NaN)
+            w = np.asarray(w, complex)
+            mult = np.empty(w.shape, complex)
+            mult.real = np.where(w.real != 0, np.copysign(np.inf, w.real), 0.0)
+            mult.imag = np.where(w.imag != 0, np.copysign(np.inf, w.imag), 0.0)
     return ChainFloquet(multipliers=mult, vectors=vec, growth=growth, stable=bool(stable), monodromy=P,
                         log_scale=float(L), method=method)
 

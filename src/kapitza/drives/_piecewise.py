@@ -130,7 +130,8 @@ def extended_verdicts(eps, mu, zeta, levels, durations):
     err = rounding_bound(segs, L, bound_tr, e, mc, levels, unit)
     trN = a + d
     kappa = 2.0 * np.sqrt(np.asarray(8.0, _LD)) * z * m * e
-    with np.errstate(over="ignore", under="ignore", divide="ignore"):
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        # (cosh(kappa) beyond the long double times e^-L = 0 is NaN: undecided, mpmath decides)
         thr = 2.0 * np.cosh(kappa) * np.exp(-L)
         # (the threshold's own rounding: that of e^-L and of cosh(kappa))
         decided = np.abs(np.abs(trN) - thr) > err + unit * (8.0 + 4.0 * kappa) * thr
