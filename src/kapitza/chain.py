@@ -1111,13 +1111,13 @@ def _finite_list(a):
 
 
 def _mode_edges(drive, l, g, mu, n=0):
-    """Zone ``n``'s edges of a pendulum ``l`` as (frequency, stroke) curves along ``mu`` (``drive`` a
-    :class:`~kapitza.drives.Drive`; to a pixel: each edge as the drive's search leaves it, not moved to
-    its certified double)."""
+    """Zone ``n``'s edges of a pendulum ``l`` as (frequency, stroke) curves along ``mu`` (to a pixel:
+    each edge as the drive's search leaves it, ``zone_edges(..., certify=False)``)."""
+    from functools import partial
 
-    def zone_edges(m, n, drive):
-        return drive.edges(np.asarray(m, float), np.int64(n), np.float64(0.0), certify=False)
+    from . import zone_edges as _edges
 
+    zone_edges = partial(_edges, certify=False)
     try:
         lo, hi = zone_edges(mu, n, drive=drive)
     except _v.KapitzaValueError:

@@ -279,8 +279,11 @@ def _row_edges(mu, n, drive, zeta, eps_top):
     lie beyond the window as long as the last edge it gives is already above ``eps_top``. To a
     pixel: each edge as the drive's search leaves it (not moved to its certified double)."""
 
-    def zone_edges(m, n, drive, zeta):
-        return drive.edges(np.asarray(m, float), np.int64(n), np.asarray(zeta, float), certify=False)
+    from functools import partial
+
+    from .zones import zone_edges as _edges
+
+    zone_edges = partial(_edges, certify=False)
 
     try:
         lo, hi = zone_edges(mu, n, drive=drive, zeta=zeta)

@@ -32,15 +32,8 @@ from ..periodic import alpha as alpha_T
 from ..periodic import beta as beta_T
 from ..periodic import boundary_table, periodic_solution
 from ..phase_plane import notable_points, phi_h
-from ..drives import SquareWave
 from ..zones import G_m_curve, zone_edges
 from . import approximations as ap
-
-
-def _curve(mu):
-    """Zone 0's edges as the closed forms give them (within 4 ulp of the roots of (3.10) and
-    (3.13)): curves drawn, not moved to the doubles the certified verdict puts them at."""
-    return SquareWave().edges(mu, np.int64(0), np.float64(0.0), certify=False)
 
 __all__ = [
     "Series",
@@ -677,7 +670,7 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
         raise _v.KapitzaValueError(f"error_mu must satisfy 0 < mu_min < mu_max < 1; got ({m0:g}, {m1:g})")
     s = 0.5 - 0.5 * np.cos(np.linspace(0.0, PI, points))
     mu = np.clip(s, 1e-6, 1.0 - 1e-6)
-    lo, hi = _curve(mu)
+    lo, hi = zone_edges(mu, 0, certify=False)   # (curves drawn: the closed forms' roots)
     kap = ap.kapitza_edge(mu)
     s4lo, s4hi = ap.series4_edges(mu)
     ser = ap.lower_edge_series(mu, 2)
@@ -699,7 +692,7 @@ def figure8_data(eps_max=1.6, points=500, error_mu=(0.02, 0.98)) -> FigureData:
                panel="plane", role="approximation", meta=dict(edge="lower")),
     ]
     me = np.geomspace(m0, m1, points)
-    elo, ehi = _curve(me)
+    elo, ehi = zone_edges(me, 0, certify=False)
     a_lo, a_hi = ap.series4_edges(me)
     errs = [
         ("error Kapitza", "Kapitza (lower)", ap.kapitza_edge(me) / elo - 1.0, "lower"),
