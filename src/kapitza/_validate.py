@@ -398,6 +398,15 @@ def finite_rate(A, l, g) -> None:
             f"{float(l_[bad].flat[0])!r} with A = {float(A_[bad].flat[0])!r}")
 
 
+def floor_below(floor, tol) -> float:
+    """The smallest tilt a safe-tilt search tries, in ``(0, pi)`` and below the window ``tol`` (a
+    validated float): the message names both, since a user may have given only ``tol``."""
+    floor = one("floor", in_range("floor", floor, 0.0, np.pi))
+    if not floor < tol:
+        raise KapitzaValueError(f"tol must be > floor, the smallest start tried; got tol={tol!r}, floor={floor!r}")
+    return floor
+
+
 def flag(name: str, value) -> bool:
     """A yes/no option: ``True``/``False`` (numpy's too), nothing else."""
     if not isinstance(value, (bool, np.bool_)):

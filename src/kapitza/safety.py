@@ -93,9 +93,7 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
     periods = _v.bounded_count("periods", periods, 100_000, minimum=1)
     tol = _v.one("tol", _v.in_range("tol", tol, 0.0, np.pi))
     accuracy = _v.one("accuracy", _v.in_range("accuracy", accuracy, 1e-6, 1.0, lo_open=False))
-    floor = _v.one("floor", _v.in_range("floor", floor, 0.0, np.pi))
-    if not floor < tol:   # (a tol below the default floor names both: the user may have given only tol)
-        raise _v.KapitzaValueError(f"tol must be > floor, the smallest start tried; got tol={tol!r}, floor={floor!r}")
+    floor = _v.floor_below(floor, tol)
     d = parse_drive(drive) if isinstance(drive, str) else as_drive(drive)
     arnold = _v.parameter_set(eps, mu, T, A) == "arnold"
     if arnold:

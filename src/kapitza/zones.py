@@ -143,9 +143,9 @@ def zone_edges(mu, n, drive=None, zeta=0.0, *, certify=True):
     certify : bool, optional
         Move each edge to the double the certified verdict puts it at (default; below). False
         gives the solver's doubles, as charts draw them: for the square wave the closed forms'
-        roots, within 4 ulp of those doubles on either side, about a thousand times faster
-        (65 ns an edge against tens of us); for other drives the search's doubles, as accurate
-        as ``docs/drives.md`` says.
+        roots, within 4 ulp of those doubles on either side, about 170 times faster (0.2 us an
+        edge against about 40 us, ``benchmarks/README.md``); for other drives the search's
+        doubles, as accurate as ``docs/drives.md`` says.
 
     Returns
     -------

@@ -136,10 +136,7 @@ class SweepSpec:
         s(self, "directions", _v.bounded_count("directions", self.directions, 256, minimum=1))
         s(self, "basin_resolution", _v.bounded_count("basin_resolution", self.basin_resolution, 401, minimum=2))
         s(self, "accuracy", _v.one("accuracy", _v.in_range("accuracy", self.accuracy, 1e-6, 1.0, lo_open=False)))
-        s(self, "floor", _v.one("floor", _v.in_range("floor", self.floor, 0.0, np.pi)))
-        if not self.floor < self.tol:   # (names both, as safe_tilt does: the user may have given only tol)
-            raise _v.KapitzaValueError(f"tol must be > floor, the smallest start tried; got tol={self.tol!r}, "
-                                       f"floor={self.floor!r}")
+        s(self, "floor", _v.floor_below(self.floor, self.tol))
         s(self, "chunk", _v.bounded_count("chunk", self.chunk, 1024, minimum=1))
         if not self.exact:
             compiled = self.compiled_integrator
