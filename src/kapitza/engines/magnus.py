@@ -109,13 +109,23 @@ class Grid:
 
 
 def _polish(shape, x, h, sign):
-    """``min sign * s`` near ``x`` (golden section on ``[x - h, x + h]`` within the period)."""
-    from scipy.optimize import minimize_scalar
-
+    """``min sign * s`` near ``x``: the best of 17 samples on ``[x - h, x + h]`` (within the period),
+    then of 17 on the two sample spacings around the best, and so on (eightfold narrower a round)
+    until the spacing is below 1e-12. (A bounded search of our own: ``scipy.optimize`` alone costs
+    a command 0.25-0.45 s to import.)"""
     lo, hi = max(x - h, 0.0), min(x + h, float(np.nextafter(2.0, 0.0)))
-    r = minimize_scalar(lambda t: sign * float(np.asarray(shape(np.array([t])), float)[0]), bounds=(lo, hi),
-                        method="bounded", options={"xatol": 1e-12})
-    return sign * float(r.fun) if np.isfinite(r.fun) else np.inf
+    best = np.inf
+    while True:
+        t = np.linspace(lo, hi, 17)
+        v = sign * np.asarray(shape(t), float)
+        v = np.where(np.isfinite(v), v, np.inf)
+        i = int(np.argmin(v))
+        best = min(best, float(v[i]))
+        step = (hi - lo) / 16.0
+        if not step > 1e-12:
+            break
+        lo, hi = max(float(t[i]) - step, lo), min(float(t[i]) + step, hi)
+    return sign * best if np.isfinite(best) else np.inf
 
 
 def _comm(X, Y):
