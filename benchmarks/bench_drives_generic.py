@@ -11,7 +11,10 @@ in the same run:
 * a 512 x 512 chart (eps in (0, 4], mu in (0, 1)) of the measured drive, from its exact edges,
   against the square wave's chart; goal: under 10 s.
 
-The first call of each drive (the engine's grid, numba's cached compilation) is timed apart.
+The reports are timed twice: as a command runs them (the engine's numpy tree: a report's calls are
+too small to pay numba's start-up) and with the compiled loop loaded
+(:func:`kapitza.engines.load_compiled`). The first call of each drive (the engine's grid) is timed
+apart.
 """
 from __future__ import annotations
 
@@ -51,28 +54,42 @@ def main():
     a = ap.parse_args()
     samples, n_chart, repeats = (50, 16, 2) if a.tiny else (1000, 512, 7)
     header("bench_drives_generic")
-    from kapitza.engines import _compiled
+    from kapitza.engines import load_compiled
 
-    print(f"engine: {'compiled loop (numba)' if _compiled.available() else 'numpy tree (numba not installed)'}")
     point = dict(T=0.15, A=100.0, l=1.0)
     drives = [("square wave (baseline)", kapitza.SquareWave(), {}),
               ("triangle wave", kapitza.TriangleWave(), {}),
               (f"measured drive, {samples} samples", measured(samples), {}),
               ("triangle wave, damping 0.1/s", kapitza.TriangleWave(), {"damping": 0.1})]
-    print("\nanalyze(T=0.15, A=100, l=1):")
-    base = cbase = None
-    for name, drive, kw in drives:
-        t0 = time.perf_counter()
-        kapitza.analyze(drive=drive, **point, **kw)
-        first = time.perf_counter() - t0
-        c0 = time.process_time()
-        med, lo, hi = median_time(lambda d=drive, k=kw: kapitza.analyze(drive=d, **point, **k), repeats, warmup=0)
-        cpu = (time.process_time() - c0) / repeats
-        base = med if base is None else base
-        cbase = cpu if cbase is None else cbase
-        print(f"  {name:34s} median {med * 1e3:9.2f} ms (min {lo * 1e3:.2f}, max {hi * 1e3:.2f}; "
-              f"CPU {cpu * 1e3:.2f} ms; first call {first * 1e3:.0f} ms)  ratio to the square wave "
-              f"{med / base:7.1f}x (CPU {cpu / cbase:.1f}x)")
+
+    def table(first_calls):
+        base = cbase = None
+        for name, drive, kw in drives:
+            t0 = time.perf_counter()
+            kapitza.analyze(drive=drive, **point, **kw)
+            first = time.perf_counter() - t0
+            c0 = time.process_time()
+            med, lo, hi = median_time(lambda d=drive, k=kw: kapitza.analyze(drive=d, **point, **k), repeats, warmup=0)
+            cpu = (time.process_time() - c0) / repeats
+            base = med if base is None else base
+            cbase = cpu if cbase is None else cbase
+            extra = f"; first call {first * 1e3:.0f} ms" if first_calls else ""
+            print(f"  {name:34s} median {med * 1e3:9.2f} ms (min {lo * 1e3:.2f}, max {hi * 1e3:.2f}; "
+                  f"CPU {cpu * 1e3:.2f} ms{extra})  ratio to the square wave {med / base:7.1f}x (CPU {cpu / cbase:.1f}x)")
+
+    print("\nanalyze(T=0.15, A=100, l=1), as a command runs it (the engine's numpy tree: one report does "
+          "not pay numba's start-up):")
+    from kapitza.engines.magnus import Engine
+
+    Engine.COMPILED_FROM, budget = float("inf"), Engine.COMPILED_FROM   # (held on the tree for the table)
+    table(True)
+    Engine.COMPILED_FROM = budget
+    if load_compiled():
+        print("\n... with the compiled loop loaded (kapitza.engines.load_compiled(): a server, a notebook, "
+              "a sweep):")
+        table(False)
+    else:
+        print("\n(numba is not installed: no compiled loop)")
     print(f"\n{n_chart} x {n_chart} chart (eps in (0, 4], mu in (0, 1)) from exact edges:")
     sq = kapitza.SquareWave()
     med_sq, _, _ = median_time(lambda: chart(sq, n_chart), repeats)

@@ -106,10 +106,10 @@ def test_a_drive_without_shape_says_so():
 
 def test_compiled_and_numpy_engines_are_twins():
     # one definition of the step, two products (a compiled loop and a numpy tree): they agree
-    from kapitza.engines import _compiled
+    from kapitza.engines import load_compiled
     from kapitza.engines.magnus import Engine
 
-    if not _compiled.available():
+    if not load_compiled():
         pytest.skip("numba is not installed (the fast extra)")
     rng = np.random.default_rng(3)
     eps = np.concatenate([rng.uniform(0.05, 8.0, 200), [1e-4, 40.0]])

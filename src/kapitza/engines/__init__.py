@@ -10,6 +10,6 @@ breakpoints. :class:`kapitza.Drive` builds its default methods on them (``docs/d
 "The drive contract").
 """
 from .edges import zone_edges
-from .magnus import Engine
+from .magnus import Engine, load_compiled
 
-__all__ = ["Engine", "zone_edges"]
+__all__ = ["Engine", "load_compiled", "zone_edges"]

@@ -145,6 +145,12 @@ def available() -> bool:
     return numba is not None
 
 
+def warm() -> None:
+    """Load the loop's compiled code (from numba's cache, compiled there the first time)."""
+    z = np.zeros(1)
+    _loop(z, z, z, z, z, z, z, z, z, z, z, z + 0.5, z + 0.3, True, True, np.empty((1, 6)))
+
+
 def run(grid, eps, mu, angle=True, finish=False):
     """``out`` of :func:`_loop` at flat ``eps, mu`` on ``grid``, shape ``(P, 6)``."""
     coef = grid.__dict__.get("_real")

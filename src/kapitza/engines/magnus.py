@@ -38,6 +38,7 @@ of ``(1, 0)`` lies within ``pi`` of it and ``(-1)^k`` is the sign of ``tr M``, w
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -48,7 +49,8 @@ SQRT15 = np.sqrt(15.0)
 NODES = np.array([0.5 - SQRT15 / 10.0, 0.5, 0.5 + SQRT15 / 10.0])
 #: largest number of (point, step) pairs held in memory at once
 CHUNK = 1 << 19
-_COMPILED = None  # the compiled module once looked up (False: numba not installed)
+_COMPILED: Any = None  # the compiled module once looked up (False: numba not installed)
+_TREE_WORK = 0  # point-steps asked of the engine before it was looked up (Engine.COMPILED_FROM)
 
 
 class Grid:
@@ -106,6 +108,25 @@ class Grid:
         self.r2m = (h * d3 * 20.0 * h / 15.0) / 240.0
         self.r3 = (2.0 * h * d2 * d2 * h * h * s2 / 30.0) / 240.0
         self.r3m = (2.0 * h * d2 * d2 * h * h / 30.0) / 240.0
+
+
+def load_compiled() -> bool:
+    """Load the compiled period (:mod:`._compiled`, numba: its import and its cached code, 0.7-1.2 s)
+    now, so that every later call of the engine runs it; until then the engine runs its numpy tree
+    for the first :attr:`Engine.COMPILED_FROM` point-steps a process asks (a command of one report
+    does not pay numba's start-up). Returns whether it is there (numba installed). The two give the same
+    verdicts, zones and edges; traces and growths may differ in their last bits (the products are
+    rounded in another order)."""
+    global _COMPILED
+    if _COMPILED is None:
+        from . import _compiled
+
+        if _compiled.available():
+            _compiled.warm()
+            _COMPILED = _compiled
+        else:
+            _COMPILED = False
+    return bool(_COMPILED)
 
 
 def _polish(shape, x, h, sign):
@@ -264,6 +285,14 @@ class Engine:
     MAX_STEPS = 1 << 22
     #: run the compiled loop (:mod:`._compiled`) where numba is installed; the numpy tree otherwise
     compiled = True
+    #: the numpy tree runs until the process has asked this many point-steps of the engine (each call
+    #: counted as at least :attr:`CALL_WORK`), then the compiled loop is loaded (or earlier, by
+    #: :func:`load_compiled`): numba's start-up, 0.7-1.2 s, is the time of about 2^21 point-steps in
+    #: numpy, so a command of one report (some 10^5) does not pay it and a long session pays it once,
+    #: after at most about as much time in the numpy tree
+    COMPILED_FROM = 1 << 21
+    #: a call's own cost in point-steps (numpy's fixed cost of a call, about 1 ms)
+    CALL_WORK = 4096
 
     def __init__(self, shape, breaks=(), min_steps=256):
         self.shape = shape
@@ -309,23 +338,26 @@ class Engine:
             return [(int(n[0]), None)]
         return [(int(nv), np.flatnonzero(n == nv)) for nv in np.unique(n)]
 
-    def _fast(self):
+    def _fast(self, groups, eps):
+        """The compiled module for a call of these step groups, or None (the numpy tree)."""
         if not self.compiled:
             return None
-        global _COMPILED
         if _COMPILED is None:
-            from . import _compiled
-
-            _COMPILED = _compiled if _compiled.available() else False
+            global _TREE_WORK
+            _TREE_WORK += sum(max(nv * (eps.size if sel is None else sel.size), self.CALL_WORK) for nv, sel in groups)
+            if _TREE_WORK < self.COMPILED_FROM:
+                return None
+            load_compiled()
         return _COMPILED or None
 
     def period(self, eps, mu, angle=True):
         """``((a, b, c, d), L, turn)`` at flat ``eps, mu`` (see :func:`period`)."""
         eps = np.asarray(eps, float).ravel()
         mu = np.asarray(mu, float).ravel()
-        fast = self._fast()
+        groups = self._groups(eps, mu)
+        fast = self._fast(groups, eps)
         out = np.empty((eps.size, 6))
-        for nv, sel in self._groups(eps, mu):
+        for nv, sel in groups:
             e, m = (eps, mu) if sel is None else (eps[sel], mu[sel])
             if fast is not None:
                 o = fast.run(self.grid(nv), e, m, angle)
@@ -338,7 +370,10 @@ class Engine:
     def floquet(self, eps, mu, growth=False):
         """``(tau, log_tau, theta, zone)`` at flat ``eps, mu`` (and ``acosh|tau|`` off the zones,
         0 on them, with ``growth``)."""
-        fast = self._fast()
+        eps = np.asarray(eps, float).ravel()
+        mu = np.asarray(mu, float).ravel()
+        groups = self._groups(eps, mu)
+        fast = self._fast(groups, eps)
         if fast is None:
             mats, L, turn = self.period(eps, mu, True)
             tau, log_tau = half_trace(mats, L)
@@ -346,10 +381,8 @@ class Engine:
             if growth:
                 return tau, log_tau, theta, zone, np.where(zone >= 0, 0.0, _acosh_from_log(log_tau, tau))
             return tau, log_tau, theta, zone
-        eps = np.asarray(eps, float).ravel()
-        mu = np.asarray(mu, float).ravel()
         out = np.empty((eps.size, 6))
-        for nv, sel in self._groups(eps, mu):
+        for nv, sel in groups:
             e, m = (eps, mu) if sel is None else (eps[sel], mu[sel])
             out[slice(None) if sel is None else sel] = fast.run(self.grid(nv), e, m, True, True)
         res = out[:, 0], out[:, 1], out[:, 2], out[:, 3].astype(np.int64)

@@ -37,6 +37,7 @@ from .. import _validate as _v
 from ..analysis import analyze
 from ..drives import DRIVES, parse_drive, text_forms
 from ..drives._api import damping_of
+from ..engines import load_compiled
 from ..parameters import G_EARTH, to_physical
 
 __all__ = ["create_app", "LIMITS", "drives_answer", "drive_answer", "chart_answer", "point_answer", "verdict_answer",
@@ -409,6 +410,9 @@ def create_app(hosts=None) -> FastAPI:
         # find it half made (an ImportError, a route that never answers)
         for name in _ROUTE_MODULES:
             importlib.import_module(name)
+        # a server answers many small questions: the generic engine's compiled loop, loaded once
+        # here, serves them all (a command of one report runs without it)
+        load_compiled()
         yield
 
     app = FastAPI(title="kapitza explorer", version=__version__, lifespan=lifespan, docs_url=None, redoc_url=None,
