@@ -47,3 +47,20 @@ def test_damped_verdicts(zeta):
     M._DAMPED_EXACT.clear()
     assert np.array_equal(stable[dec], np.array([r[0] for r in ref])[dec])
     assert dec.mean() > 0.6
+
+
+def test_far_damped_zone_without_the_fixed_point_trace(monkeypatch):
+    # zone 1 at mu 0.7, zeta 1 lies at eps ~ 117.6 (q ~ 22,000), where the phi-system's zones are
+    # thinner than an ulp and the double trace has no digits left: the phi-verdict's exact trace in
+    # fixed point took 40 s a point there. The long double decides the phi-verdict, and the damped
+    # verdict |tau_phi| < cosh(kappa) by its own bound; the answers are those the fixed-point trace
+    # gave (three doubles, 123 s)
+    def refuse(*args, **kwargs):
+        raise AssertionError("the fixed-point trace was asked")
+
+    monkeypatch.setattr(M, "_exact_tau", refuse)
+    monkeypatch.setattr(M, "_exact_half_period", refuse)
+    eps = np.array([117.64562450252139, 117.6456245025214, 117.64562450252141])
+    assert not K.is_stable(eps, 0.7, drive="sine", zeta=1.0).any()
+    lo, hi = K.zone_edges(0.7, 1, drive="sine", zeta=1.0)
+    assert (float(lo), float(hi)) == (117.64562450252139, 117.64562450252141)

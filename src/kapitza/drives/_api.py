@@ -72,13 +72,16 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
     # doubles leave open are settled with the damped excess's (one extended product for both)
     exact_all = bool(certify and damped and not trace and drive._damped_certified
                      and drive._certified_cheap(True))
+    phi = (mu.reshape(-1), zeta.reshape(-1)) if damped else None
     if trace and _traced(drive):
-        phi = (mu.reshape(-1), zeta.reshape(-1)) if damped else None
         f = drive._floquet0(eps, mu_c, certify, trace=True, phi=phi)
-    else:
+    elif exact_all or phi is None or not _traced(drive):
         f = drive._floquet0(eps, mu_c, False if exact_all else certify)
         if exact_all and f.unsure is None:   # (a drive that does not say which: its own certified verdicts)
             f, exact_all = drive._floquet0(eps, mu_c, certify), False
+    else:   # (certified phi-verdicts; a drive may mark those whose trace is too rough for G: settled below)
+        f = drive._floquet0(eps, mu_c, certify, phi=phi)
+    rough = None if exact_all or f.unsure is None else f.unsure.reshape(-1)
     extra = ()
     if trace:
         extra = (np.full(eps.shape, np.inf) if f.tau_error is None else f.tau_error,)
@@ -116,6 +119,8 @@ def damped_floquet(drive, eps, mu, zeta, certify=True, trace=False):
             acc = 1e-13 if not drive._from_shape else drive._trace_error(
                 e, m * np.sqrt(1.0 + z * z)) / np.maximum(np.abs(f.tau.reshape(-1)[cand]), 1.0)
             unsure = cand[~(np.abs(Gf[cand]) > swing + acc)]
+        if rough is not None and rough.any():
+            unsure = np.union1d(unsure, np.flatnonzero(rough))
         res = drive._damped_exact(eps.reshape(-1)[unsure], mu.reshape(-1)[unsure],
                                   zeta.reshape(-1)[unsure], growth=trace) if unsure.size else None
         if res is not None:

@@ -57,7 +57,10 @@ class Floquet0:
     when the trace is asked for (``trace=True``), bounds the absolute error of ``tau`` (``inf``
     where ``tau`` overflows or nothing is known). ``unsure``, which a drive may give with
     ``certify=False``, marks the points whose verdict the rounding of these doubles may have
-    decided (those ``certify`` would settle in extended precision); None: not known.
+    decided (those ``certify`` would settle in extended precision); None: not known. With
+    ``certify`` and ``phi`` (the damped system's ``phi``-equation) and no ``trace``, a drive may
+    instead mark there the points whose verdict is certified but whose ``tau`` is too rough to
+    compare with ``cosh(kappa)``: the damping layer settles their damped verdict exactly.
     """
 
     tau: np.ndarray

@@ -302,10 +302,12 @@ def sine_edges(mu, n):
 
 
 # ---------------------------------------------------------------- Floquet data
-def sine_floquet0(eps, mu, certify=True, errors=False):
+def sine_floquet0(eps, mu, certify=True, errors=False, loose=False):
     """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T
     (``errors``: and a sixth item, the bound on the error of ``tau``: :func:`_sine_traces`' own, a
-    half ulp where the exact trace decided).
+    half ulp where the exact trace decided, the long double's bound where it did; ``loose``: and a
+    seventh, the points whose certified verdict came with a trace only as good as that bound,
+    see :func:`_certify`).
 
     The verdict and the zone come from the Sturm counts (:func:`_sine_zone_of`); the trace from
     :func:`_sine_traces`. Where an edge lies within the rounding band of the point, or where the
@@ -347,8 +349,11 @@ def sine_floquet0(eps, mu, certify=True, errors=False):
         unsure[rows] = False
     unsure |= mismatch
     idx = np.flatnonzero(unsure) if certify else np.zeros(0, np.int64)
+    err = np.array(err, float, copy=True)
+    rough = np.zeros(e.size, bool)
     if idx.size:
-        tau[idx], log_tau[idx], count[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx])
+        tau[idx], log_tau[idx], count[idx], err[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx], loose)
+        rough[idx] = ~(err[idx] <= 1e-13 * np.abs(tau[idx]))
     stable = count % 2 == 1
     zone = np.where(stable, (count - 1) // 2, -1)
     growth = np.where(stable, 0.0, acosh_from_log(log_tau, tau))
@@ -358,9 +363,9 @@ def sine_floquet0(eps, mu, certify=True, errors=False):
     out = (tau.reshape(shape), log_tau.reshape(shape), growth.reshape(shape), theta.reshape(shape),
            zone.reshape(shape))
     if errors:
-        err = np.array(err, float, copy=True)
-        err[idx] = 0.5 * np.finfo(float).eps * np.abs(tau[idx])
         out += (err.reshape(shape),)
+    if loose:
+        out += (rough.reshape(shape),)
     return out
 
 
@@ -731,21 +736,26 @@ def _remember(key, value):
     _DAMPED_EXACT[key] = value
 
 
-def _certify(eps, mu, c_lo, c_hi):
-    """``(tau, log|tau|, count)`` at points where rounding may decide (flat arrays): the exact trace
-    decides; the count is the one in ``[c_lo, c_hi]`` it allows -- odd if ``|tau| < 1``, else even
-    with the sign of ``tau`` that of the locked angle ``(count/2) pi``."""
+def _certify(eps, mu, c_lo, c_hi, loose=False):
+    """``(tau, log|tau|, count, err)`` at points where rounding may decide (flat arrays): the exact
+    trace decides; the count is the one in ``[c_lo, c_hi]`` it allows -- odd if ``|tau| < 1``, else
+    even with the sign of ``tau`` that of the locked angle ``(count/2) pi``; ``err`` bounds the error
+    of ``tau``. ``loose``: a long double trace that decides the verdict is kept however loose its
+    bound (the damping layer's ``phi``-system, which settles the damped verdict itself where that
+    bound could decide it); otherwise only one good to 1e-13, which is reported."""
     tau = np.empty(eps.size)
     log_tau = np.empty(eps.size)
     count = np.empty(eps.size, np.int64)
+    err = np.empty(eps.size)
     # the long double tier first (for a few points or more), mpmath where it cannot decide
     ld = sine_ld(eps, mu) if _ld_pays(eps, mu) else None
     for i in range(eps.size):
-        # (the long double's where its trace, which is reported, is good to 1e-13)
-        if ld is not None and ld[0][i] and ld[5][i] <= 1e-13 * abs(ld[2][i]):
+        if ld is not None and ld[0][i] and (loose or ld[5][i] <= 1e-13 * abs(ld[2][i])):
             t, lt, stable = ld[2][i], ld[3][i], bool(ld[1][i])
+            err[i] = ld[5][i]
         else:
             t, lt, stable = _exact_tau(eps[i], mu[i])
+            err[i] = 0.5 * np.finfo(float).eps * abs(t)
         tau[i], log_tau[i] = t, lt
         lo, hi = int(min(c_lo[i], c_hi[i])), int(max(c_lo[i], c_hi[i]))
         if stable:
@@ -754,7 +764,7 @@ def _certify(eps, mu, c_lo, c_hi):
             cands = [c for c in range(lo - 2, hi + 3) if c % 2 == 0 and c >= 0 and (-1) ** (c // 2) == np.sign(t)]
         # the candidate nearest the counts either side (several only if edges crowd within the band)
         count[i] = min(cands, key=lambda c: (max(lo - c, c - hi, 0), abs(2 * c - lo - hi)))
-    return tau, log_tau, count
+    return tau, log_tau, count, err
 
 
 # ---------------------------------------------------------------- the trace in double precision
