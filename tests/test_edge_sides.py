@@ -31,6 +31,33 @@ def test_each_reported_edge_is_the_last_unstable_double(drive):
     assert checked >= 12
 
 
+def test_the_sine_drives_edges_are_on_the_certified_sides():
+    # the Sturm counts' crossings lie within the rounding band of the certified verdict's change:
+    # before they were moved, about half of these edges had is_stable True at the edge itself or
+    # False at its neighbour inside
+    mu = np.array([0.2, 0.45, 0.6, 0.85])
+    lo, hi = K.zone_edges(mu[:, None], np.arange(4)[None, :], drive="sine")
+    checked = 0
+    for m, a, b in zip(np.repeat(mu, 4), lo.ravel(), hi.ravel()):
+        inner_a, inner_b = np.nextafter(a, np.inf), np.nextafter(b, -np.inf)
+        if not inner_a <= inner_b:
+            continue
+        st = K.is_stable(np.array([a, inner_a, inner_b, b]), m, drive="sine")
+        assert st.tolist() == [False, True, True, False], (m, a, b)
+        checked += 1
+    assert checked >= 14
+
+
+def test_the_sine_drives_verdicts_alone_are_the_certified_ones():
+    # SineWave._verdict0 (long double counts where the double trace has lost its digits) against
+    # is_stable (the full certified path, the exact trace there), on 13 doubles about each edge
+    mu = np.array([0.3, 0.85, 0.93])
+    lo, hi = K.zone_edges(mu[:, None], np.arange(3)[None, :], drive="sine", certify=False)
+    eps = (np.concatenate([lo.ravel(), hi.ravel()]).view(np.int64)[:, None] + np.arange(-6, 7)).view(np.float64)
+    m = np.broadcast_to(np.tile(np.repeat(mu, 3), 2)[:, None], eps.shape)
+    assert np.array_equal(K.SineWave()._verdict0(eps, m), K.is_stable(eps, m, drive="sine"))
+
+
 def test_the_square_waves_edges_about_thin_zones_are_the_certified_ones():
     # zones 1-3 near mu = 0.88-0.98 are a few doubles wide: the closed forms' roots lie up to 4 ulp
     # from the certified change there, so an edge could sit inside the zone or a zone of one stable

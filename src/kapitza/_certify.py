@@ -525,8 +525,9 @@ def ld_tier(eps, mu, zeta, counts, evaluate, max_steps, chunk):
                 gr = np.where(np.abs(t) > 1.0, lt + np.log1p(np.sqrt(-np.expm1(-2.0 * lt))), 0.0) - kappa
             decided[sub] = ok
             stable[sub] = np.abs(t) < thr
-            tau[sub], log_tau[sub], growth[sub] = t.astype(float), lt.astype(float), gr.astype(float)
-            tau_error[sub] = np.where(np.isfinite(err), err, np.inf).astype(float)
+            with np.errstate(over="ignore"):   # (beyond the doubles' range: +-inf, as Floquet0 has it)
+                tau[sub], log_tau[sub], growth[sub] = t.astype(float), lt.astype(float), gr.astype(float)
+                tau_error[sub] = np.where(np.isfinite(err), err, np.inf).astype(float)
     return out
 
 

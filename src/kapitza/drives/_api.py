@@ -267,7 +267,7 @@ def _damped_edges(drive, mu, n, zeta, phi=None):
         m1, n1 = mu_c.reshape(-1), n.reshape(-1)
         m3 = np.concatenate([m1, m1, m1])
         lo3, hi3 = drive._edges0(m3, np.concatenate([n1, np.maximum(n1 - 1, 0), n1 + 1]))
-        if drive._edges_need_sides:
+        if not drive._edges_unique:
             lo3, hi3 = certified_sides(drive, m3, lo3, hi3)
         k, sh = m1.size, mu.shape
         lo_n, hi_n = lo3[:k].reshape(sh), hi3[:k].reshape(sh)
@@ -390,7 +390,7 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
 
     def stable(bits, rows):
         if z is None:
-            return drive._floquet0(bits.view(np.float64), m[rows], certify=True).zone >= 0
+            return np.asarray(drive._verdict0(bits.view(np.float64), m[rows]), bool)
         return np.asarray(drive._floquet(bits.view(np.float64), m[rows], z[rows], True)[3], bool)
 
     def value(bits, rows):
@@ -404,10 +404,14 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     # once, its edges where the certified verdict changes (the search below, doubling its steps,
     # could step over a zone a double or two wide) -- for a drive whose certified verdicts come
     # from an extended-precision product (steps, linear pieces: a window of doubles in one call);
-    # the sine's may cost an exact trace of thousands of bits each
+    # the sine's may cost an exact trace of thousands of bits each where its long double counts
+    # leave a double open (a few in a window of 33 beside a thin zone at q ~ 2,000: 6 s each);
+    # a drive that gives its certified verdicts alone (Drive._verdict0, the sine) is searched 8
+    # ulp about each edge, without the window
     windowed = drive._steps() is not None or drive._certified_pieces() is not None
     thin = np.flatnonzero(H - L <= 16) if windowed else np.zeros(0, np.int64)
-    reach = np.maximum(half, 8) if windowed else half
+    wide = windowed or type(drive)._verdict0.__qualname__ != "Drive._verdict0"
+    reach = np.maximum(half, 8) if wide else half
     known = np.zeros(live.size, bool)
     new_L, new_H = L.copy(), H.copy()
     if thin.size:
@@ -425,7 +429,10 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
         new_L[thin[r]] = bits[r, first[r] - 1]
         new_H[thin[r]] = bits[r, last[r] + 1]
     todo = np.flatnonzero(~known)
-    for edge, inside in ((L, 1), (H, -1)):
+
+    def search(edge, inside, todo):
+        """``(found, out, inn, edge)``: the edge (lower for ``inside`` 1) of the rows ``todo`` searched
+        from ``edge`` (bit patterns): ``out`` the last unstable double, ``inn`` its stable neighbour."""
         if drive._from_shape:
             # the engine's edges may lie a thousand ulp off where its trace is flat, or more than
             # a thin zone's width: one secant step first on the certified trace, from the edge and
@@ -471,8 +478,22 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
             st = stable(mid, rows)
             inn[rows[st]] = mid[st]
             out[rows[~st]] = mid[~st]
-        res = np.where(known, new_L if inside > 0 else new_H, np.where(found, out, edge))
-        (lo if inside > 0 else hi)[live] = res.view(np.float64)
+        return found, out, inn, edge
+
+    f_lo, out_lo, inn_lo, e_lo = search(L, 1, todo)
+    # a lower edge whose stable neighbour lies at or above the upper edge found: the zone lies above
+    # both (edges a few ulp off about a zone a double or two wide): its upper edge is searched from
+    # just above that double
+    f_hi, out_hi, inn_hi, e_hi = search(np.where(f_lo & (inn_lo >= H), inn_lo + 1, H), -1, todo)
+    # and the other way about: a zone below both, its lower edge searched from just below the stable
+    # neighbour of the upper edge
+    redo = todo[f_hi[todo] & ~f_lo[todo] & (inn_hi[todo] <= e_lo[todo])]
+    if redo.size:
+        f2, out2, _, e2 = search(inn_hi - 1, 1, redo)
+        f_lo[redo], out_lo[redo], e_lo[redo] = f2[redo], out2[redo], e2[redo]
+    res_lo = np.where(known, new_L, np.where(f_lo, out_lo, e_lo))
+    res_hi = np.where(known, new_H, np.where(f_hi, out_hi, e_hi))
+    lo[live], hi[live] = res_lo.view(np.float64), res_hi.view(np.float64)
     return lo, hi
 
 

@@ -112,7 +112,7 @@ class Drive:
     - closed forms or characteristic values: override ``_floquet0(eps, mu, certify=True)``
       (returning :class:`Floquet0`; with the keywords ``trace=False, phi=None`` as well, it can
       bound the trace's error for :attr:`kapitza.Floquet.trace_error`, ``inf`` otherwise),
-      ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``,
+      ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``, ``_verdict0(eps, mu)``,
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
       (see each);
     - exact verdicts: ``_damped_exact(eps, mu, zeta, growth=True)`` and ``_certified_cheap(damped)``
@@ -436,6 +436,13 @@ class Drive:
         n_lo = np.maximum(n_lo, 0).astype(np.int64)
         return n_lo.reshape(sh), n_hi.astype(np.int64).reshape(sh)
 
+    def _verdict0(self, eps, mu):
+        """The certified undamped verdicts alone (stable where true), for a drive that can settle
+        them more cheaply than its Floquet data (default: :meth:`_floquet0` with ``certify``). A
+        drive that gives them has its edges about a thin zone moved by a window of doubles at
+        once (:func:`~kapitza.drives._api.certified_sides`)."""
+        return self._floquet0(eps, mu, certify=True).zone >= 0
+
     def _log_tau0(self, eps, mu):
         """``log|tr M / 2|`` of the undamped drive (default: the engine's product, no angle)."""
         if type(self)._floquet0 is not Drive._floquet0:
@@ -580,6 +587,11 @@ class Drive:
     #: Whether :meth:`edges` moves the undamped edges of :meth:`_edges0` to the doubles the
     #: certified verdict puts them at (a drive whose edges come from its verdict itself: False).
     _edges_need_sides = True
+
+    #: Whether :meth:`_edges0` gives each edge as the same double whichever call asks (an edge
+    #: solved row by row): the damping layer's brackets then need not be moved to the certified
+    #: doubles to be the same for every zone that shares them.
+    _edges_unique = False
 
     @property
     def _batched_points(self) -> bool:

@@ -302,12 +302,14 @@ def sine_edges(mu, n):
 
 
 # ---------------------------------------------------------------- Floquet data
-def sine_floquet0(eps, mu, certify=True, errors=False, loose=False):
+def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T
     (``errors``: and a sixth item, the bound on the error of ``tau``: :func:`_sine_traces`' own, a
-    half ulp where the exact trace decided, the long double's bound where it did; ``loose``: and a
-    seventh, the points whose certified verdict came with a trace only as good as that bound,
-    see :func:`_certify`).
+    half ulp where the exact trace decided, the long double's bound where it did; ``loose``: the
+    verdicts alone are certified, and a seventh item marks the points whose trace is rougher than
+    1e-13 (those decided by the long double counts where the double trace has lost its digits, or
+    by a long double trace however loose, see :func:`_certify`)); ``exact=False``: no exact trace
+    (see :func:`_certify`).
 
     The verdict and the zone come from the Sturm counts (:func:`_sine_zone_of`); the trace from
     :func:`_sine_traces`. Where an edge lies within the rounding band of the point, or where the
@@ -329,15 +331,18 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False):
     mismatch = says & ((np.abs(tau) < 1.0) != (count % 2 == 1))
     with np.errstate(invalid="ignore"):
         accurate = err <= 1e-6 * np.maximum(np.abs(tau), 1.0)
-    if certify and _LD is not None and np.any(unsure & ~mismatch & accurate):
+    rough = np.zeros(e.size, bool)
+    if certify and _LD is not None and np.any(unsure & ~mismatch & (accurate | loose)):
         # an edge within the double band: the counts again in long double, in a band 2,048 times
         # narrower; where they agree they decide, and the trace (accurate to err, which spans 1
         # there) is put on the verdict's side of +-1; the rest, and every point whose double trace
-        # has lost its digits (beside the thin zones), goes to the exact trace
-        rows = np.flatnonzero(unsure & ~mismatch & accurate)
+        # has lost its digits (beside the thin zones), goes to the exact trace -- unless ``loose``:
+        # then the counts decide those too, and their trace is marked rough
+        rows = np.flatnonzero(unsure & ~mismatch & (accurate | loose))
         l_lo, l_hi = _counts_ld(e[rows], m[rows])
         ok = l_lo == l_hi
         rows, c = rows[ok], l_lo[ok]
+        rough[rows] = ~accurate[rows]
         count[rows] = c
         st = c % 2 == 1
         t = tau[rows]
@@ -350,9 +355,9 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False):
     unsure |= mismatch
     idx = np.flatnonzero(unsure) if certify else np.zeros(0, np.int64)
     err = np.array(err, float, copy=True)
-    rough = np.zeros(e.size, bool)
+    err[rough] = np.inf
     if idx.size:
-        tau[idx], log_tau[idx], count[idx], err[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx], loose)
+        tau[idx], log_tau[idx], count[idx], err[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx], loose, exact)
         rough[idx] = ~(err[idx] <= 1e-13 * np.abs(tau[idx]))
     stable = count % 2 == 1
     zone = np.where(stable, (count - 1) // 2, -1)
@@ -367,6 +372,31 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False):
     if loose:
         out += (rough.reshape(shape),)
     return out
+
+
+def sine_verdict0(eps, mu):
+    """The undamped verdicts alone (stable where true) for the edges' sides: :func:`sine_floquet0`'s
+    with ``loose`` (beside the thin zones the long double counts decide where the double trace has
+    lost its digits) and the exact trace only where it is cheap (products growing by at most
+    2^160, three precisions): beside a zone thinner than the long double's band (1/16 ulp and less)
+    at larger ``q`` the count may stand uncertified, where the exact trace would take tens of
+    seconds a double. Beyond the trace's reach (``eps > _EPS_TRACE``,
+    where the edges still are) the counts alone, in long double where an edge lies within the
+    double band."""
+    eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
+    e, m = eps.ravel(), mu.ravel()
+    out = np.zeros(e.size, bool)
+    near = e <= _EPS_TRACE
+    if near.any():
+        out[near] = sine_floquet0(e[near], m[near], True, loose=True, exact=False)[4] >= 0
+    far = np.flatnonzero(~near)
+    if far.size:
+        c_lo, _, unsure = _sine_zone_of(e[far], m[far])
+        if _LD is not None and unsure.any():
+            u = np.flatnonzero(unsure)
+            c_lo[u] = _counts_ld(e[far[u]], m[far[u]])[0]
+        out[far] = c_lo % 2 == 1
+    return out.reshape(eps.shape)
 
 
 def sine_log_tau(eps, mu):
@@ -641,8 +671,19 @@ def _exact_half_period(eps, mu, P, zeta=0.0):
     return cols[0][0], cols[0][1], cols[1][0], cols[1][1]
 
 
-def _exact_tau(eps, mu):
-    """``(tau, log|tau|, stable)`` of the sine drive at the exact doubles ``eps, mu`` (scalars).
+def _growth_bits(eps, mu):
+    """Bits by which the half period's products may grow, ``2 G / log 2`` with ``G = (pi/2)
+    sqrt(2q (1 + mu^2))`` (scalars)."""
+    import math
+
+    q = 16.0 * float(eps) ** 2 / math.pi**2
+    return int(2.0 * 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2)) / math.log(2.0)) + 1
+
+
+def _exact_tau(eps, mu, rounds=8):
+    """``(tau, log|tau|, stable)`` of the sine drive at the exact doubles ``eps, mu`` (scalars);
+    ``rounds`` below 8: None where the precision's first ``rounds`` settings leave ``|tau| - 1``
+    unresolved (a point within a sliver of a thin zone at large ``q``, where the next take seconds).
 
     ``tau = tr M / 2 = w_I(pi) = 2 w_I(pi/2) w_II'(pi/2) - 1`` (DLMF 28.2.(iv): the equation is even
     in ``z``) from :func:`_exact_half_period`, with ``P`` bits beyond the growth ``exp(2 G)``
@@ -652,11 +693,9 @@ def _exact_tau(eps, mu):
 
     import mpmath
 
-    q = 16.0 * float(eps) ** 2 / math.pi**2
-    G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2))
-    growth = int(2.0 * G / math.log(2.0)) + 1
+    growth = _growth_bits(eps, mu)
     P = 96 + growth
-    for _ in range(8):
+    for r in range(8):
         wI, dwI, wII, dwII = _exact_half_period(eps, mu, P)
         num = 2 * wI * dwII - (1 << 2 * P)  # tau * 2^(2P)
         gap = abs(abs(num) - (1 << 2 * P))  # | |tau| - 1 | * 2^(2P)
@@ -664,6 +703,8 @@ def _exact_tau(eps, mu):
         # by at most e^(2G) in the products: tau is known to 2^-(P - growth - 32), num to 2^(P + growth + 32)
         if gap > (1 << (P + growth + 32)) or P > 1500:  # beyond 2^-3000 the count decides
             break
+        if r + 1 >= rounds:
+            return None
         P *= 2
     with mpmath.workprec(64):
         tau = mpmath.mpf(num) / mpmath.mpf(2) ** (2 * P)
@@ -736,25 +777,35 @@ def _remember(key, value):
     _DAMPED_EXACT[key] = value
 
 
-def _certify(eps, mu, c_lo, c_hi, loose=False):
+def _certify(eps, mu, c_lo, c_hi, loose=False, exact=True):
     """``(tau, log|tau|, count, err)`` at points where rounding may decide (flat arrays): the exact
     trace decides; the count is the one in ``[c_lo, c_hi]`` it allows -- odd if ``|tau| < 1``, else
     even with the sign of ``tau`` that of the locked angle ``(count/2) pi``; ``err`` bounds the error
     of ``tau``. ``loose``: a long double trace that decides the verdict is kept however loose its
     bound (the damping layer's ``phi``-system, which settles the damped verdict itself where that
-    bound could decide it); otherwise only one good to 1e-13, which is reported."""
+    bound could decide it); otherwise only one good to 1e-13, which is reported. ``exact=False``:
+    where the long double cannot decide and the exact trace is dear (growth beyond 2^160) or not
+    resolved at its first three precisions, the count ``c_lo`` stands uncertified (``err`` inf,
+    ``tau`` NaN) instead of an exact trace of thousands of bits."""
     tau = np.empty(eps.size)
     log_tau = np.empty(eps.size)
     count = np.empty(eps.size, np.int64)
     err = np.empty(eps.size)
     # the long double tier first (for a few points or more), mpmath where it cannot decide
-    ld = sine_ld(eps, mu) if _ld_pays(eps, mu) else None
+    ld = sine_ld(eps, mu) if (not exact or _ld_pays(eps, mu)) else None
     for i in range(eps.size):
         if ld is not None and ld[0][i] and (loose or ld[5][i] <= 1e-13 * abs(ld[2][i])):
             t, lt, stable = ld[2][i], ld[3][i], bool(ld[1][i])
             err[i] = ld[5][i]
         else:
-            t, lt, stable = _exact_tau(eps[i], mu[i])
+            # (without ``exact``: only where the products grow by at most 2^160, q of a few hundred,
+            # and at three precisions at most; beyond, one exact trace takes seconds to minutes)
+            r = _exact_tau(eps[i], mu[i], 8) if exact else (
+                _exact_tau(eps[i], mu[i], 3) if _growth_bits(eps[i], mu[i]) <= 160 else None)
+            if r is None:
+                tau[i], log_tau[i], count[i], err[i] = np.nan, np.nan, c_lo[i], np.inf
+                continue
+            t, lt, stable = r
             err[i] = 0.5 * np.finfo(float).eps * abs(t)
         tau[i], log_tau[i] = t, lt
         lo, hi = int(min(c_lo[i], c_hi[i])), int(max(c_lo[i], c_hi[i]))

@@ -67,6 +67,11 @@ class SineWave(Drive):
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone,
                         tau_error=more[0] if trace else None, unsure=more[-1] if loose else None)
 
+    def _verdict0(self, eps, mu):
+        from ._mathieu import sine_verdict0
+
+        return sine_verdict0(eps, mu)
+
     def _log_tau0(self, eps, mu):
         from ._mathieu import sine_log_tau
 
@@ -104,8 +109,9 @@ class SineWave(Drive):
 
     #: every zone of a window at once, from the Sturm counts at its right end
     _windowed = True
-    #: edges and verdicts come from the same Sturm counts (the edges bisected on them)
-    _edges_need_sides = False
+
+    #: edges bisected row by row on the Sturm counts: the same double whichever call asks
+    _edges_unique = True
 
     def _window0(self, mu, e_a, e_b):
         from ._mathieu import sine_window
