@@ -76,12 +76,14 @@ class SquareWave(PiecewiseConstant):
                 return replace(f, unsure=None)
             band = np.flatnonzero(f.unsure.ravel())
             g = floquet_product(eps.ravel()[band], mu.ravel()[band], self.levels, self._durations, True)
-            out = {}
-            for name in ("tau", "log_tau", "growth", "theta", "zone"):
+
+            def settled(name):   # the closed forms' values with the band's from the product
                 v = np.array(getattr(f, name), copy=True)
                 v.ravel()[band] = getattr(g, name)
-                out[name] = v
-            return Floquet0(**out)
+                return v
+
+            fields = ("tau", "log_tau", "growth", "theta", "zone")
+            return replace(f, unsure=None, **{name: settled(name) for name in fields})
         tau, growth, theta, stable, zone, *extra = S._floquet(eps, mu, bool(certify), trace, phi,
                                                              with_unsure=not (certify or trace))
         with np.errstate(divide="ignore"):
