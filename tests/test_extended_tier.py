@@ -14,7 +14,7 @@ from kapitza import _certify
 from kapitza.drives import _api
 from kapitza.drives import _piecewise as P
 
-pytestmark = pytest.mark.skipif(P._LD is None, reason="numpy's long double is the double here")
+pytestmark = pytest.mark.skipif(P.LONG_DOUBLE is None, reason="numpy's long double is the double here")
 
 DRIVES = [K.SquareWave(), K.RectangularWave(0.3), K.RectangularWave(0.8),
           K.StepDrive([2, -1, 1, -1], [0.2, 0.3, 0.2, 0.3])]

@@ -176,7 +176,7 @@ def test_long_double_counts_decide_beside_edges_and_spare_the_exact_trace(monkey
     # has more bits than a double): they agree with the oracle, and the exact trace is asked rarely
     from kapitza.drives import _mathieu
 
-    if _mathieu._LD is None:
+    if _mathieu.LONG_DOUBLE is None:
         pytest.skip("long double is a double on this platform")
     calls = []
     exact = _mathieu._exact_tau

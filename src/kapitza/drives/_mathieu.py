@@ -176,7 +176,7 @@ def _count(fam, q, x):
     All four families go through one loop (one numpy call per row for every point at once).
     """
     fam, q, x = np.asarray(fam), np.asarray(q), np.asarray(x)
-    if q.dtype != _LD:  # (long double stays long double: the second tier of counts)
+    if q.dtype != LONG_DOUBLE:  # (long double stays long double: the second tier of counts)
         q, x = q.astype(float, copy=False), x.astype(float, copy=False)
     if not (fam.shape == q.shape == x.shape and q.ndim == 1):
         fam, q, x = np.broadcast_arrays(fam, q, x)
@@ -332,7 +332,7 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     with np.errstate(invalid="ignore"):
         accurate = err <= 1e-6 * np.maximum(np.abs(tau), 1.0)
     rough = np.zeros(e.size, bool)
-    if certify and _LD is not None and np.any(unsure & ~mismatch & (accurate | loose)):
+    if certify and LONG_DOUBLE is not None and np.any(unsure & ~mismatch & (accurate | loose)):
         # an edge within the double band: the counts again in long double, in a band 2,048 times
         # narrower; where they agree they decide, and the trace (accurate to err, which spans 1
         # there) is put on the verdict's side of +-1; the rest, and every point whose double trace
@@ -392,7 +392,7 @@ def sine_verdict0(eps, mu):
     far = np.flatnonzero(~near)
     if far.size:
         c_lo, _, unsure = _sine_zone_of(e[far], m[far])
-        if _LD is not None and unsure.any():
+        if LONG_DOUBLE is not None and unsure.any():
             u = np.flatnonzero(unsure)
             c_lo[u] = _counts_ld(e[far[u]], m[far[u]])[0]
         out[far] = c_lo % 2 == 1
@@ -555,20 +555,17 @@ def _total_count(eps, mu):
     return _count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0)
 
 
-#: Long double where it carries more bits than a double (x86's 80-bit format; elsewhere None): the
-#: Sturm counts beside an edge are taken again in it before the exact trace is asked.
-_LD = LONG_DOUBLE
-_PI_LD = np.longdouble("3.141592653589793238462643383279502884") if _LD is not None else None
+_PI_LD = np.longdouble("3.141592653589793238462643383279502884") if LONG_DOUBLE is not None else None
 
 
 def _counts_ld(eps, mu):
     """``(c_lo, c_hi)``: :func:`_total_count` at ``eps (1 -+ delta)`` in long double (flat arrays),
     ``q`` and ``a`` formed there from the exact doubles, ``delta`` the band of :func:`_band` for the
     long double's unit roundoff (``2^-64``): 2,048 times narrower than the double one."""
-    u = np.finfo(_LD).eps / 2
-    e, m = eps.astype(_LD), mu.astype(_LD)
+    u = np.finfo(LONG_DOUBLE).eps / 2
+    e, m = eps.astype(LONG_DOUBLE), mu.astype(LONG_DOUBLE)
     with np.errstate(divide="ignore"):
-        d = 64 * u + 16 * u / np.maximum(1 - m * m, _LD(1e-300)) * (m < 1)
+        d = 64 * u + 16 * u / np.maximum(1 - m * m, LONG_DOUBLE(1e-300)) * (m < 1)
     out = []
     for x in (e * (1 - d), e * (1 + d)):
         q, a = _qa(x, m, _PI_LD)

@@ -36,9 +36,6 @@ from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
 LOG2 = np.log(2.0)
-#: x86's extended precision (a 64-bit significand) where numpy has it: the products below, taken in it
-#: with the same rounding bound, settle most verdicts the doubles cannot before mpmath is asked
-_LD = LONG_DOUBLE
 
 
 def _segments(eps, mu, levels, durations):
@@ -119,17 +116,17 @@ def extended_verdicts(eps, mu, zeta, levels, durations):
     as doubles, and ``tau_error`` a bound on the error of the long double ``tau`` (before its rounding
     to a double). Nothing is decided where numpy's long double is the double."""
     n = np.size(eps)
-    if _LD is None or n == 0:
+    if LONG_DOUBLE is None or n == 0:
         return (np.zeros(n, bool), np.zeros(n, bool)) + tuple(np.full(n, np.nan) for _ in range(4))
-    e, m = np.asarray(eps, _LD), np.asarray(mu, _LD)
-    z = np.zeros(n, _LD) if zeta is None else np.asarray(zeta, _LD)
+    e, m = np.asarray(eps, LONG_DOUBLE), np.asarray(mu, LONG_DOUBLE)
+    z = np.zeros(n, LONG_DOUBLE) if zeta is None else np.asarray(zeta, LONG_DOUBLE)
     mc = m * np.sqrt(1.0 + z * z)
     segs = _segments(e, mc, levels, durations)
     (a, _, _, d), L, bound_tr = _product(segs)
-    unit = float(np.finfo(_LD).eps) / 2.0
+    unit = float(np.finfo(LONG_DOUBLE).eps) / 2.0
     err = rounding_bound(segs, L, bound_tr, e, mc, levels, unit)
     trN = a + d
-    kappa = 2.0 * np.sqrt(np.asarray(8.0, _LD)) * z * m * e
+    kappa = 2.0 * np.sqrt(np.asarray(8.0, LONG_DOUBLE)) * z * m * e
     with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
         # (cosh(kappa) beyond the long double times e^-L = 0 is NaN: undecided, mpmath decides)
         thr = 2.0 * np.cosh(kappa) * np.exp(-L)
@@ -447,7 +444,7 @@ class PiecewiseConstant(Drive):
         return self.levels, self.fractions
 
     def _certified_cheap(self, damped):
-        return _LD is not None
+        return LONG_DOUBLE is not None
 
     def _damped_exact(self, eps, mu, zeta, growth=True):
         # long double first; mpmath where its rounding bound leaves the verdict open (or, for a
