@@ -39,6 +39,7 @@ from . import _validate as _v
 from ._display import Summary, multipliers as _fmt_multipliers, num
 from .parameters import G_EARTH
 from .system import Pendulum
+from .zones import zone_edges
 
 __all__ = ["Chain", "ChainReport", "ModeReport", "ChainFloquet", "analyze_chain", "chain_floquet", "TowerCurves",
            "tower_curves", "default_window", "LINKS"]
@@ -1113,13 +1114,8 @@ def _finite_list(a):
 def _mode_edges(drive, l, g, mu, n=0):
     """Zone ``n``'s edges of a pendulum ``l`` as (frequency, stroke) curves along ``mu`` (to a pixel:
     each edge as the drive's search leaves it, ``zone_edges(..., certify=False)``)."""
-    from functools import partial
-
-    from . import zone_edges as _edges
-
-    zone_edges = partial(_edges, certify=False)
     try:
-        lo, hi = zone_edges(mu, n, drive=drive)
+        lo, hi = zone_edges(mu, n, drive=drive, certify=False)
     except _v.KapitzaValueError:
         # a drive's solver refuses the edges nearest mu = 1 (the sine beyond q = 1e8), far below
         # any window's frequencies: keep the longest prefix of the increasing mu it takes, NaN beyond
@@ -1127,14 +1123,15 @@ def _mode_edges(drive, l, g, mu, n=0):
         while bad - good > 1:
             mid = (good + bad) // 2
             try:
-                zone_edges(mu[mid], n, drive=drive)
+                zone_edges(mu[mid], n, drive=drive, certify=False)
                 good = mid
             except _v.KapitzaValueError:
                 bad = mid
         if bad == 0 or mu.size < 2:
             raise
         lo, hi = np.full(mu.size, np.nan), np.full(mu.size, np.nan)
-        lo[:bad], hi[:bad] = (np.asarray(a, float) for a in zone_edges(mu[:bad], n, drive=drive))
+        lo[:bad], hi[:bad] = (np.asarray(a, float)
+                              for a in zone_edges(mu[:bad], n, drive=drive, certify=False))
     A = g / mu**2
     out = []
     for eps in (lo, hi):

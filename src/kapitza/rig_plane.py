@@ -21,6 +21,7 @@ import numpy as np
 
 from . import _validate as _v
 from .parameters import G_EARTH
+from .zones import zone_edges
 
 __all__ = ["RigZoneCurves", "rig_zone_curves", "rig_window", "stroke_coefficient"]
 
@@ -279,14 +280,8 @@ def _row_edges(mu, n, drive, zeta, eps_top):
     lie beyond the window as long as the last edge it gives is already above ``eps_top``. To a
     pixel: each edge as the drive's search leaves it (not moved to its certified double)."""
 
-    from functools import partial
-
-    from .zones import zone_edges as _edges
-
-    zone_edges = partial(_edges, certify=False)
-
     try:
-        lo, hi = zone_edges(mu, n, drive=drive, zeta=zeta)
+        lo, hi = zone_edges(mu, n, drive=drive, zeta=zeta, certify=False)
         return np.asarray(lo, float), np.asarray(hi, float)
     except _v.KapitzaValueError:
         if mu.size < 2:
@@ -296,13 +291,14 @@ def _row_edges(mu, n, drive, zeta, eps_top):
     while bad - good > 1:
         mid = (good + bad) // 2
         try:
-            zone_edges(mu[mid], n, drive=drive, zeta=zeta)
+            zone_edges(mu[mid], n, drive=drive, zeta=zeta, certify=False)
             good = mid
         except _v.KapitzaValueError:
             bad = mid
     lo = np.full(mu.size, np.inf)
     hi = np.full(mu.size, np.inf)
-    lo[:bad], hi[:bad] = (np.asarray(a, float) for a in zone_edges(mu[:bad], n, drive=drive, zeta=zeta))
+    lo[:bad], hi[:bad] = (np.asarray(a, float)
+                          for a in zone_edges(mu[:bad], n, drive=drive, zeta=zeta, certify=False))
     if not lo[bad - 1] > eps_top:
         raise _v.KapitzaValueError(f"the drive's zone {n} edges stop at mu = {mu[bad - 1]:.6g} inside the window "
                                    f"(eps = {lo[bad - 1]:.4g} <= {eps_top:.4g}): narrow the frequency range")

@@ -155,11 +155,10 @@ def zone_edges(mu, n, drive=None, zeta=0.0, *, certify=True):
         unstable one above it, so :func:`is_stable` is False at both and True at the doubles next
         to them inside (a zone with no stable double, thinner than their spacing, keeps the
         solver's edges: every double between them is unstable, ``docs/mathieu.md``). For the
-        square wave the closed forms'
-        roots lie within 4 ulp of these doubles (against the 50-digit reference on the sweeps of
-        ``tests/test_zones_oracle.py``: 201 values of ``mu`` in [0.1, 0.2] for zone 0's
-        lower edge, where the solver changes form, and ``mu`` in [0.01, 0.99] for both
-        edges of zones 0-2). The lower edge carries a 2T-periodic solution for even
+        square wave the closed forms' roots lie within 4 ulp of these doubles (against the
+        50-digit reference on the sweeps of ``tests/test_zones_oracle.py``: 201 values of
+        ``mu`` in [0.1, 0.2] for zone 0's lower edge, where the solver changes form, and ``mu``
+        in [0.01, 0.99] for both edges of zones 0-2). The lower edge carries a 2T-periodic solution for even
         ``n`` (eq. 3.10) and a 4T-periodic one for odd ``n`` (eq. 3.12); the upper
         edge a 4T- (3.13) respectively 2T-periodic one (3.11).
 
