@@ -169,3 +169,22 @@ def test_a_drive_without_text_form_says_so_where_one_is_needed():
 def test_a_step_drive_beyond_its_limit_points_to_measured_drives():
     with pytest.raises(ValueError, match=r"at most 64 steps; got 65 .*from_samples"):
         kapitza.StepDrive(np.tile([1.0, -1.0], 33)[:65] - np.mean(np.tile([1.0, -1.0], 33)[:65]), np.full(65, 1 / 65))
+
+
+def test_the_engine_loads_numba_only_after_its_budget_of_numpy_work(monkeypatch):
+    # a command of one report runs the numpy tree; the compiled loop is loaded once the process has
+    # asked Engine.COMPILED_FROM point-steps (each call counted as at least CALL_WORK)
+    from kapitza.engines import magnus
+
+    loads = []
+    monkeypatch.setattr(magnus, "_COMPILED", None)
+    monkeypatch.setattr(magnus, "_TREE_WORK", 0)
+    monkeypatch.setattr(magnus.Engine, "COMPILED_FROM", 3 * magnus.Engine.CALL_WORK)
+    monkeypatch.setattr(magnus, "load_compiled", lambda: loads.append(1))
+    eng = kapitza.TriangleWave()._engine
+    eps, mu = np.array([0.5]), np.array([0.3])
+    for _ in range(2):   # two one-point calls: below the budget, the numpy tree, nothing loaded
+        eng.floquet(eps, mu)
+    assert loads == [] and magnus._TREE_WORK == 2 * magnus.Engine.CALL_WORK
+    eng.floquet(eps, mu)
+    assert loads == [1]

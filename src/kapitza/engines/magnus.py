@@ -355,7 +355,9 @@ class Engine:
         eps = np.asarray(eps, float).ravel()
         mu = np.asarray(mu, float).ravel()
         groups = self._groups(eps, mu)
-        fast = self._fast(groups, eps)
+        return self._period(eps, mu, angle, groups, self._fast(groups, eps))
+
+    def _period(self, eps, mu, angle, groups, fast):
         out = np.empty((eps.size, 6))
         for nv, sel in groups:
             e, m = (eps, mu) if sel is None else (eps[sel], mu[sel])
@@ -375,7 +377,7 @@ class Engine:
         groups = self._groups(eps, mu)
         fast = self._fast(groups, eps)
         if fast is None:
-            mats, L, turn = self.period(eps, mu, True)
+            mats, L, turn = self._period(eps, mu, True, groups, None)   # (its work counted once)
             tau, log_tau = half_trace(mats, L)
             theta, zone = rotation(mats, tau, turn)
             if growth:
