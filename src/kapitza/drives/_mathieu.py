@@ -380,9 +380,8 @@ def sine_verdict0(eps, mu):
     lost its digits) and the exact trace only where it is cheap (products growing by at most
     2^160, three precisions): beside a zone thinner than the long double's band (1/16 ulp and less)
     at larger ``q`` the count may stand uncertified, where the exact trace would take tens of
-    seconds a double. Beyond the trace's reach (``eps > _EPS_TRACE``,
-    where the edges still are) the counts alone, in long double where an edge lies within the
-    double band."""
+    seconds a double. Beyond the trace's reach (``eps > _EPS_TRACE``, where the edges still are)
+    the counts alone, in long double where an edge lies within the double band."""
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     e, m = eps.ravel(), mu.ravel()
     out = np.zeros(e.size, bool)
@@ -674,7 +673,7 @@ def _growth_bits(eps, mu):
     import math
 
     q = 16.0 * float(eps) ** 2 / math.pi**2
-    return int(2.0 * 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2)) / math.log(2.0)) + 1
+    return int(math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2)) / math.log(2.0)) + 1
 
 
 def _exact_tau(eps, mu, rounds=8):
@@ -745,9 +744,7 @@ def sine_damped_exact(eps, mu, zeta, growth=True):
             out.append(hit)
             continue
         e, m, z = key
-        q = 16.0 * e * e / math.pi**2
-        G = 0.5 * math.pi * math.sqrt(2.0 * q * (1.0 + m * m * (1.0 + z * z)))
-        growth_bits = int(2.0 * G / math.log(2.0)) + 1
+        growth_bits = _growth_bits(e, m * math.sqrt(1.0 + z * z))   # (the phi-system's mu_c)
         P = 96 + growth_bits
         for _ in range(8):
             wI, dwI, wII, dwII = _exact_half_period(e, m, P, z)
