@@ -304,8 +304,9 @@ def sine_edges(mu, n):
 # ---------------------------------------------------------------- Floquet data
 def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     """``(tau, log|tau|, growth, theta, zone)`` of the undamped sine drive over the period 2T
-    (``errors``: and a sixth item, the bound on the error of ``tau``: :func:`_sine_traces`' own, a
-    half ulp where the exact trace decided, the long double's bound where it did; ``loose``: the
+    (``errors``: and a sixth item, the bound on the error of ``tau``: :func:`_sine_traces`' running
+    bound, a half ulp where the exact trace decided, the long double's bound where it did; without,
+    the quick bound alone serves the choices below; ``loose``: the
     verdicts alone are certified, and a seventh item marks the points whose trace is rougher than
     1e-13 (those decided by the long double counts where the double trace has lost its digits, or
     by a long double trace however loose, see :func:`_certify`)); ``exact=False``: no exact trace
@@ -323,7 +324,7 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     shape = eps.shape
     e, m = eps.ravel(), mu.ravel()
-    tau, log_tau, _, err = _sine_traces(e, m)
+    tau, log_tau, _, err = _sine_traces(e, m, "running" if errors else "quick")
     c_lo, c_hi, unsure = _sine_zone_of(e, m)
     count = c_lo.copy()
     with np.errstate(invalid="ignore"):
@@ -401,7 +402,7 @@ def sine_verdict0(eps, mu):
 def sine_log_tau(eps, mu):
     """``log|tr M / 2|`` of the undamped sine drive over 2T."""
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
-    return _sine_traces(eps.ravel(), mu.ravel())[1].reshape(eps.shape)
+    return _sine_traces(eps.ravel(), mu.ravel(), bound=None)[1].reshape(eps.shape)
 
 
 def sine_tau_minus_one(eps, mu):
@@ -816,18 +817,28 @@ def _certify(eps, mu, c_lo, c_hi, loose=False, exact=True):
 _TERMS = 22  # Taylor terms per step: h sqrt(max c) <= 1 and 2h <= 1 leave 1/22! ~ 1e-21
 
 
-def _half_period(eps, mu):
-    """``(w_I, w_I', w_II, w_II', s, s_max)`` at ``z = pi/2`` (see :func:`_exact_half_period`) in
-    double precision for flat arrays, the four values times ``exp(s)``; ``exp(s_max)`` is the
-    largest norm the fundamental matrix reached on the way.
+def _half_period(eps, mu, bound="running"):
+    """``(w_I, w_I', w_II, w_II', s, E, ds)`` at ``z = pi/2`` (see :func:`_exact_half_period`) in
+    double precision for flat arrays, the four values times ``exp(s)``; ``E`` bounds the error of
+    either product ``w_I w_II'`` or ``w_I' w_II`` at the scale ``exp(2 s)``, ``ds`` that of ``s``.
+    ``bound``: ``"running"`` (below), ``"quick"`` (the largest state's rounding only, at no cost:
+    close where the solutions stay small, pessimistic by as much as the products' size where
+    they grow), None (``E`` NaN).
 
     Taylor series of ``_TERMS`` terms over steps with ``h sqrt(2q (1 + mu^2)) <= 1``; the state is
     rescaled after every step (``s`` keeps the scale), so it never overflows. Each step is an
     accurate map of the true step (the series is truncated far below rounding), so the result
-    carries the rounding of the coefficients only: ``w_I w_II'`` is accurate to a few ulp times the
-    number of steps, relative to the size of the products (no cancellation of a Hill determinant).
-    Where the solutions grow and then fall back (deep in the thin zones of large ``q``) the rounding
-    of the largest state, ``u exp(2 s_max)`` relative, bounds what is left.
+    carries the rounding of the steps' maps and of their products. ``E`` comes from the first-order
+    running bound of that rounding, ``sum_j |Q_j| d_j``: ``d_j = _STEP_ROUNDING |M_j| |P_(j-1)|`` (a
+    few hundred units of the map ``M_j`` and of its product with the steps before, ``P_(j-1)``),
+    carried to the end by the norm of the steps after, ``Q_j`` (computed by a second, backward
+    product of the maps); the norms are Frobenius norms in the balanced basis ``(y, y' / w)``,
+    ``w = sqrt(2q (1 + mu^2))`` the largest ``sqrt|c|``, where the steps are near rotations and
+    hyperbolic turns of size one. Where the solutions grow (off the zones) that is some thousand
+    units of the result;
+    deep in the thin zones of large ``q``, where they grow and fall back, the largest state's
+    rounding survives, amplified by ``|Q_j| |P_(j-1)| / |P|`` (the cancellation the exact trace
+    then recomputes).
     """
     eps = np.asarray(eps, float).reshape(-1)
     mu = np.asarray(mu, float).reshape(-1)
@@ -837,68 +848,155 @@ def _half_period(eps, mu):
     # step of its largest q
     steps = np.maximum(np.ceil(0.5 * PI * L), 8.0)
     steps = np.where(steps <= 64.0, 2.0 ** np.ceil(np.log2(steps)), 64.0 * np.ceil(steps / 64.0)).astype(np.int64)
-    out = np.empty((6, eps.size))
+    out = np.full((7, eps.size), np.nan)
     fact = np.cumprod(np.concatenate([[1.0], np.arange(1.0, _TERMS + 2)]))
     sign = np.array([1.0, -1.0, -1.0, 1.0])  # d^k/ds^k cos(x + s): cos, -sin, -cos, sin
     for m in sorted(set(steps.tolist())):  # (np.unique would load numpy.ma: 15 ms of a first call)
-        sel = np.flatnonzero(steps == m)
-        qq, mm = q[sel], mu[sel]
-        h = 0.5 * PI / m
-        b = sel.size
-        y = np.zeros((b, 2))
-        dy = np.zeros((b, 2))
-        y[:, 0] = 1.0
-        dy[:, 1] = 1.0
-        s = np.zeros(b)
-        s_max = np.zeros(b)
-        kk = np.arange(_TERMS)
-        # 2q (2h)^k / k! (the scaled coefficients without their trig factor)
-        scale = 2.0 * qq[None, :] * ((2.0 * h) ** kk / fact[:_TERMS])[:, None]
-        # the steps' 2x2 maps (y, y') -> (y, y'), all steps of a block at once (their series do not
-        # depend on the state), then applied in order
-        block = max(1, 16384 // b)
-        for j0 in range(0, m, block):
-            jj = np.arange(j0, min(j0 + block, m))
-            cj, sj = np.cos(2.0 * jj * h), np.sin(2.0 * jj * h)
-            trig = np.where((kk % 2 == 0)[:, None], cj[None, :], sj[None, :]) * sign[kk % 4][:, None]
-            C = scale[:, None, :] * trig[:, :, None]           # (terms, steps, points)
-            C[0] += 2.0 * qq * mm * mm
-            Y = np.zeros((_TERMS + 2, jj.size, b, 2))          # last axis: from (1, 0) and from (0, 1)
-            Y[0, ..., 0] = 1.0
-            Y[1, ..., 1] = h
-            for k in range(_TERMS):
-                Y[k + 2] = np.einsum("ijb,ijbc->jbc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
-            T_y = Y.sum(axis=0)                                # (steps, points, 2): row y of each map
-            T_dy = np.einsum("k,kjbc->jbc", np.arange(_TERMS + 2.0), Y) / h
-            # the maps as (steps, 2, points, 1): (y, y') from y (M0) and from y' (M1); the state S
-            # holds y and y' (S[0], S[1]) of both solutions: one step is a few numpy calls
-            TT = np.stack([T_y, T_dy], axis=1)
-            M0, M1 = TT[..., 0, None], TT[..., 1, None]
-            S = np.stack([y, dy])
-            for t in range(jj.size):
-                S = M0[t] * S[0] + M1[t] * S[1]
-                big = np.abs(S).max(axis=(0, 2))
-                S /= big[:, None]
-                s += np.log(big)
-                s_max = np.maximum(s_max, s)
-            y, dy = S[0], S[1]
-        out[:, sel] = y[:, 0], dy[:, 0], y[:, 1], dy[:, 1], s, s_max
+        group = np.flatnonzero(steps == m)
+        # (with the bound, every step's map is kept for the backward product: points in batches)
+        per = max(1, _MAPS_KEPT // m) if bound == "running" else group.size
+        for c0 in range(0, group.size, per):
+            sel = group[c0:c0 + per]
+            out[:, sel] = _half_period_steps(q[sel], mu[sel], m, fact, sign, bound)
     return out
+
+
+#: Points times steps whose maps the error bound of :func:`_half_period` keeps at once
+_MAPS_KEPT = 1 << 18
+
+#: The rounding of one step of :func:`_half_period`, relative to ``|M_j| |P_(j-1)|`` (Frobenius
+#: norms in the balanced basis): the map's Taylor sums (22 terms of about ``k + 8`` units each, their
+#: coefficients' rounding; the majorant of the terms is ``cosh 1`` at the step's ``h sqrt|c| <= 1``),
+#: the state's product and rescaling; 256 units, about twice what they add up to
+_STEP_ROUNDING = 2.0**-45
+
+
+def _half_period_steps(qq, mm, m, fact, sign, bound):
+    """:func:`_half_period` of points that take ``m`` steps."""
+    h = 0.5 * PI / m
+    b = qq.size
+    y = np.zeros((b, 2))
+    dy = np.zeros((b, 2))
+    y[:, 0] = 1.0
+    dy[:, 1] = 1.0
+    kk = np.arange(_TERMS)
+    # 2q (2h)^k / k! (the scaled coefficients without their trig factor)
+    scale = 2.0 * qq[None, :] * ((2.0 * h) ** kk / fact[:_TERMS])[:, None]
+    logs_big = np.empty((m, b))     # log of each step's rescaling (s is their sum)
+    running = bound == "running"
+    if running:   # the state before each step, and the maps
+        states, kept = np.empty((m, 2, b, 2)), []
+    # the steps' 2x2 maps (y, y') -> (y, y'), all steps of a block at once (their series do not
+    # depend on the state), then applied in order
+    block = max(1, 16384 // b)
+    t_all = 0
+    for j0 in range(0, m, block):
+        jj = np.arange(j0, min(j0 + block, m))
+        cj, sj = np.cos(2.0 * jj * h), np.sin(2.0 * jj * h)
+        trig = np.where((kk % 2 == 0)[:, None], cj[None, :], sj[None, :]) * sign[kk % 4][:, None]
+        C = scale[:, None, :] * trig[:, :, None]           # (terms, steps, points)
+        C[0] += 2.0 * qq * mm * mm
+        Y = np.zeros((_TERMS + 2, jj.size, b, 2))          # last axis: from (1, 0) and from (0, 1)
+        Y[0, ..., 0] = 1.0
+        Y[1, ..., 1] = h
+        for k in range(_TERMS):
+            Y[k + 2] = np.einsum("ijb,ijbc->jbc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
+        T_y = Y.sum(axis=0)                                # (steps, points, 2): row y of each map
+        T_dy = np.einsum("k,kjbc->jbc", np.arange(_TERMS + 2.0), Y) / h
+        # the maps as (steps, 2, points, 1): (y, y') from y (M0) and from y' (M1); the state S
+        # holds y and y' (S[0], S[1]) of both solutions: one step is a few numpy calls
+        TT = np.stack([T_y, T_dy], axis=1)
+        if running:
+            kept.append(TT)
+        M0, M1 = TT[..., 0, None], TT[..., 1, None]
+        S = np.stack([y, dy])
+        for t in range(jj.size):
+            if running:
+                states[t_all] = S
+            S = M0[t] * S[0] + M1[t] * S[1]
+            big = np.abs(S).max(axis=(0, 2))
+            S /= big[:, None]
+            logs_big[t_all] = np.log(big)
+            t_all += 1
+        y, dy = S[0], S[1]
+    # s and a bound on its rounding (log's, within an ulp, and the sum's)
+    partial = np.cumsum(logs_big, axis=0)
+    s = partial[-1].copy()
+    ds = 0.5 * np.finfo(float).eps * np.sum(np.abs(partial) + 2.0 * np.abs(logs_big), axis=0)
+    E = np.full(b, np.nan)
+    if bound:
+        # at once: the rounding of the largest state, 2^-48 (8 + 2 s_max) e^(2 s_max) of the products
+        # (an error there is amplified by at most its norm, the determinant being 1), close enough
+        # where the solutions stay small (2e-12 at eps = 1.2); elsewhere the running bound
+        s_max = np.maximum(partial.max(axis=0), 0.0)
+        size = np.abs(dy[:, 0] * y[:, 1]) + np.abs(y[:, 0] * dy[:, 1])
+        with np.errstate(over="ignore"):
+            E = 2.0**-47 * (8.0 + 2.0 * s_max) * np.exp(np.minimum(2.0 * s_max, 700.0)) * size
+        loose = np.flatnonzero(~(E <= 2.0**-40 * size)) if running else np.zeros(0, np.int64)
+        if loose.size:
+            R = _rounding_bound(np.concatenate(kept)[:, :, loose], states[:, :, loose], (partial - logs_big)[:, loose],
+                                s[loose], qq[loose], mm[loose])
+            # (either product of two entries moves by at most R (|a| + |b| + R), a and b its factors in
+            # the balanced basis: w_I, w_II' and w_II w, w_I' / w)
+            w = _balance(qq[loose], mm[loose])
+            yl, dyl = y[loose], dy[loose]
+            R = R * (np.abs(yl[:, 0]) + np.abs(dyl[:, 1]) + np.abs(yl[:, 1]) * w + np.abs(dyl[:, 0]) / w + R)
+            E[loose] = np.minimum(E[loose], R)
+        E = np.where(np.isfinite(E), E, np.inf)
+    return y[:, 0], dy[:, 0], y[:, 1], dy[:, 1], s, E, ds
+
+
+def _balance(qq, mm):
+    """``w = sqrt(2q (1 + mu^2))`` (at least 1): the balanced basis ``(y, y' / w)`` of :func:`_half_period`."""
+    return np.maximum(np.sqrt(2.0 * qq * (1.0 + mm * mm)), 1.0)
+
+
+def _rounding_bound(maps, states, s_before, s, qq, mm):
+    """:func:`_half_period`'s ``sum_j |Q_j| d_j`` relative to the result's scale ``e^s`` (the Frobenius
+    norm of the error of the four values at that scale, in the balanced basis): ``maps[j][r, :, c]``
+    the steps' maps, ``states[j]`` the (rescaled) product before step ``j``, ``e^s_before[j]`` its scale.
+    The products after each step, ``Q_j``, by a backward product of the maps, rescaled every few
+    steps; the sum in logarithms (each term may overflow, their sum relative to ``e^s`` does not)."""
+    m, b = s_before.shape
+    w = _balance(qq, mm)
+    R = np.stack([np.stack([np.ones(b), w], axis=1), np.stack([1.0 / w, np.ones(b)], axis=1)])
+    after, q_scale = np.empty((m, 2, b, 2)), np.empty((m, b))
+    Q = np.zeros((2, b, 2))
+    Q[0, :, 0] = Q[1, :, 1] = 1.0                          # Q[r, :, c]
+    qs = np.zeros(b)
+    for j in range(m - 1, -1, -1):
+        after[j], q_scale[j] = Q, qs
+        Mj = maps[j]
+        # Q <- Q M_j: (Q M)[r, c] = Q[r, 0] M[0, c] + Q[r, 1] M[1, c]
+        Q = Q[:, :, 0, None] * Mj[None, 0] + Q[:, :, 1, None] * Mj[None, 1]
+        if j % 4 == 0:   # (four steps grow a norm by e^6 at most)
+            big = np.abs(Q).max(axis=(0, 2))
+            Q /= big[:, None]
+            qs = qs + np.log(big)
+
+    def norms(X):
+        return np.sqrt(np.sum((X * R[None]) ** 2, axis=(1, 3)))
+
+    with np.errstate(divide="ignore"):
+        logs = q_scale + s_before + np.log(norms(after) * norms(maps) * norms(states))
+    top = logs.max(axis=0)
+    return _STEP_ROUNDING * np.exp(top - s + np.log(np.sum(np.exp(logs - top), axis=0)))
 
 
 #: the largest eps whose sine-drive trace is integrated (q = 16 eps^2/pi^2 = 1e6)
 _EPS_TRACE = 0.25 * PI * 1000.0
 
 
-def _sine_traces(eps, mu):
+def _sine_traces(eps, mu, bound="running"):
     """``(tau, log|tau|, tau - 1, err)`` of the undamped sine drive over ``2T`` (flat arrays):
     ``tau = tr M/2 = 1 + 2 w_I' w_II = 2 w_I w_II' - 1`` at ``z = pi/2`` (DLMF 28.2.(iv)); ``tau - 1``
-    free of the cancellation of the 1; ``err`` an estimate of the error of ``tau`` from rounding."""
+    free of the cancellation of the 1; ``err`` a bound on the error of ``tau`` from rounding (from
+    :func:`_half_period`'s ``bound``: ``"running"``, ``"quick"`` or None, then NaN)."""
     eps = np.asarray(eps, float).reshape(-1)
     if eps.size and not np.max(eps) <= _EPS_TRACE:  # the integration's steps grow like sqrt(q)
         raise _v.KapitzaValueError(f"eps must satisfy eps <= {_EPS_TRACE:.6g} for the sine drive's Floquet data "
                                    f"(Mathieu's q = 16 eps^2/pi^2 up to 1e6); got {float(np.max(eps))!r}")
-    wI, dwI, wII, dwII, s, s_max = _half_period(eps, mu)
+    wI, dwI, wII, dwII, s, E, ds = _half_period(eps, mu, bound)
     m1, p1 = 2.0 * dwI * wII, 2.0 * wI * dwII  # (tau - 1) e^{-2s}, (tau + 1) e^{-2s}
     with np.errstate(over="ignore", invalid="ignore"):
         e2s = np.exp(2.0 * s)
@@ -908,9 +1006,10 @@ def _sine_traces(eps, mu):
         # |tau| = |m1 + p1| e^{2s} / 2, formed in logarithms where it overflows
         log_big = np.log(0.5 * np.abs(m1 + p1)) + 2.0 * s
         log_tau = np.where(np.isfinite(tau) & (np.abs(tau) < 1e300), np.log(np.abs(tau)), log_big)
-        # an error of u in the largest state reaches the end amplified by at most its norm
-        # (det = 1): 64 u (steps) exp(2 s_max) relative to the products
-        err = 2.0**-47 * (8.0 + 2.0 * s_max) * np.exp(np.minimum(2.0 * s_max, 700.0)) * (np.abs(m1) + np.abs(p1)) * e2s
+        # the products' error 2 E, their and the exponential's rounding (e^{2s} also carries s's), the 1's
+        unit = 0.5 * np.finfo(float).eps
+        prod = np.maximum(np.abs(m1), np.abs(p1))
+        err = (2.0 * E + (6.0 * unit + 2.2 * ds) * prod) * e2s + unit * (np.abs(tau) + 1.0)
     return tau, log_tau, tau_m1, err
 
 
