@@ -116,6 +116,30 @@ def test_the_grid_equals_is_stable_at_doubles_beside_the_edges(drive):
         assert np.array_equal(grid, K.is_stable(eps, mu, drive=drive)), mu
 
 
+def _measured():
+    t = np.linspace(0.0, 0.02, 200, endpoint=False)
+    return K.drives.from_samples(t, 300.0 * np.sin(2 * np.pi * 50 * t) + 60.0 * np.sin(2 * np.pi * 150 * t + 0.3))
+
+
+@pytest.mark.parametrize("drive", [K.SquareWave(), K.RectangularWave(0.3), DRIVES[2], K.TriangleWave(), K.SineWave(),
+                                   _measured()], ids=["square", "rect0.3", "step4", "triangle", "sine", "measured"])
+def test_the_damped_grid_equals_is_stable_at_doubles_beside_the_damped_edges(drive):
+    rng = np.random.default_rng(6)
+    checked = 0
+    for zeta in (0.05, 0.3, 1.0):
+        for mu in rng.uniform(0.05, 0.85, 2):
+            lo, hi = K.zone_edges(mu, np.arange(3), drive=drive, zeta=zeta)
+            edges = np.concatenate([lo, hi])
+            edges = edges[np.isfinite(edges) & (edges > 0)]
+            if not edges.size:
+                continue
+            eps = np.unique((edges[:, None].view(np.int64) + np.arange(-3, 4)[None, :]).view(np.float64))
+            grid = K.stability_grid(eps, np.array([mu]), drive=drive, zeta=zeta)[0]
+            assert np.array_equal(grid, K.is_stable(eps, mu, drive=drive, zeta=zeta)), (zeta, mu)
+            checked += eps.size
+    assert checked > 100
+
+
 @pytest.mark.parametrize("drive, zeta, mu", [(K.RectangularWave(0.3), 1.0, 0.4), (K.RectangularWave(0.3), 2.0, 0.2),
                                              (K.SquareWave(), 2.0, 0.4)])
 def test_zones_joined_by_damping_share_one_edge_in_every_call(drive, zeta, mu):
