@@ -68,7 +68,9 @@ def test_past_its_step_limit_the_tier_declines():
 
 
 def test_the_verdicts_of_a_report_are_those_of_mpmath_alone(monkeypatch):
-    # the same report with the tier switched off (every exact verdict from mpmath)
+    # the same report with the tier switched off (every exact verdict from mpmath): the same
+    # verdicts, zones and edges; the recomputed trace (and what follows from it) is the long
+    # double's within its bound, mpmath's correctly rounded
     drive = K.TriangleWave()
     for zeta in (0.0, 0.1):
         fast = K.analyze(T=0.15, A=100.0, drive=drive, zeta=zeta).as_dict()
@@ -76,7 +78,10 @@ def test_the_verdicts_of_a_report_are_those_of_mpmath_alone(monkeypatch):
             m.setattr(C, "pieces_ld", lambda eps, *a: (np.zeros(np.size(eps), bool),) * 2
                       + (np.full(np.size(eps), np.nan),) * 4)
             slow = K.analyze(T=0.15, A=100.0, drive=drive, zeta=zeta).as_dict()
-        assert fast == slow
+        near = ("trace", "multipliers", "growth", "trace_margin", "determinant")
+        assert {k: v for k, v in fast.items() if k not in near} == {k: v for k, v in slow.items() if k not in near}
+        for k in near:
+            np.testing.assert_allclose(np.asarray(fast[k], float), np.asarray(slow[k], float), rtol=1e-14, err_msg=k)
 
 
 @pytest.mark.parametrize("drive, zeta", [(K.TriangleWave(), 0.0), (K.TriangleWave(), 0.1), (K.RectangularWave(0.3), 0.0),

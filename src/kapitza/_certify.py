@@ -558,18 +558,25 @@ def growth_good(tau, tau_error, growth, rtol=1e-12):
     return err <= rtol * np.abs(growth)
 
 
-def pieces_exact(eps, mu, zeta, pieces, growth=True):
+def pieces_exact(eps, mu, zeta, pieces, growth=True, trace=False):
     """:func:`pieces_mp`'s answers, from the long double tier (:func:`pieces_ld`) where it decides and
     from mpmath elsewhere (``growth``: also where the long double's growth is not good to 1e-12, for a
-    growth that is reported)."""
+    growth that is reported). ``trace``: the trace is reported too: also where the long double's
+    ``tau`` is not good to :data:`TRACE_RTOL`, and each answer carries a fifth item, a bound on the
+    error of ``tau`` (the long double's bound and the rounding to a double; a half ulp from mpmath)."""
     dec, st, tau, log_tau, rate, err = pieces_ld(eps, mu, zeta, pieces)
     if growth:
         dec &= growth_good(tau, err, rate)
-    out = list(zip(tau.tolist(), log_tau.tolist(), st.tolist(), rate.tolist()))
+    if trace:
+        with np.errstate(invalid="ignore"):
+            dec &= err <= TRACE_RTOL * np.abs(tau)
+    half_ulp = 0.5 * np.finfo(float).eps
+    out = list(zip(tau.tolist(), log_tau.tolist(), st.tolist(), rate.tolist(),
+                   (err + half_ulp * np.abs(tau)).tolist()))
     rest = np.flatnonzero(~dec)
     if rest.size:
         eps, mu = np.asarray(eps, float).ravel(), np.asarray(mu, float).ravel()
         z = None if zeta is None else np.asarray(zeta, float).ravel()[rest]
         for i, r in zip(rest, pieces_mp(eps[rest], mu[rest], z, pieces)):
-            out[i] = r
-    return out
+            out[i] = (*r, half_ulp * abs(r[0]))
+    return out if trace else [r[:4] for r in out]

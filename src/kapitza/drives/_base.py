@@ -241,9 +241,10 @@ class Drive:
         say so (:attr:`Floquet0.unsure`): the damping layer then settles them with its own.
 
         ``trace`` says the trace will be reported: the result then carries ``tau_error``, a bound
-        on the absolute error of ``tau`` (here :meth:`_trace_error`, a half ulp where the trace was
-        decided in extended precision), and a drive that can recomputes ``tau`` in extended
-        precision where that bound is a large part of it (the piecewise-constant drives). ``phi``:
+        on the absolute error of ``tau`` (here :meth:`_trace_error`), and a drive that can
+        recomputes ``tau`` in extended precision where that bound exceeds
+        :data:`kapitza._certify.TRACE_RTOL` of it (here a drive of linear pieces, in long double or
+        mpmath, :meth:`_settle_pieces`; the bound is then the recomputation's). ``phi``:
         ``(mu, zeta)`` when ``mu`` is the damped system's rounded ``mu_c`` (for such a recomputation,
         at ``mu^2 (1 + zeta^2)`` exactly).
         """
@@ -253,11 +254,14 @@ class Drive:
         pieces = self._certified_pieces() if certify else None
         err = self._trace_error(e, m) if trace else None
         if pieces is not None:
-            engine_tau = tau
-            tau, log_tau, theta, zone, growth = self._settle_pieces(pieces, e, m, tau, log_tau, theta, zone, growth,
-                                                                    exact_growth=trace)
-            if trace:  # (a trace the exact one replaced is that one, correctly rounded)
-                err = np.where(tau != engine_tau, 0.5 * np.finfo(float).eps * np.abs(tau), err)
+            if phi is not None and trace:   # (a trace recomputed at mu^2 (1 + zeta^2) formed exactly)
+                phi = tuple(np.broadcast_to(np.asarray(v, float).ravel(), e.shape) for v in phi)
+            else:
+                phi = None
+            out = self._settle_pieces(pieces, e, m, tau, log_tau, theta, zone, growth, exact_growth=trace,
+                                      trace_error=err, phi=phi)
+            tau, log_tau, theta, zone, growth = out[:5]
+            err = out[5] if trace else None
         sh = eps.shape
         return Floquet0(tau=tau.reshape(sh), log_tau=log_tau.reshape(sh), growth=growth.reshape(sh),
                         theta=theta.reshape(sh), zone=zone.reshape(sh),
@@ -334,21 +338,48 @@ class Drive:
                 grow = 2.0 * SQRT8 * eps * np.sqrt(np.maximum(m2 + self._engine.s_max, 0.0))
             return self._ENGINE_BAND * np.exp(np.minimum(grow, 700.0))
 
-    def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth, exact_growth=True):
+    def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth, exact_growth=True,
+                       trace_error=None, phi=None):
         """The engine's undamped data with the verdicts near the threshold decided in extended
         precision (:func:`kapitza._certify.pieces_exact`; flat arrays; ``exact_growth``: the growth is
         reported, and is to be good to 1e-12 there). Where the exact verdict differs
         from the engine's, the zone follows it: a point found stable in the gap ``theta = k pi`` lies
         in zone ``k - 1`` while ``|tau|`` rises with ``eps`` there, in zone ``k`` where it falls; one
-        found unstable on zone ``n`` lies in the gap its trace's sign gives (``(-1)^k``)."""
-        from .._certify import MAX_PHASE, pieces_exact, pieces_phase
+        found unstable on zone ``n`` lies in the gap its trace's sign gives (``(-1)^k``).
 
-        near = (np.abs(np.abs(tau) - 1.0) <= self._trace_error(eps, mu)) & (pieces_phase(eps, mu, pieces) <= MAX_PHASE)
-        idx = np.flatnonzero(near)
+        ``trace_error``: the trace is reported and this bounds the engine's error: a trace it leaves
+        worse than :data:`kapitza._certify.TRACE_RTOL` relative is recomputed too (at ``phi =
+        (mu, zeta)``'s ``mu^2 (1 + zeta^2)`` where given, the damped system's exact ``phi``-equation),
+        and a sixth item returns the bound, that of the recomputation where there was one (the
+        verdicts near the threshold stay those at ``mu``, as without the trace)."""
+        from .._certify import MAX_PHASE, TRACE_RTOL, pieces_exact, pieces_phase
+
+        trace = trace_error is not None
+        reach = pieces_phase(eps, mu, pieces) <= MAX_PHASE
+        near = (np.abs(np.abs(tau) - 1.0) <= self._trace_error(eps, mu)) & reach
+        ill = np.zeros(eps.size, bool)
+        if trace:
+            with np.errstate(invalid="ignore"):
+                ill = ~(trace_error <= TRACE_RTOL * np.abs(tau)) & reach & ~near
+        idx = np.flatnonzero(near | ill)
         if not idx.size:
-            return tau, log_tau, theta, zone, growth
+            return (tau, log_tau, theta, zone, growth) + ((trace_error,) if trace else ())
         tau, log_tau, theta, zone, growth = (np.array(v, copy=True) for v in (tau, log_tau, theta, zone, growth))
-        res = pieces_exact(eps[idx], mu[idx], None, pieces, exact_growth)
+        res = [None] * idx.size
+        for part in (near[idx], ill[idx]):
+            j = idx[part]
+            if not j.size:
+                continue
+            if phi is not None and part is not near[idx]:
+                got = pieces_exact(eps[j], phi[0][j], phi[1][j], pieces, exact_growth, trace)
+            else:
+                got = pieces_exact(eps[j], mu[j], None, pieces, exact_growth, trace)
+            for k, r in zip(np.flatnonzero(part).tolist(), got):
+                res[k] = r
+        if trace:
+            trace_error = np.array(trace_error, float, copy=True)
+            trace_error[idx] = [r[4] for r in res]
+            res = [r[:4] for r in res]
         # whether |tau| rises with eps, where a point the engine put in a gap is stable (one engine call)
         up = np.array([st and zone[i] < 0 for i, (_, _, st, _) in zip(idx.tolist(), res)], bool)
         rises = {}
@@ -371,7 +402,7 @@ class Drive:
                 a = float(np.arccos(np.clip(t, -1.0, 1.0)))
                 theta[i] = n * PI + (a if n % 2 == 0 else PI - a)
             growth[i] = 0.0 if st else gr
-        return tau, log_tau, theta, zone, growth
+        return (tau, log_tau, theta, zone, growth) + ((trace_error,) if trace else ())
 
     def _edges0(self, mu, n):
         """``(eps_lo, eps_hi)`` of undamped zone ``n`` at ``mu`` (NaN where there is none).
