@@ -388,20 +388,28 @@ class Drive:
             h = 1e-7 * eps[j]
             lt = self._engine.log_tau(np.concatenate([eps[j] + h, eps[j] - h]), np.concatenate([mu[j], mu[j]]))[1]
             rises = dict(zip(j.tolist(), (lt[:j.size] > lt[j.size:]).tolist()))
+        flips = []
         for i, (t, lt, st, gr) in zip(idx.tolist(), res):
             tau[i], log_tau[i] = t, lt
             if st and zone[i] < 0:
                 k = int(np.rint(theta[i] / PI))
                 zone[i] = max(k - 1 if rises[i] else k, 0)
-            elif not st and zone[i] >= 0:
-                n = int(zone[i])
+            elif not st:
                 zone[i] = -1
-                theta[i] = PI * (n if (t < 0) == (n % 2 == 1) else n + 1)
+                flips.append(i)
             if st:
                 n = int(zone[i])
                 a = float(np.arccos(np.clip(t, -1.0, 1.0)))
                 theta[i] = n * PI + (a if n % 2 == 0 else PI - a)
             growth[i] = 0.0 if st else gr
+        if flips:
+            # off the zones: theta = k pi with the exact trace's parity, the one such k within pi of
+            # the engine's turn of (1, 0) (one engine call; any direction turns by less than pi from
+            # k pi, and the turn stays accurate where the trace has lost its digits, with its sign or
+            # the engine's zone)
+            j = np.array(flips)
+            k0 = np.floor(self._engine.period(eps[j], mu[j], True)[2] / PI)
+            theta[j] = PI * np.where((np.remainder(k0, 2.0) == 1.0) == (tau[j] < 0), k0, k0 + 1.0)
         return (tau, log_tau, theta, zone, growth) + ((trace_error,) if trace else ())
 
     def _edges0(self, mu, n):

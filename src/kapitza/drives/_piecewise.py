@@ -354,6 +354,17 @@ def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=N
     # rounding may leave it nearer the other parity)
     odd = tau < 0
     k_gap = 2.0 * np.rint((turn / PI - odd) / 2.0) + odd
+    # an eigenvector that did not turn by a multiple of pi of the trace's parity was not one (the
+    # doubles' product had lost the trace's sign, which the exact one restored): any direction
+    # turns by less than pi from k pi (the circle map keeps the order between its two fixed
+    # directions), so (1, 0)'s turn decides k
+    k_eig = np.rint(turn / PI)
+    astray = ~stable & ~((np.abs(turn / PI - k_eig) < 0.25) & ((np.remainder(k_eig, 2.0) == 1.0) == odd))
+    if np.any(astray):
+        j = np.flatnonzero(astray)
+        seg_j = [tuple(np.broadcast_to(v, eps.shape)[j] for v in seg) for seg in segs]
+        k0 = np.floor(_carry(seg_j, np.ones(j.size), np.zeros(j.size)) / PI)
+        k_gap[j] = np.where((np.remainder(k0, 2.0) == 1.0) == odd[j], k0, k0 + 1.0)
     theta = np.where(stable, theta_stable, PI * k_gap)
     zone = np.where(stable, zone_stable, -1).astype(np.int64)
     return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),
