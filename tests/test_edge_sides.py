@@ -95,13 +95,64 @@ def test_the_rotation_number_off_the_zones_has_the_parity_of_the_trace(drive):
     assert np.array_equal(odd, np.asarray(f.trace)[off] < 0)
 
 
-def test_a_huge_positive_trace_has_an_integer_rotation_number():
-    # tr M/2 ~ 7.5e46 where the segment products reach e^147: the carried angle ends near an odd
-    # multiple of pi, the multipliers are positive
+def _turn_of_1_0(eps, mu, drive, sub=64):
+    """The turn of the direction ``(1, 0)`` over the period, in units of pi, carried through each
+    segment's exact flow in mpmath in ``sub`` parts (each turns it by less than pi / 2)."""
+    import mpmath
+
+    levels, fractions = drive._steps()
+    with mpmath.workdps(60):
+        E, m2 = 8 * mpmath.mpf(eps) ** 2, mpmath.mpf(mu) ** 2
+        x, y, total = mpmath.mpf(1), mpmath.mpf(0), mpmath.mpf(0)
+        for s, f in zip(levels, fractions):
+            k, h = E * (m2 + mpmath.mpf(s)), 2 * mpmath.mpf(f) / sub
+            w = mpmath.sqrt(abs(k))
+            if k > 0:
+                S = (mpmath.cosh(w * h), mpmath.sinh(w * h) / w, w * mpmath.sinh(w * h), mpmath.cosh(w * h))
+            else:
+                S = (mpmath.cos(w * h), mpmath.sin(w * h) / w, -w * mpmath.sin(w * h), mpmath.cos(w * h))
+            for _ in range(sub):
+                x1, y1 = S[0] * x + S[1] * y, S[2] * x + S[3] * y
+                total += mpmath.atan2(x * y1 - y * x1, x * x1 + y * y1)
+                n = mpmath.sqrt(x1 * x1 + y1 * y1)
+                x, y = x1 / n, y1 / n
+        return float(-total / mpmath.pi)
+
+
+def test_a_huge_positive_trace_has_the_rotation_number_of_its_gap():
+    # tr M/2 ~ 7.5e46 where the segment products reach e^147, beside a thin zone: the doubles' product
+    # loses the trace's sign, which the exact one restores, and the eigenvector of the doubles' matrix
+    # turns by 3 pi; any direction turns by less than pi from the gap's k pi, (1, 0) by 2.5 pi here
+    # (the oracle), and the trace is positive: k = 2
     eps, mu, d = 10.06645231424355, 2.607491053933446, K.RectangularWave(0.9)
     assert K.floquet(eps, mu, drive=d).trace > 0
-    rho = float(K.rotation_number(eps, mu, drive=d))
-    assert rho == round(rho)
+    turn = _turn_of_1_0(eps, mu, d)
+    assert abs(turn - 2.0) < 1.0
+    assert float(K.rotation_number(eps, mu, drive=d)) == 1.0
+
+
+def test_a_triangle_zone_thinner_than_a_double_lies_where_its_trace_changes_sign():
+    # zone 5 at mu = 0.5: no double is stable; the double search put it 17 doubles below the sign
+    # change of the trace (the engine's trace there is formed from terms of e^30): it is reported
+    # by the two adjacent doubles the certified trace changes sign between, each in its own gap
+    d = K.TriangleWave()
+    lo, hi = (float(v) for v in K.zone_edges(0.5, 5, drive=d))
+    assert np.nextafter(lo, np.inf) == hi
+    f = K.floquet([lo, hi], 0.5, drive=d)
+    assert not f.stable.any() and f.trace[0] < -2.0 < 2.0 < f.trace[1]
+    assert K.rotation_number([lo, hi], 0.5, drive=d).tolist() == [2.5, 3.0]
+
+
+def test_beside_the_triangle_s_thin_zones_the_rotation_number_has_the_trace_s_parity():
+    d = K.TriangleWave()
+    for mu, n in [(0.5, 5), (0.6, 4), (0.8, 2)]:
+        for edge in K.zone_edges(mu, n, drive=d):
+            x = (np.array([float(edge)]).view(np.int64) + np.arange(-30, 31)).view(np.float64)
+            f = K.floquet(x, mu, drive=d)
+            off = ~np.asarray(f.stable)
+            two = 2.0 * np.asarray(f.rotation_number)[off]
+            assert np.all(two == np.rint(two))
+            assert np.array_equal(np.remainder(np.rint(two), 2.0) == 1.0, np.asarray(f.trace)[off] < 0), (mu, n)
 
 
 @pytest.mark.parametrize("drive", [K.SquareWave()] + DRIVES, ids=lambda d: d.text())

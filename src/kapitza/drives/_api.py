@@ -376,10 +376,15 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     one below is stable), so that zone ``n`` is ``lo < eps < hi`` as :func:`kapitza.is_stable` says
     at every double. The double search leaves each within its rounding of that (a few ulp, more
     where the trace is formed from large cancelling terms): a bracket of doubles about it is widened
-    until the certified verdict changes across it, then bisected on the bit patterns. A zone with
-    no stable double (thinner than their spacing) keeps the edges as found."""
+    until the certified verdict changes across it, then bisected on the bit patterns. A zone found
+    with no double in it (``lo == hi``, thinner than their spacing) is put between the two adjacent
+    doubles where the certified trace changes sign (or about the stable doubles found there), for a
+    drive whose certified verdicts come from an extended-precision product (:func:`_empty_zones`);
+    a zone with no stable double otherwise keeps the edges as found."""
     lo, hi = lo.copy(), hi.copy()
-    live = np.flatnonzero(np.isfinite(lo) & np.isfinite(hi) & (lo < hi) & (lo > 0))
+    windowed = drive._steps() is not None or drive._certified_pieces() is not None
+    placed = _empty_zones(drive, mu, lo, hi, zeta) if windowed else np.zeros(mu.size, bool)
+    live = np.flatnonzero(np.isfinite(lo) & np.isfinite(hi) & (lo < hi) & (lo > 0) & ~placed)
     if not live.size:
         return lo, hi
     m = mu[live]
@@ -408,7 +413,6 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     # leave a double open (a few in a window of 33 beside a thin zone at q ~ 2,000: 6 s each);
     # a drive that gives its certified verdicts alone (Drive._verdict0, the sine) is searched 8
     # ulp about each edge, without the window
-    windowed = drive._steps() is not None or drive._certified_pieces() is not None
     thin = np.flatnonzero(H - L <= 16) if windowed else np.zeros(0, np.int64)
     wide = windowed or type(drive)._verdict0.__qualname__ != "Drive._verdict0"
     reach = np.maximum(half, 8) if wide else half
@@ -495,6 +499,59 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     res_hi = np.where(known, new_H, np.where(f_hi, out_hi, e_hi))
     lo[live], hi[live] = res_lo.view(np.float64), res_hi.view(np.float64)
     return lo, hi
+
+
+def _empty_zones(drive, mu, lo, hi, zeta=None):
+    """For :func:`certified_sides` (in place): the zones the double search found with no double in
+    them (``lo == hi``: the trace passes from one gap's sign to the next's between two doubles, as
+    far as the double computation can tell) placed by the certified data. The trace crosses zero
+    inside such a zone: one secant step on the certified trace from the double found towards that
+    zero (the double search may be many ulp off where the trace is formed from large cancelling
+    terms), then the certified verdicts and trace on 33 doubles about it: a run of stable doubles
+    gives the edges as its unstable neighbours, else the adjacent pair the trace changes sign
+    between (both unstable: the zone lies between them, thinner than their spacing). Left as found
+    where neither is in that window. Returns where the edges were placed so (final)."""
+    placed = np.zeros(mu.size, bool)
+    rows = np.flatnonzero(np.isfinite(lo) & (lo == hi) & (lo > 0))
+    if not rows.size:
+        return placed
+    m = mu[rows]
+    z = None if zeta is None else np.broadcast_to(np.asarray(zeta, float), mu.shape)[rows]
+    X = lo[rows].view(np.int64)
+
+    def data(bits, idx):
+        x = bits.ravel().view(np.float64)
+        r = np.repeat(idx, bits.shape[1])
+        if z is None:
+            f = drive._floquet0(x, m[r], certify=True)
+            return np.asarray(f.zone >= 0).reshape(bits.shape), np.asarray(f.tau, float).reshape(bits.shape)
+        f = drive._floquet(x, m[r], z[r], True)
+        return np.asarray(f[3], bool).reshape(bits.shape), np.asarray(f[0], float).reshape(bits.shape)
+
+    idx = np.arange(rows.size)
+    d = 4
+    _, t = data(np.stack([X, X + d], axis=1), idx)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        step = -t[:, 0] * d / (t[:, 1] - t[:, 0])
+    good = np.isfinite(step) & (np.abs(step) < 2.0**20)
+    C = X + np.where(good, np.rint(np.where(good, step, 0.0)), 0).astype(np.int64)
+    offs = np.arange(-16, 17)
+    bits = np.maximum(C[:, None] + offs[None, :], 1)
+    st, tv = data(bits, idx)
+    run = np.arange(offs.size)[None, :]
+    first = np.argmax(st, axis=1)
+    last = offs.size - 1 - np.argmax(st[:, ::-1], axis=1)
+    one = st.any(axis=1) & (first > 0) & (last < offs.size - 1)
+    one &= np.all(st == ((run >= first[:, None]) & (run <= last[:, None])), axis=1)
+    flip = (np.sign(tv[:, :-1]) * np.sign(tv[:, 1:]) < 0) & np.isfinite(tv[:, :-1]) & np.isfinite(tv[:, 1:])
+    none = ~st.any(axis=1) & (flip.sum(axis=1) == 1)
+    j = np.argmax(flip, axis=1)
+    r = np.arange(rows.size)
+    new_lo = np.where(one, bits[r, np.maximum(first - 1, 0)], np.where(none, bits[r, j], X))
+    new_hi = np.where(one, bits[r, np.minimum(last + 1, offs.size - 1)], np.where(none, bits[r, j + 1], X))
+    lo[rows], hi[rows] = new_lo.view(np.float64), new_hi.view(np.float64)
+    placed[rows] = one | none
+    return placed
 
 
 def _damped_window(drive, mu, zeta, e0, e1):
