@@ -377,10 +377,11 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     at every double. The double search leaves each within its rounding of that (a few ulp, more
     where the trace is formed from large cancelling terms): a bracket of doubles about it is widened
     until the certified verdict changes across it, then bisected on the bit patterns. A zone found
-    with no double in it (``lo == hi``, thinner than their spacing) is put between the two adjacent
-    doubles where the certified trace changes sign (or about the stable doubles found there), for a
-    drive whose certified verdicts come from an extended-precision product (:func:`_empty_zones`);
-    a zone with no stable double otherwise keeps the edges as found."""
+    with no double in it (``lo == hi``, thinner than their spacing), or where the search finds no
+    stable double, is put between the two adjacent doubles where the certified trace changes sign
+    (or about the stable doubles found there), for a drive whose certified verdicts come from an
+    extended-precision product (:func:`_empty_zones`); a zone with no stable double otherwise keeps
+    the edges as found."""
     lo, hi = lo.copy(), hi.copy()
     windowed = drive._steps() is not None or drive._certified_pieces() is not None
     placed = _empty_zones(drive, mu, lo, hi, zeta) if windowed else np.zeros(mu.size, bool)
@@ -497,8 +498,25 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
         f_lo[redo], out_lo[redo], e_lo[redo] = f2[redo], out2[redo], e2[redo]
     res_lo = np.where(known, new_L, np.where(f_lo, out_lo, e_lo))
     res_hi = np.where(known, new_H, np.where(f_hi, out_hi, e_hi))
+    if windowed:
+        # no stable double found either side: a zone thinner than a double the search found a few
+        # doubles wide (_empty_zones, from where the search began)
+        none = np.flatnonzero(~known & ~f_lo & ~f_hi)
+        if none.size:
+            a, b = L[none].view(np.float64).copy(), L[none].view(np.float64).copy()
+            zz = None if z is None else z[none]
+            ok = _empty_zones(drive, m[none], a, b, zz)
+            res_lo[none[ok]], res_hi[none[ok]] = a[ok].view(np.int64), b[ok].view(np.int64)
     lo[live], hi[live] = res_lo.view(np.float64), res_hi.view(np.float64)
     return lo, hi
+
+
+#: The largest phase of linear pieces (:func:`kapitza._certify.pieces_phase`) at which :func:`_empty_zones`
+#: places a zone thinner than a double (beyond, the long double tier decided none of the triangle's,
+#: at growing cost)
+_EMPTY_PHASE = 400.0
+#: ... and up to which a double the long double leaves open there is decided in mpmath (two a row at most)
+_EMPTY_MP_PHASE = 150.0
 
 
 def _empty_zones(drive, mu, lo, hi, zeta=None):
@@ -507,37 +525,62 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     far as the double computation can tell) placed by the certified data. The trace crosses zero
     inside such a zone: one secant step on the certified trace from the double found towards that
     zero (the double search may be many ulp off where the trace is formed from large cancelling
-    terms), then the certified verdicts and trace on 33 doubles about it: a run of stable doubles
+    terms), then the certified verdicts and trace on 9 doubles about it: a run of stable doubles
     gives the edges as its unstable neighbours, else the adjacent pair the trace changes sign
     between (both unstable: the zone lies between them, thinner than their spacing). Left as found
-    where neither is in that window. Returns where the edges were placed so (final)."""
+    where neither is in that window; for linear pieces also where the long double tier leaves more
+    than two verdicts or signs of a row open, or any past a phase of :data:`_EMPTY_MP_PHASE` (each
+    costs an mpmath product), and past a phase of :data:`_EMPTY_PHASE` (where it has never decided
+    them, and its Taylor steps cost most). Returns where the edges were placed so (final)."""
+    from .._certify import pieces_exact, pieces_ld, pieces_phase
+
     placed = np.zeros(mu.size, bool)
-    rows = np.flatnonzero(np.isfinite(lo) & (lo == hi) & (lo > 0))
+    cand = np.isfinite(lo) & (lo == hi) & (lo > 0)
+    pieces = drive._certified_pieces() if drive._steps() is None else None
+    phase = np.zeros(mu.size)
+    if pieces is not None and cand.any():
+        phase = pieces_phase(np.where(cand, lo, 0.0), mu, pieces)
+        cand &= phase <= _EMPTY_PHASE
+    rows = np.flatnonzero(cand)
     if not rows.size:
         return placed
-    m = mu[rows]
+    m, phase = mu[rows], phase[rows]
     z = None if zeta is None else np.broadcast_to(np.asarray(zeta, float), mu.shape)[rows]
     X = lo[rows].view(np.int64)
 
     def data(bits, idx):
+        """Certified verdicts, traces (of M_phi, whose sign is M_theta's), and where both are known."""
         x = bits.ravel().view(np.float64)
         r = np.repeat(idx, bits.shape[1])
-        if z is None:
+        if pieces is not None:   # the long double tier; mpmath for a few doubles a row it leaves open
+            zr = None if z is None else z[r]
+            dec, st, t, _, _, err = pieces_ld(x, m[r], zr, pieces)
+            with np.errstate(invalid="ignore"):
+                sure = dec & (np.abs(t) > err)
+            open_ = ~sure.reshape(bits.shape)
+            cheap = (open_.sum(axis=1) <= 2) & (phase[idx] <= _EMPTY_MP_PHASE)
+            few = np.flatnonzero((open_ & cheap[:, None]).ravel())
+            if few.size:
+                res = pieces_exact(x[few], m[r][few], None if zr is None else zr[few], pieces, False, True)
+                st[few], t[few], sure[few] = [q[2] for q in res], [q[0] for q in res], True
+        elif z is None:
             f = drive._floquet0(x, m[r], certify=True)
-            return np.asarray(f.zone >= 0).reshape(bits.shape), np.asarray(f.tau, float).reshape(bits.shape)
-        f = drive._floquet(x, m[r], z[r], True)
-        return np.asarray(f[3], bool).reshape(bits.shape), np.asarray(f[0], float).reshape(bits.shape)
+            st, t, sure = f.zone >= 0, f.tau, np.ones(x.size, bool)
+        else:
+            f = drive._floquet(x, m[r], z[r], True)
+            st, t, sure = f[3], f[0], np.ones(x.size, bool)
+        return tuple(np.asarray(v).reshape(bits.shape) for v in (st, t, sure))
 
     idx = np.arange(rows.size)
     d = 4
-    _, t = data(np.stack([X, X + d], axis=1), idx)
+    _, t, _ = data(np.stack([X, X + d], axis=1), idx)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         step = -t[:, 0] * d / (t[:, 1] - t[:, 0])
     good = np.isfinite(step) & (np.abs(step) < 2.0**20)
     C = X + np.where(good, np.rint(np.where(good, step, 0.0)), 0).astype(np.int64)
-    offs = np.arange(-16, 17)
+    offs = np.arange(-4, 5)
     bits = np.maximum(C[:, None] + offs[None, :], 1)
-    st, tv = data(bits, idx)
+    st, tv, sure = data(bits, idx)
     run = np.arange(offs.size)[None, :]
     first = np.argmax(st, axis=1)
     last = offs.size - 1 - np.argmax(st[:, ::-1], axis=1)
@@ -549,8 +592,10 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     r = np.arange(rows.size)
     new_lo = np.where(one, bits[r, np.maximum(first - 1, 0)], np.where(none, bits[r, j], X))
     new_hi = np.where(one, bits[r, np.minimum(last + 1, offs.size - 1)], np.where(none, bits[r, j + 1], X))
+    ok = (one | none) & sure.all(axis=1)
+    new_lo, new_hi = np.where(ok, new_lo, X), np.where(ok, new_hi, X)
     lo[rows], hi[rows] = new_lo.view(np.float64), new_hi.view(np.float64)
-    placed[rows] = one | none
+    placed[rows] = ok
     return placed
 
 
