@@ -253,8 +253,8 @@ def parameters_from(args, arnold_damping=False) -> dict:
     drive = _drive_from(args) if has_drive else None
     if has_drive:
         extra["drive"] = drive
-        if not (phys or arn) and hasattr(drive, "period"):
-            args.T, args.A, phys = drive.T, drive.A, True  # type: ignore[union-attr]  # a measured drive's own T and A
+        if not (phys or arn) and drive is not None and drive.own_scale is not None:
+            (args.T, args.A), phys = drive.own_scale, True  # a measured drive's own T and A
     if phys and arn:
         raise CLIError("give either physical parameters (--T/--A or --frequency) or --eps and --mu, not both")
     if phys:

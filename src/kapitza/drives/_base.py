@@ -116,7 +116,8 @@ class Drive:
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
       (see each);
     - exact verdicts: ``_damped_exact(eps, mu, zeta, growth=True)`` and ``_certified_cheap(damped)``
-      (see each), and :attr:`Floquet0.unsure` from ``_floquet0`` without ``certify``.
+      (see each), and :attr:`Floquet0.unsure` from ``_floquet0`` without ``certify``;
+    - its own ``T`` and ``A`` (:attr:`own_scale`), as a measured drive has them.
 
     Conventions: in ``tau`` the undamped linearisation is
     ``phi'' = 8 eps^2 (mu^2 + s(tau)) phi`` (module notes); zone ``n`` is where the rotation
@@ -215,6 +216,13 @@ class Drive:
         from ..engines import Engine
 
         return Engine(self._shape, self._breakpoints, self._min_steps)
+
+    @property
+    def own_scale(self):
+        """``(T, A)`` the drive carries from its own data, or None (then ``T`` and ``A`` are the
+        user's). A measured drive (:func:`kapitza.drives.from_samples`) has half its period and its
+        peak acceleration: a command given only the drive file takes them."""
+        return None
 
     @property
     def mu_max(self) -> float:

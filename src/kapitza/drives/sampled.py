@@ -84,6 +84,10 @@ class SampledDrive(Drive):
 
     name = "samples"
 
+    @property
+    def own_scale(self):
+        return self.T, self.A
+
     def __init__(self, phase, s, kind, A, T, mean, periods=1):
         self._phase = phase  # sample times in tau, in [0, 2)
         self._s = s
