@@ -155,8 +155,8 @@ def zone_edges(mu, n, drive=None, zeta=0.0, *, certify=True):
         unstable one above it, so :func:`is_stable` is False at both and True at the doubles next
         to them inside. A zone with no stable double, thinner than their spacing, is reported
         by the two adjacent doubles its exact trace changes sign between, each in its own gap
-        (drives of steps or linear pieces; the sine's keeps the solver's edges, every double
-        between them unstable, ``docs/mathieu.md``). For the
+        (``docs/drives.md`` says where a drive of linear pieces keeps the solver's doubles, far
+        out near ``mu = 1``; the sine's come from its Sturm counts, ``docs/mathieu.md``). For the
         square wave the closed forms' roots lie within 4 ulp of these doubles (against the
         50-digit reference on the sweeps of ``tests/test_zones_oracle.py``: 201 values of
         ``mu`` in [0.1, 0.2] for zone 0's lower edge, where the solver changes form, and ``mu``

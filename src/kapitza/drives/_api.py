@@ -384,7 +384,8 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     the edges as found."""
     lo, hi = lo.copy(), hi.copy()
     windowed = drive._steps() is not None or drive._certified_pieces() is not None
-    placed = _empty_zones(drive, mu, lo, hi, zeta) if windowed else np.zeros(mu.size, bool)
+    placeable = windowed or zeta is None
+    placed = _empty_zones(drive, mu, lo, hi, zeta) if placeable else np.zeros(mu.size, bool)
     live = np.flatnonzero(np.isfinite(lo) & np.isfinite(hi) & (lo < hi) & (lo > 0) & ~placed)
     if not live.size:
         return lo, hi
@@ -498,7 +499,7 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
         f_lo[redo], out_lo[redo], e_lo[redo] = f2[redo], out2[redo], e2[redo]
     res_lo = np.where(known, new_L, np.where(f_lo, out_lo, e_lo))
     res_hi = np.where(known, new_H, np.where(f_hi, out_hi, e_hi))
-    if windowed:
+    if placeable:
         # no stable double found either side: a zone thinner than a double the search found a few
         # doubles wide (_empty_zones, from where the search began)
         none = np.flatnonzero(~known & ~f_lo & ~f_hi)
@@ -547,12 +548,18 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     m, phase = mu[rows], phase[rows]
     z = None if zeta is None else np.broadcast_to(np.asarray(zeta, float), mu.shape)[rows]
     X = lo[rows].view(np.int64)
+    # a drive's own certified signs (the sine's Sturm counts), undamped; else steps and linear pieces
+    signs = drive._signs0(lo[rows[:1]], m[:1]) if z is None else None
+    if signs is None and drive._steps() is None and pieces is None:
+        return placed
 
     def data(bits, idx):
         """Certified verdicts, traces (of M_phi, whose sign is M_theta's), and where both are known."""
         x = bits.ravel().view(np.float64)
         r = np.repeat(idx, bits.shape[1])
-        if pieces is not None:   # the long double tier; mpmath for a few doubles a row it leaves open
+        if signs is not None:
+            st, t, sure = drive._signs0(x, m[r])
+        elif pieces is not None:   # the long double tier; mpmath for a few doubles a row it leaves open
             zr = None if z is None else z[r]
             dec, st, t, _, _, err = pieces_ld(x, m[r], zr, pieces)
             with np.errstate(invalid="ignore"):

@@ -490,6 +490,14 @@ class Drive:
         once (:func:`~kapitza.drives._api.certified_sides`)."""
         return self._floquet0(eps, mu, certify=True).zone >= 0
 
+    def _signs0(self, eps, mu):
+        """``(stable, sign, decided)`` of the undamped system at flat doubles, certified where
+        ``decided``: the verdict and the sign of ``tr M`` (off the zones), for placing a zone
+        thinner than a double between the two doubles the sign changes between
+        (:func:`~kapitza.drives._api.certified_sides`); None (the default) where the drive gives
+        none cheaper than its certified Floquet data, which then serve for steps and linear pieces."""
+        return None
+
     def _log_tau0(self, eps, mu):
         """``log|tr M / 2|`` of the undamped drive (default: the engine's product, no angle)."""
         if type(self)._floquet0 is not Drive._floquet0:

@@ -399,6 +399,23 @@ def sine_verdict0(eps, mu):
     return out.reshape(eps.shape)
 
 
+def sine_signs0(eps, mu):
+    """``(stable, sign, decided)`` from the Sturm counts alone (flat arrays): a count ``2k`` is the gap
+    ``theta = k pi``, where ``tr M`` has the sign ``(-1)^k``; an odd count a zone. Where an edge lies
+    within the double band the long double counts decide, and where they too differ nothing is."""
+    eps, mu = np.asarray(eps, float).ravel(), np.asarray(mu, float).ravel()
+    count, c_hi, unsure = _sine_zone_of(eps, mu)
+    decided = ~unsure
+    if LONG_DOUBLE is not None and unsure.any():
+        u = np.flatnonzero(unsure)
+        l_lo, l_hi = _counts_ld(eps[u], mu[u])
+        count[u] = l_lo
+        decided[u] = l_lo == l_hi
+    stable = count % 2 == 1
+    sign = np.where(stable, 0.0, np.where((count // 2) % 2 == 0, 1.0, -1.0))
+    return stable, sign, decided
+
+
 def sine_log_tau(eps, mu):
     """``log|tr M / 2|`` of the undamped sine drive over 2T."""
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))

@@ -72,6 +72,11 @@ class SineWave(Drive):
 
         return sine_verdict0(eps, mu)
 
+    def _signs0(self, eps, mu):
+        from ._mathieu import sine_signs0
+
+        return sine_signs0(eps, mu)
+
     def _log_tau0(self, eps, mu):
         from ._mathieu import sine_log_tau
 
