@@ -36,17 +36,23 @@ def _flow(a, b, w):
     return fundamental(w) * mpmath.inverse(fundamental(0))
 
 
+def _monodromy(eps, mu, pieces, zeta):
+    """``(M_phi, kappa)`` at the exact doubles (``mu^2`` raised to ``mu^2 (1 + zeta^2)``), at the
+    working precision."""
+    e, m, z = (mpmath.mpf(float(v)) for v in (eps, mu, zeta))
+    E, m2 = 8 * e * e, m * m * (1 + z * z)
+    M = mpmath.eye(2)
+    for x0, x1, s0, s1 in pieces:
+        x0, x1, s0, s1 = (mpmath.mpf(float(v)) for v in (x0, x1, s0, s1))
+        M = _flow(E * (m2 + s0), E * (s1 - s0) / (x1 - x0), x1 - x0) * M
+    return M, 2 * mpmath.sqrt(8) * z * m * e
+
+
 def oracle_stable(eps, mu, pieces, zeta=0.0):
-    """``|tr M_phi| / 2 < cosh(kappa)`` at the exact doubles (``mu^2`` raised to ``mu^2 (1 + zeta^2)``)."""
+    """``|tr M_phi| / 2 < cosh(kappa)`` at the exact doubles."""
     with mpmath.workdps(50):
-        e, m, z = (mpmath.mpf(float(v)) for v in (eps, mu, zeta))
-        E, m2 = 8 * e * e, m * m * (1 + z * z)
-        M = mpmath.eye(2)
-        for x0, x1, s0, s1 in pieces:
-            x0, x1, s0, s1 = (mpmath.mpf(float(v)) for v in (x0, x1, s0, s1))
-            M = _flow(E * (m2 + s0), E * (s1 - s0) / (x1 - x0), x1 - x0) * M
-        tau = (M[0, 0] + M[1, 1]) / 2
-        return bool(abs(tau) < mpmath.cosh(2 * mpmath.sqrt(8) * z * m * e))
+        M, kappa = _monodromy(eps, mu, pieces, zeta)
+        return bool(abs((M[0, 0] + M[1, 1]) / 2) < mpmath.cosh(kappa))
 
 
 def _beside(x, k=2):
@@ -163,13 +169,8 @@ def oracle_trace(eps, mu, pieces, zeta=0.0):
     G = sum(math.sqrt(8.0 * eps * eps * max(abs(mu * mu * (1 + zeta * zeta) + s0), abs(mu * mu * (1 + zeta * zeta) + s1)))
             * (x1 - x0) for x0, x1, s0, s1 in pieces)
     with mpmath.workdps(40 + int(G / math.log(10.0))):
-        e, m, z = (mpmath.mpf(float(v)) for v in (eps, mu, zeta))
-        E, m2 = 8 * e * e, m * m * (1 + z * z)
-        M = mpmath.eye(2)
-        for x0, x1, s0, s1 in pieces:
-            x0, x1, s0, s1 = (mpmath.mpf(float(v)) for v in (x0, x1, s0, s1))
-            M = _flow(E * (m2 + s0), E * (s1 - s0) / (x1 - x0), x1 - x0) * M
-        return (M[0, 0] + M[1, 1]) * mpmath.exp(-2 * mpmath.sqrt(8) * z * m * e)
+        M, kappa = _monodromy(eps, mu, pieces, zeta)
+        return (M[0, 0] + M[1, 1]) * mpmath.exp(-kappa)
 
 
 @pytest.mark.parametrize("zeta", [0.0, 0.3])
