@@ -402,7 +402,8 @@ class Drive:
             if st and zone[i] < 0:
                 k = int(np.rint(theta[i] / PI))
                 zone[i] = max(k - 1 if rises[i] else k, 0)
-            elif not st:
+            elif not st and (zone[i] >= 0 or (int(np.rint(theta[i] / PI)) % 2 == 1) != (t < 0)):
+                # (where the engine said unstable with this sign, its theta came from that turn)
                 zone[i] = -1
                 flips.append(i)
             if st:
