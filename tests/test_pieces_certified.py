@@ -109,6 +109,7 @@ def test_a_measured_drive_linear_between_samples_is_exact_beside_its_edges():
     assert len(pieces) == 7 and pieces[-1][1] == 2.0
     _check_edges(d, pieces, 0.35, range(2))
     _check_edges(d, pieces, 0.35, [0], zeta=0.2)
+    _check_edges(d, pieces, 0.35, [0, 1], zeta=1.0)
 
 
 def test_a_measured_drive_held_between_samples_is_exact_beside_its_edges():
