@@ -515,9 +515,9 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
 #: The largest phase of linear pieces (:func:`kapitza._certify.pieces_phase`) at which :func:`_empty_zones`
 #: places a zone thinner than a double (beyond, the long double tier decided none of the triangle's,
 #: at growing cost)
-_EMPTY_PHASE = 400.0
+EMPTY_PHASE = 400.0
 #: ... and up to which a double the long double leaves open there is decided in mpmath (two a row at most)
-_EMPTY_MP_PHASE = 150.0
+EMPTY_MP_PHASE = 150.0
 
 
 def _empty_zones(drive, mu, lo, hi, zeta=None):
@@ -530,8 +530,8 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     gives the edges as its unstable neighbours, else the adjacent pair the trace changes sign
     between (both unstable: the zone lies between them, thinner than their spacing). Left as found
     where neither is in that window; for linear pieces also where the long double tier leaves more
-    than two verdicts or signs of a row open, or any past a phase of :data:`_EMPTY_MP_PHASE` (each
-    costs an mpmath product), and past a phase of :data:`_EMPTY_PHASE` (where it has never decided
+    than two verdicts or signs of a row open, or any past a phase of :data:`EMPTY_MP_PHASE` (each
+    costs an mpmath product), and past a phase of :data:`EMPTY_PHASE` (where it has never decided
     them, and its Taylor steps cost most). Returns where the edges were placed so (final)."""
     from .._certify import pieces_exact, pieces_ld, pieces_phase
 
@@ -541,7 +541,7 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     phase = np.zeros(mu.size)
     if pieces is not None and cand.any():
         phase = pieces_phase(np.where(cand, lo, 0.0), mu, pieces)
-        cand &= phase <= _EMPTY_PHASE
+        cand &= phase <= EMPTY_PHASE
     rows = np.flatnonzero(cand)
     if not rows.size:
         return placed
@@ -565,7 +565,7 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
             with np.errstate(invalid="ignore"):
                 sure = dec & (np.abs(t) > err)
             open_ = ~sure.reshape(bits.shape)
-            cheap = (open_.sum(axis=1) <= 2) & (phase[idx] <= _EMPTY_MP_PHASE)
+            cheap = (open_.sum(axis=1) <= 2) & (phase[idx] <= EMPTY_MP_PHASE)
             few = np.flatnonzero((open_ & cheap[:, None]).ravel())
             if few.size:
                 res = pieces_exact(x[few], m[r][few], None if zr is None else zr[few], pieces, False, True)

@@ -334,17 +334,19 @@ class Drive:
     def _trace_error(self, eps, mu):
         """A bound on the absolute error of the generic engine's ``tr M / 2`` at flat ``eps, mu``
         (:attr:`_ENGINE_BAND` ``e^G``; ``G`` from the linear pieces where the drive gives them,
-        else from the largest ``s``)."""
+        else from the largest ``s``; ``G`` capped at 700)."""
+        return self._ENGINE_BAND * np.exp(np.minimum(self._engine_growth(eps, mu), 700.0))
+
+    def _engine_growth(self, eps, mu):
+        """``G`` of :meth:`_trace_error`: a bound on the growth over the repelling parts of the period."""
         eps, mu = np.asarray(eps, float), np.asarray(mu, float)
         m2 = mu * mu
         pieces = self._exact_pieces()
         with np.errstate(over="ignore", invalid="ignore"):
             if pieces is not None:
-                grow = sum(np.sqrt(8.0 * eps * eps * np.maximum(np.maximum(m2 + s0, m2 + s1), 0.0)) * (x1 - x0)
+                return sum(np.sqrt(8.0 * eps * eps * np.maximum(np.maximum(m2 + s0, m2 + s1), 0.0)) * (x1 - x0)
                            for x0, x1, s0, s1 in pieces)
-            else:
-                grow = 2.0 * SQRT8 * eps * np.sqrt(np.maximum(m2 + self._engine.s_max, 0.0))
-            return self._ENGINE_BAND * np.exp(np.minimum(grow, 700.0))
+            return 2.0 * SQRT8 * eps * np.sqrt(np.maximum(m2 + self._engine.s_max, 0.0))
 
     def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth, exact_growth=True,
                        trace_error=None, phi=None):
@@ -438,8 +440,23 @@ class Drive:
         hi = np.full(mu.size, np.nan)
         if ok.any():
             eng = self._engine
-            lo[ok], hi[ok] = zone_edges(eng.floquet, eng.log_tau, mu[ok], n[ok], rate[ok], B[ok])
+            lo[ok], hi[ok] = zone_edges(eng.floquet, eng.log_tau, mu[ok], n[ok], rate[ok], B[ok],
+                                        noise=self._zone_noise)
         return lo.reshape(sh), hi.reshape(sh)
+
+    def _zone_noise(self, eps, mu):
+        """The logarithm of the engine's trace bound (uncapped) far out, where nothing after the double
+        search refines a zone it cannot resolve (:func:`kapitza.engines.edges.zone_edges`' ``noise``):
+        past the phase up to which a drive of linear pieces has a zone thinner than a double placed
+        by its certified trace (:data:`kapitza.drives._api.EMPTY_PHASE`; for a drive given by its
+        shape alone, past that growth). ``-inf`` elsewhere: the bound is pessimistic, and the search
+        follows the trace's own digits there."""
+        from .._certify import pieces_phase
+
+        grow = self._engine_growth(eps, mu)
+        pieces = self._certified_pieces()
+        far = (pieces_phase(eps, mu, pieces) if pieces is not None else grow) > _api.EMPTY_PHASE
+        return np.where(far, np.log(self._ENGINE_BAND) + grow, -np.inf)
 
     def _zone_rate(self, mu):
         """``(rate, B)``: the elliptic angle per period grows like ``rate * eps`` and zone ``n``

@@ -43,13 +43,16 @@ def _F(tau, log_tau, sgn):
     return np.where(log_tau < 30.0, small, big) - A1
 
 
-def zone_edges(floquet, trace, mu, n, rate, B=None):
+def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None):
     """``(eps_lo, eps_hi)`` of zone ``n`` at each ``mu`` (flat arrays; every row has zones).
 
     ``floquet(eps, mu) -> (tau, log_tau, theta, zone)`` and ``trace(eps, mu) -> (tau, log_tau)``
     evaluate the period at flat arrays; ``rate > 0`` is the elliptic angle per unit ``eps`` and
     ``B`` (optional) bounds ``|theta - rate eps|``: with it the angle is first sampled over
     the span where the zones lie, once per distinct ``mu`` for all the zones asked there.
+    ``noise(eps, mu)`` (optional) is the logarithm of a bound on the error of ``tau``: where it
+    exceeds 1 and ``|tau|``, the search for a point inside a zone stops (the trace cannot tell it
+    from its gaps there).
     """
     mu = np.asarray(mu, float)
     n = np.asarray(n, np.int64)
@@ -113,7 +116,7 @@ def zone_edges(floquet, trace, mu, n, rate, B=None):
             twin = np.zeros(2 * P, bool)
             twin[P:] = straddle[:P] & straddle[P:] & (a[:P] == a[P:]) & (b[:P] == b[P:])
             i = np.flatnonzero(straddle & ~twin)
-            z, fz = _illinois(trace, m[i], np.ones(i.size), a[i], b[i], target=0.0, plateau=True)
+            z, fz = _illinois(trace, m[i], np.ones(i.size), a[i], b[i], target=0.0, plateau=True, noise=noise)
             k = np.flatnonzero(twin)
             src = np.searchsorted(i, k - P)
             i = np.concatenate([i, k])
@@ -192,19 +195,28 @@ def _prescan(level_at, m, c, n, rate, B, a, b, la, lb):
     lb[has_b] = L[rows, ib][has_b]
 
 
-def _illinois(trace, m, sgn, a, b, target=A1, plateau=False):
+def _illinois(trace, m, sgn, a, b, target=A1, plateau=False, noise=None):
     """Root of ``F = asinh(sgn tau) - target`` between ``a`` and ``b`` (opposite signs of ``F``).
 
     Returns the end of the final bracket with ``F >= 0`` (the unstable side of an edge). With
     ``plateau``, ``F = sign(tau) max(|asinh(tau)| - asinh(1), 0)`` instead: 0 on the whole
     zone between two gaps and nearly linear in ``eps`` on either side (the growth), so the
     secant lands in a thin zone in a few steps; returns ``(x, F(x))`` of the first point of the
-    zone (``F = 0``), or the better end of the final bracket where no double lies in it.
+    zone (``F = 0``), or the better end of the final bracket where no double lies in it. With
+    ``noise`` (plateau): a row stops once its bracket is within 1e-9 of its value and a point of it
+    has ``|tau|`` within a bound on its error above 1 (the rounding there spans the whole zone:
+    further secant steps would follow the noise).
     """
+    lost = np.zeros(a.size, bool)   # (plateau rows whose trace is noise about the zone)
+
     def F(x, rows):
         tau, lt = trace(x, m[rows])
         f = _F(tau, lt, sgn[rows]) + A1
         if plateau:
+            if noise is not None:
+                log_err = noise(x, m[rows])   # (in logarithms: tau and its bound may overflow)
+                with np.errstate(invalid="ignore"):
+                    lost[rows] |= (log_err > 0.0) & (lt <= log_err)
             return np.sign(f) * np.maximum(np.abs(f) - A1, 0.0)
         return f - target
 
@@ -215,7 +227,7 @@ def _illinois(trace, m, sgn, a, b, target=A1, plateau=False):
     for _ in range(200):
         live = (np.nextafter(x0, x1) != x1) & (f0 != 0) & (f1 != 0) & (np.sign(f0) != np.sign(f1))
         if plateau:
-            live &= g0 != 0
+            live &= (g0 != 0) & ~(lost & (np.abs(x1 - x0) < 1e-9 * np.abs(x1)))
         idx = np.flatnonzero(live)
         if idx.size == 0:
             break
