@@ -59,3 +59,12 @@ def test_cli_simulate_prints_the_trajectory_summary(capsys):
     out = json.loads(stdout)
     traj = K.simulate(0.1, 0.0, T=0.15, A=100.0, periods=5)
     assert out["motion"] == json.loads(json.dumps(traj.summary()))
+
+
+def test_a_report_beside_a_zone_thinner_than_a_double_says_nothing_holds_it():
+    # the sine's zone 10 at mu = 0.7 lies between two adjacent doubles: no knob setting is inside it
+    r = K.analyze(eps=30.0, mu=0.7, drive="sine")
+    assert r.nearest_zone == 10 and np.nextafter(r.eps_lo, np.inf) == r.eps_hi
+    rows = dict(r.lines())
+    assert "thinner than the spacing" in rows["to hold it"]
+    assert "raise" not in str(r)

@@ -216,6 +216,11 @@ class StabilityReport(Summary):
                 rows.append(("",
                              f"{_fmt(1e3 * k * self.stroke_lo, 6)} < {word} < {_fmt(1e3 * k * self.stroke_hi, 6)} mm "
                                  f"at this frequency ({_pct(self.stroke_lo, st)} / {_pct(self.stroke_hi, st)})"))
+            if not self.stable and np.nextafter(self.eps_lo, np.inf) >= self.eps_hi:
+                # (no double lies inside: the knobs' ranges would name one value twice)
+                rows.append(("to hold it", f"nothing: zone {self.nearest_zone} is thinner than the spacing of the "
+                                           "doubles about it (no eps inside it)"))
+                return rows
             for i, d in enumerate(self.directions):
                 rows.append(("" if i else "to hold it" if not self.stable else "room", d["text"]))
         return rows
