@@ -578,3 +578,13 @@ def test_linear_motion_of_any_drive_gives_scalars_for_scalars():
 def test_motions_of_one_damping_refuse_an_array_by_the_name_given(call, name):
     with pytest.raises(ValueError, match=f"^{name} must be a single number"):
         call({name: [0.05, 0.06]})
+
+
+def test_a_sine_trace_of_exactly_zero_in_doubles_leaks_no_warning():
+    # beside a zone thinner than a double at mu ~ 0.92 the half period's double products give
+    # tr M = 0 exactly; log|tau| is -inf there (then recomputed), not a divide warning
+    eps, mu = 15.900439837875606, 0.9237738693467337
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        f = K.floquet(eps, mu, drive="sine")
+    assert not f.stable and f.trace > 2.0 and f.rotation_number == 1.0

@@ -526,7 +526,8 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     far as the double computation can tell) placed by the certified data. The trace crosses zero
     inside such a zone: one secant step on the certified trace from the double found towards that
     zero (the double search may be many ulp off where the trace is formed from large cancelling
-    terms), then the certified verdicts and trace on 9 doubles about it: a run of stable doubles
+    terms), then the certified verdicts and trace on 9 doubles about it (65 for a drive that gives
+    only the signs, :meth:`~kapitza.drives.Drive._signs0`): a run of stable doubles
     gives the edges as its unstable neighbours, else the adjacent pair the trace changes sign
     between (both unstable: the zone lies between them, thinner than their spacing). Left as found
     where neither is in that window; for linear pieces also where the long double tier leaves more
@@ -585,7 +586,8 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
         step = -t[:, 0] * d / (t[:, 1] - t[:, 0])
     good = np.isfinite(step) & (np.abs(step) < 2.0**20)
     C = X + np.where(good, np.rint(np.where(good, step, 0.0)), 0).astype(np.int64)
-    offs = np.arange(-4, 5)
+    # (signs alone give the secant nothing to go on: a wider window, cheap for counts)
+    offs = np.arange(-4, 5) if signs is None else np.arange(-32, 33)
     bits = np.maximum(C[:, None] + offs[None, :], 1)
     st, tv, sure = data(bits, idx)
     run = np.arange(offs.size)[None, :]

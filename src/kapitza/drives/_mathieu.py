@@ -399,10 +399,19 @@ def sine_verdict0(eps, mu):
     return out.reshape(eps.shape)
 
 
+#: The points a call of :func:`sine_signs0` may settle with the exact trace, and the growth of its
+#: products they may reach (``2^600``: half a second a point at ``q ~ 2,500``; beyond, each takes seconds)
+_SIGNS_EXACT = 4
+_SIGNS_EXACT_BITS = 600
+
+
 def sine_signs0(eps, mu):
-    """``(stable, sign, decided)`` from the Sturm counts alone (flat arrays): a count ``2k`` is the gap
+    """``(stable, sign, decided)`` from the Sturm counts (flat arrays): a count ``2k`` is the gap
     ``theta = k pi``, where ``tr M`` has the sign ``(-1)^k``; an odd count a zone. Where an edge lies
-    within the double band the long double counts decide, and where they too differ nothing is."""
+    within the double band the long double counts decide; where they too differ (a double within
+    their band of a zone thinner than it), the exact trace, for at most :data:`_SIGNS_EXACT` points,
+    three precisions each, products growing by at most ``2^_SIGNS_EXACT_BITS``; the rest is left
+    undecided."""
     eps, mu = np.asarray(eps, float).ravel(), np.asarray(mu, float).ravel()
     count, c_hi, unsure = _sine_zone_of(eps, mu)
     decided = ~unsure
@@ -413,6 +422,14 @@ def sine_signs0(eps, mu):
         decided[u] = l_lo == l_hi
     stable = count % 2 == 1
     sign = np.where(stable, 0.0, np.where((count // 2) % 2 == 0, 1.0, -1.0))
+    rest = np.flatnonzero(~decided)
+    if 0 < rest.size <= _SIGNS_EXACT:
+        for i in rest.tolist():
+            if _growth_bits(eps[i], mu[i]) > _SIGNS_EXACT_BITS:
+                continue
+            r = _exact_tau(float(eps[i]), float(mu[i]), rounds=3)
+            if r is not None:
+                stable[i], sign[i], decided[i] = r[2], 0.0 if r[2] else np.sign(r[0]), True
     return stable, sign, decided
 
 
@@ -1015,7 +1032,7 @@ def _sine_traces(eps, mu, bound="running"):
                                    f"(Mathieu's q = 16 eps^2/pi^2 up to 1e6); got {float(np.max(eps))!r}")
     wI, dwI, wII, dwII, s, E, ds = _half_period(eps, mu, bound)
     m1, p1 = 2.0 * dwI * wII, 2.0 * wI * dwII  # (tau - 1) e^{-2s}, (tau + 1) e^{-2s}
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # (log|tau| = -inf where tau is 0)
         e2s = np.exp(2.0 * s)
         tau_m1 = m1 * e2s
         tau = np.where(np.abs(m1) <= np.abs(p1), 1.0 + tau_m1, p1 * e2s - 1.0)
