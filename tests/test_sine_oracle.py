@@ -321,7 +321,7 @@ def test_the_double_trace_bound_holds_where_it_cancels(mu, n):
     assert err[1] > 1e-3 * max(abs(tau[1]), 1.0)
 
 
-@pytest.mark.parametrize("mu, n", [(0.8, 2), (0.8736, 3), (0.9188, 3), (0.99, 0)])
+@pytest.mark.parametrize("mu, n", [(0.8, 2), (0.8736, 3), (0.9188, 3), pytest.param(0.99, 0, marks=pytest.mark.slow)])
 def test_a_zone_thinner_than_a_double_lies_between_its_edges(mu, n):
     """Where no double is stable, the two reported edges are adjacent doubles the exact trace changes
     sign between: ``eps_lo`` in gap ``n`` (sign ``(-1)^n``), ``eps_hi`` in gap ``n + 1``, so the zone
