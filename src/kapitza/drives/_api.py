@@ -416,7 +416,7 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     # a drive that gives its certified verdicts alone (Drive._verdict0, the sine) is searched 8
     # ulp about each edge, without the window
     thin = np.flatnonzero(H - L <= 16) if windowed else np.zeros(0, np.int64)
-    wide = windowed or type(drive)._verdict0.__qualname__ != "Drive._verdict0"
+    wide = windowed or drive._gives_verdicts
     reach = np.maximum(half, 8) if wide else half
     known = np.zeros(live.size, bool)
     new_L, new_H = L.copy(), H.copy()

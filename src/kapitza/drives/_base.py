@@ -508,6 +508,11 @@ class Drive:
         once (:func:`~kapitza.drives._api.certified_sides`)."""
         return self._floquet0(eps, mu, certify=True).zone >= 0
 
+    @property
+    def _gives_verdicts(self) -> bool:
+        """Whether the drive settles its certified verdicts itself (overrides :meth:`_verdict0`)."""
+        return type(self)._verdict0 is not Drive._verdict0
+
     def _signs0(self, eps, mu):
         """``(stable, sign, decided)`` of the undamped system at flat doubles, certified where
         ``decided``: the verdict and the sign of ``tr M`` (off the zones), for placing a zone
