@@ -106,3 +106,23 @@ def test_a_reported_growth_beside_an_edge_is_the_exact_one(drive, zeta):
         want = np.array([r[3] for r in C.pieces_mp(eps, np.full(eps.size, mu), z, drive._certified_pieces())])
     assert np.all(want > 0)
     assert np.allclose(got, want, rtol=1e-12, atol=0.0)
+
+
+def test_a_report_settles_verdicts_at_mu_and_recomputes_traces_at_phi(monkeypatch):
+    # damped, the phi-system's verdicts near the threshold are those at the rounded mu_c (as the
+    # verdicts without the trace are); only a recomputed trace is taken at mu^2 (1 + zeta^2) exactly
+    d = K.TriangleWave()
+    zeta, mu_c = 0.1, 0.3
+    edge = float(K.zone_edges(mu_c, 0, drive=d)[1])
+    eps = np.array([edge, 5.0])          # one point on the threshold, one whose trace is rough
+    calls = []
+    real = C.pieces_exact
+
+    def spy(e, m, z, *a, **k):
+        calls.append((np.size(e), z is None))
+        return real(e, m, z, *a, **k)
+
+    monkeypatch.setattr(C, "pieces_exact", spy)
+    mu = np.full(2, mu_c / np.sqrt(1.0 + zeta * zeta))
+    d._floquet0(eps, np.full(2, mu_c), certify=True, trace=True, phi=(mu, np.full(2, zeta)))
+    assert (1, True) in calls and (1, False) in calls

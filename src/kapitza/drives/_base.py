@@ -376,15 +376,13 @@ class Drive:
             return (tau, log_tau, theta, zone, growth) + ((trace_error,) if trace else ())
         tau, log_tau, theta, zone, growth = (np.array(v, copy=True) for v in (tau, log_tau, theta, zone, growth))
         res = [None] * idx.size
-        for part in (near[idx], ill[idx]):
+        # (the verdicts near the threshold at mu; a recomputed trace at phi's exact mu^2 (1 + zeta^2))
+        for part, at_phi in ((near[idx], False), (ill[idx], phi is not None)):
             j = idx[part]
             if not j.size:
                 continue
-            if phi is not None and part is not near[idx]:
-                got = pieces_exact(eps[j], phi[0][j], phi[1][j], pieces, exact_growth, trace)
-            else:
-                got = pieces_exact(eps[j], mu[j], None, pieces, exact_growth, trace)
-            for k, r in zip(np.flatnonzero(part).tolist(), got):
+            m_j, z_j = (phi[0][j], phi[1][j]) if at_phi else (mu[j], None)
+            for k, r in zip(np.flatnonzero(part).tolist(), pieces_exact(eps[j], m_j, z_j, pieces, exact_growth, trace)):
                 res[k] = r
         if trace:
             trace_error = np.array(trace_error, float, copy=True)
