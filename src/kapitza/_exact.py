@@ -31,6 +31,15 @@ LOG2 = np.log(2.0)
 PI = np.pi
 
 
+def gap_of_turn(turn, negative):
+    """``k`` of the gap ``theta = k pi`` of an unstable point from the turn of any direction over the
+    period: it lies within ``pi`` of ``k pi`` (the circle map keeps the order between its two fixed
+    directions), and ``k`` is odd where the multipliers are ``negative`` (``tr M < 0``), even
+    elsewhere: of the two integers about ``turn / pi``, the one of that parity."""
+    k0 = np.floor(turn / PI)
+    return np.where((np.remainder(k0, 2.0) == 1.0) == negative, k0, k0 + 1.0)
+
+
 def s4_of(mu):
     """sqrt(1 - mu^4) with full relative accuracy as mu -> 1."""
     return np.sqrt((1.0 - mu) * (1.0 + mu) * (1.0 + mu * mu))

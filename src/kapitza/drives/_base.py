@@ -39,7 +39,7 @@ import numpy as np
 from .. import _validate as _v
 from . import _api
 from ..parameters import time_scale
-from .._exact import acosh_from_log, log_cosh  # noqa: F401  (shared with the drives' engines)
+from .._exact import acosh_from_log, gap_of_turn, log_cosh  # noqa: F401  (shared with the drives' engines)
 
 PI = np.pi
 SQRT8 = np.sqrt(8.0)
@@ -417,8 +417,7 @@ class Drive:
             # k pi, and the turn stays accurate where the trace has lost its digits, with its sign or
             # the engine's zone)
             j = np.array(flips)
-            k0 = np.floor(self._engine.period(eps[j], mu[j], True)[2] / PI)
-            theta[j] = PI * np.where((np.remainder(k0, 2.0) == 1.0) == (tau[j] < 0), k0, k0 + 1.0)
+            theta[j] = PI * gap_of_turn(self._engine.period(eps[j], mu[j], True)[2], tau[j] < 0)
         return (tau, log_tau, theta, zone, growth) + ((trace_error,) if trace else ())
 
     def _edges0(self, mu, n):

@@ -32,6 +32,7 @@ import numpy as np
 
 from .. import _validate as _v
 from .._certify import LONG_DOUBLE, MAX_PHASE, TRACE_RTOL, growth_good, tau_mp
+from .._exact import gap_of_turn
 from ._base import Drive, Floquet0, PI, acosh_from_log
 
 _U = np.finfo(float).eps / 2.0
@@ -363,8 +364,7 @@ def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=N
     if np.any(astray):
         j = np.flatnonzero(astray)
         seg_j = [tuple(np.broadcast_to(v, eps.shape)[j] for v in seg) for seg in segs]
-        k0 = np.floor(_carry(seg_j, np.ones(j.size), np.zeros(j.size)) / PI)
-        k_gap[j] = np.where((np.remainder(k0, 2.0) == 1.0) == odd[j], k0, k0 + 1.0)
+        k_gap[j] = gap_of_turn(_carry(seg_j, np.ones(j.size), np.zeros(j.size)), odd[j])
     theta = np.where(stable, theta_stable, PI * k_gap)
     zone = np.where(stable, zone_stable, -1).astype(np.int64)
     return Floquet0(tau=tau.reshape(shape), log_tau=log_tau.reshape(shape), growth=growth.reshape(shape),

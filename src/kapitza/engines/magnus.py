@@ -42,6 +42,8 @@ from typing import Any
 
 import numpy as np
 
+from .._exact import gap_of_turn
+
 PI = np.pi
 LOG2 = np.log(2.0)
 SQRT15 = np.sqrt(15.0)
@@ -261,11 +263,7 @@ def rotation(mats, tau, turn):
     kk = np.rint((turn - base) / (2.0 * PI))
     theta_st = 2.0 * PI * kk + base
     zone_st = np.where(b >= 0, 2 * kk, 2 * kk - 1)
-    # off the zones: theta = k pi within pi of the turn, (-1)^k the sign of tau
-    k0 = np.floor(turn / PI)
-    even_wanted = tau > 0
-    k = np.where((np.remainder(k0, 2.0) == 0) == even_wanted, k0, k0 + 1.0)
-    theta = np.where(stable, theta_st, PI * k)
+    theta = np.where(stable, theta_st, PI * gap_of_turn(turn, tau < 0))
     zone = np.where(stable, zone_st, -1).astype(np.int64)
     return theta, zone
 
