@@ -424,16 +424,10 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
         offs = np.arange(-8, 25)
         bits = np.maximum(L[thin, None] + offs[None, :], 1)
         st = stable(bits.ravel(), np.repeat(thin, offs.size)).reshape(bits.shape)
-        first = np.argmax(st, axis=1)
-        last = offs.size - 1 - np.argmax(st[:, ::-1], axis=1)
-        run = np.arange(offs.size)[None, :]
-        # one run of stable doubles, unstable doubles either side of it inside the window
-        one = st.any(axis=1) & (first > 0) & (last < offs.size - 1)
-        one &= np.all(st == ((run >= first[:, None]) & (run <= last[:, None])), axis=1)
+        one, out_lo, out_hi = _stable_run(bits, st)
         r = np.flatnonzero(one)
         known[thin[r]] = True
-        new_L[thin[r]] = bits[r, first[r] - 1]
-        new_H[thin[r]] = bits[r, last[r] + 1]
+        new_L[thin[r]], new_H[thin[r]] = out_lo[r], out_hi[r]
     todo = np.flatnonzero(~known)
 
     def search(edge, inside, todo):
@@ -512,6 +506,20 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     return lo, hi
 
 
+def _stable_run(bits, st):
+    """``(one, lo, hi)`` for windows of doubles ``bits`` (rows) and their verdicts ``st``: where a row
+    holds one run of stable doubles with unstable doubles either side of it inside the window, and
+    those two unstable neighbours (bit patterns; meaningful where ``one``)."""
+    k = st.shape[1]
+    first = np.argmax(st, axis=1)
+    last = k - 1 - np.argmax(st[:, ::-1], axis=1)
+    run = np.arange(k)[None, :]
+    one = st.any(axis=1) & (first > 0) & (last < k - 1)
+    one &= np.all(st == ((run >= first[:, None]) & (run <= last[:, None])), axis=1)
+    r = np.arange(st.shape[0])
+    return one, bits[r, np.maximum(first - 1, 0)], bits[r, np.minimum(last + 1, k - 1)]
+
+
 #: The largest phase of linear pieces (:func:`kapitza._certify.pieces_phase`) at which :func:`_empty_zones`
 #: places a zone thinner than a double (beyond, the long double tier decided none of the triangle's,
 #: at growing cost)
@@ -550,15 +558,15 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     z = None if zeta is None else np.broadcast_to(np.asarray(zeta, float), mu.shape)[rows]
     X = lo[rows].view(np.int64)
     # a drive's own certified signs (the sine's Sturm counts), undamped; else steps and linear pieces
-    signs = drive._signs0(lo[rows[:1]], m[:1]) if z is None else None
-    if signs is None and drive._steps() is None and pieces is None:
+    signs = z is None and drive._gives_signs
+    if not signs and drive._steps() is None and pieces is None:
         return placed
 
     def data(bits, idx):
         """Certified verdicts, traces (of M_phi, whose sign is M_theta's), and where both are known."""
         x = bits.ravel().view(np.float64)
         r = np.repeat(idx, bits.shape[1])
-        if signs is not None:
+        if signs:
             st, t, sure = drive._signs0(x, m[r])
         elif pieces is not None:   # the long double tier; mpmath for a few doubles a row it leaves open
             zr = None if z is None else z[r]
@@ -571,12 +579,10 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
             if few.size:
                 res = pieces_exact(x[few], m[r][few], None if zr is None else zr[few], pieces, False, True)
                 st[few], t[few], sure[few] = [q[2] for q in res], [q[0] for q in res], True
-        elif z is None:
-            f = drive._floquet0(x, m[r], certify=True)
-            st, t, sure = f.zone >= 0, f.tau, np.ones(x.size, bool)
-        else:
-            f = drive._floquet(x, m[r], z[r], True)
-            st, t, sure = f[3], f[0], np.ones(x.size, bool)
+        else:   # steps: the exact product's, its trace recomputed where its sign may be lost
+            t, _, _, st, _, _, err = drive._floquet(x, m[r], np.zeros(x.size) if z is None else z[r], True, trace=True)
+            with np.errstate(invalid="ignore"):
+                sure = np.abs(t) > err
         return tuple(np.asarray(v).reshape(bits.shape) for v in (st, t, sure))
 
     idx = np.arange(rows.size)
@@ -587,20 +593,16 @@ def _empty_zones(drive, mu, lo, hi, zeta=None):
     good = np.isfinite(step) & (np.abs(step) < 2.0**20)
     C = X + np.where(good, np.rint(np.where(good, step, 0.0)), 0).astype(np.int64)
     # (signs alone give the secant nothing to go on: a wider window, cheap for counts)
-    offs = np.arange(-4, 5) if signs is None else np.arange(-32, 33)
+    offs = np.arange(-32, 33) if signs else np.arange(-4, 5)
     bits = np.maximum(C[:, None] + offs[None, :], 1)
     st, tv, sure = data(bits, idx)
-    run = np.arange(offs.size)[None, :]
-    first = np.argmax(st, axis=1)
-    last = offs.size - 1 - np.argmax(st[:, ::-1], axis=1)
-    one = st.any(axis=1) & (first > 0) & (last < offs.size - 1)
-    one &= np.all(st == ((run >= first[:, None]) & (run <= last[:, None])), axis=1)
+    one, run_lo, run_hi = _stable_run(bits, st)
     flip = (np.sign(tv[:, :-1]) * np.sign(tv[:, 1:]) < 0) & np.isfinite(tv[:, :-1]) & np.isfinite(tv[:, 1:])
     none = ~st.any(axis=1) & (flip.sum(axis=1) == 1)
     j = np.argmax(flip, axis=1)
     r = np.arange(rows.size)
-    new_lo = np.where(one, bits[r, np.maximum(first - 1, 0)], np.where(none, bits[r, j], X))
-    new_hi = np.where(one, bits[r, np.minimum(last + 1, offs.size - 1)], np.where(none, bits[r, j + 1], X))
+    new_lo = np.where(one, run_lo, np.where(none, bits[r, j], X))
+    new_hi = np.where(one, run_hi, np.where(none, bits[r, j + 1], X))
     ok = (one | none) & sure.all(axis=1)
     new_lo, new_hi = np.where(ok, new_lo, X), np.where(ok, new_hi, X)
     lo[rows], hi[rows] = new_lo.view(np.float64), new_hi.view(np.float64)

@@ -514,9 +514,14 @@ class Drive:
         """``(stable, sign, decided)`` of the undamped system at flat doubles, certified where
         ``decided``: the verdict and the sign of ``tr M`` (off the zones), for placing a zone
         thinner than a double between the two doubles the sign changes between
-        (:func:`~kapitza.drives._api.certified_sides`); None (the default) where the drive gives
-        none cheaper than its certified Floquet data, which then serve for steps and linear pieces."""
-        return None
+        (:func:`~kapitza.drives._api.certified_sides`), by a drive that has them cheaper than its
+        certified Floquet data (:attr:`_gives_signs`; steps and linear pieces use those)."""
+        raise NotImplementedError
+
+    @property
+    def _gives_signs(self) -> bool:
+        """Whether the drive gives :meth:`_signs0` (overrides it)."""
+        return type(self)._signs0 is not Drive._signs0
 
     def _log_tau0(self, eps, mu):
         """``log|tr M / 2|`` of the undamped drive (default: the engine's product, no angle)."""
