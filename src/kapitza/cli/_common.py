@@ -61,14 +61,16 @@ def count(option: str, value: int, limit: int, minimum: int = 1) -> int:
     return bounded_count(option, value, limit, minimum=minimum)
 
 
-def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False, units=None, drive=None, damping=None):
+def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False, units=None, drive_options=None,
+                   damping_options=None):
     """The parameter options: --T/--A (with --l, --g) or --eps/--mu, and the units of a rig: --frequency
     (or --rpm) with --stroke, --amplitude or --A, and --rod instead of --l (``units``, on by default
-    with ``rig``). With ``rig`` also the drive (``drive``) and the damping, --damping C or --zeta
-    (``damping``). Every command that takes one parameter set reads them with :func:`parameters_from`."""
+    with ``rig``). With ``rig`` also the drive's options (``drive_options``) and the damping's,
+    --damping C or --zeta (``damping_options``). Every command that takes one parameter set reads
+    them with :func:`parameters_from`."""
     units = rig if units is None else units
-    drive = rig if drive is None else drive
-    damping = rig if damping is None else damping
+    drive_options = rig if drive_options is None else drive_options
+    damping_options = rig if damping_options is None else damping_options
     g = p.add_argument_group(
         "parameters (give --T and --A, or --eps and --mu" + (", or --frequency with --stroke, --amplitude or --A)"
                                                               if units else ")"),
@@ -81,12 +83,12 @@ def add_parameters(p: argparse.ArgumentParser, *, required=True, rig=False, unit
     g.add_argument("--g", type=finite_float, default=G_EARTH, metavar="M/S^2", help=f"gravity (default {G_EARTH})")
     g.add_argument("--eps", type=finite_float, help="Arnold's eps = T sqrt(A/(8 l))")
     g.add_argument("--mu", type=finite_float, help="Arnold's mu = sqrt(g/A); mu >= 1 means A <= g")
-    if units or drive or damping:
-        r = p.add_argument_group("the rig (" + ", ".join(w for w, on in (("drive", drive), ("damping", damping),
-                                                                         ("measured units", units)) if on) + ")")
-        if drive:
+    if units or drive_options or damping_options:
+        parts = (("drive", drive_options), ("damping", damping_options), ("measured units", units))
+        r = p.add_argument_group("the rig (" + ", ".join(w for w, on in parts if on) + ")")
+        if drive_options:
             add_drive(r)
-        if damping:
+        if damping_options:
             add_damping(r)
         if units:
             r.add_argument("--frequency", type=finite_float, metavar="HZ", help="drive frequency, instead of --T")
@@ -250,10 +252,12 @@ def parameters_from(args, arnold_damping=False) -> dict:
         l = Pendulum.uniform_rod(args.rod).l
         args.pendulum = Pendulum.uniform_rod(args.rod).describe()
     extra = {}
-    drive = _drive_from(args) if has_drive else None
+    from ..drives import as_drive
+
+    drive = _drive_from(args) if has_drive else as_drive(None)   # (the paper's square wave)
     if has_drive:
         extra["drive"] = drive
-        if not (phys or arn) and drive is not None and drive.own_scale is not None:
+        if not (phys or arn) and drive.own_scale is not None:
             (args.T, args.A), phys = drive.own_scale, True  # a measured drive's own T and A
     if phys and arn:
         raise CLIError("give either physical parameters (--T/--A or --frequency) or --eps and --mu, not both")
@@ -266,10 +270,7 @@ def parameters_from(args, arnold_damping=False) -> dict:
             given = [k for k in ("stroke", "amplitude", "A") if getattr(args, k) is not None]
             if len(given) != 1:
                 raise CLIError("with --frequency give exactly one of --stroke, --amplitude, --A")
-            from ..drives import SquareWave
-
-            T, A = (drive or SquareWave()).from_rig(args.frequency, stroke=args.stroke, amplitude=args.amplitude,
-                                                   acceleration=args.A)
+            T, A = drive.from_rig(args.frequency, stroke=args.stroke, amplitude=args.amplitude, acceleration=args.A)
             T, A = float(T), float(A)
             args.given = given[0]
             args.rig_note = _implausible(args, A)

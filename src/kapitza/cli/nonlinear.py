@@ -28,7 +28,7 @@ def register(sub):
         "  kapitza nonlinear --chart --out nonlinear\n"
         "  kapitza nonlinear --eps 0.5 --mu 0.3 --rotation --out run",
     )
-    add_parameters(p, required=False, units=True, drive=True, damping=True)
+    add_parameters(p, required=False, units=True, drive_options=True, damping_options=True)
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--chart", action="store_true", help="draw the nonlinear chart (needs no point)")
     p.add_argument("--zones", type=int, default=3, metavar="N", help="zones 0..N-1 on the chart (default 3, at most 6)")
