@@ -266,10 +266,9 @@ class Drive:
                 phi = tuple(np.broadcast_to(np.asarray(v, float).ravel(), e.shape) for v in phi)
             else:
                 phi = None
-            out = self._settle_pieces(pieces, e, m, tau, log_tau, theta, zone, growth, exact_growth=trace,
-                                      trace_error=err, phi=phi)
-            tau, log_tau, theta, zone, growth = out[:5]
-            err = out[5] if trace else None
+            tau, log_tau, theta, zone, growth, err = self._settle_pieces(pieces, e, m, tau, log_tau, theta, zone,
+                                                                         growth, exact_growth=trace,
+                                                                         trace_error=err, phi=phi)
         sh = eps.shape
         return Floquet0(tau=tau.reshape(sh), log_tau=log_tau.reshape(sh), growth=growth.reshape(sh),
                         theta=theta.reshape(sh), zone=zone.reshape(sh),
@@ -360,8 +359,8 @@ class Drive:
         ``trace_error``: the trace is reported and this bounds the engine's error: a trace it leaves
         worse than :data:`kapitza._certify.TRACE_RTOL` relative is recomputed too (at ``phi =
         (mu, zeta)``'s ``mu^2 (1 + zeta^2)`` where given, the damped system's exact ``phi``-equation),
-        and a sixth item returns the bound, that of the recomputation where there was one (the
-        verdicts near the threshold stay those at ``mu``, as without the trace)."""
+        and the sixth item is the bound, that of the recomputation where there was one (None
+        without; the verdicts near the threshold stay those at ``mu``, as without the trace)."""
         from .._certify import MAX_PHASE, TRACE_RTOL, pieces_exact, pieces_phase
 
         trace = trace_error is not None
@@ -373,7 +372,7 @@ class Drive:
                 ill = ~(trace_error <= TRACE_RTOL * np.abs(tau)) & reach & ~near
         idx = np.flatnonzero(near | ill)
         if not idx.size:
-            return (tau, log_tau, theta, zone, growth) + ((trace_error,) if trace else ())
+            return tau, log_tau, theta, zone, growth, trace_error
         tau, log_tau, theta, zone, growth = (np.array(v, copy=True) for v in (tau, log_tau, theta, zone, growth))
         res = [None] * idx.size
         # (the verdicts near the threshold at mu; a recomputed trace at phi's exact mu^2 (1 + zeta^2))
@@ -418,7 +417,7 @@ class Drive:
             # the engine's zone)
             j = np.array(flips)
             theta[j] = PI * gap_of_turn(self._engine.period(eps[j], mu[j], True)[2], tau[j] < 0)
-        return (tau, log_tau, theta, zone, growth) + ((trace_error,) if trace else ())
+        return tau, log_tau, theta, zone, growth, trace_error
 
     def _edges0(self, mu, n):
         """``(eps_lo, eps_hi)`` of undamped zone ``n`` at ``mu`` (NaN where there is none).
