@@ -588,3 +588,70 @@ def test_a_sine_trace_of_exactly_zero_in_doubles_leaks_no_warning():
         warnings.simplefilter("error")
         f = K.floquet(eps, mu, drive="sine")
     assert not f.stable and f.trace > 2.0 and f.rotation_number == 1.0
+
+
+def test_a_mark_at_the_largest_phases_gives_no_warning(capsys, tmp_path):
+    # eps = 3.2e307, mu = 1e-300: x + u overflowed in the test of whether an exact decision is affordable
+    from kapitza import _certify
+
+    assert not _certify.affordable(np.array([1.7e308]), np.array([1.7e308]))[0]
+    assert _certify.affordable(np.array([100.0]), np.array([3000.0]))[0]
+    r = K.analyze(eps=9e306, mu=1e-300)
+    assert not r.stable
+    code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", str(tmp_path / "c"),
+                        "--mark-eps", "9e+306", "--mark-mu", "1e-300"], capsys)
+    assert code == 0 and "Warning" not in err
+    code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", str(tmp_path / "c"),
+                        "--mark-eps", "3.1779025153841154e+307", "--mark-mu", "1e-300"], capsys)
+    assert_one_line_error(code, err, "eps must be <= 1e+307")
+
+
+@pytest.mark.parametrize("drive", ["square", "triangle"])
+def test_analyze_refuses_eps_beyond_the_phase_bound_by_name(drive):
+    # analyze skipped the eps <= 1e307 test the array functions make: 2 sqrt(2) eps overflowed
+    _refused(lambda: K.analyze(eps=1.7976931348623157e308, mu=0.5, drive=drive), "eps must be <= 1e+307",
+             "1.7976931348623157e+308")
+
+
+def test_the_integrated_engine_refuses_what_its_steps_cannot_resolve():
+    # beyond 2^22 steps a period the steps were capped: growth 3.9e14 for 2.6e10, rotation numbers of the
+    # wrong sign, NaN multipliers at eps = 1e150 and overflow beyond
+    _refused(lambda: K.floquet(1e7, 0.5, drive="triangle"), "eps must satisfy eps <= 663178 at mu = 0.5",
+             "4,194,304 steps", "got 10000000.0")
+    _refused(lambda: K.is_stable([1.0, 1e160], 0.5, drive="triangle"), "eps must satisfy eps <= 663178",
+             "got 1e+160")
+    _refused(lambda: K.floquet(1e-200, 1e200, drive="triangle"), "mu must satisfy mu <= 1e+150", "got 1e+200")
+    # within the reach the engine answers, and its growth is the phase's
+    f = K.floquet(6.6e5, 1e-300, drive="triangle")
+    assert f.growth == pytest.approx(1131369.0546137774 / 6e5 * 6.6e5, rel=1e-5)
+
+
+def test_a_search_that_would_pass_the_reach_names_the_point_asked(monkeypatch):
+    # the searches doubled eps past the engine's reach; they now stop at it, and an edge beyond it is
+    # refused naming what the user gave (a smaller reach keeps this quick)
+    from kapitza.engines.magnus import Engine
+
+    monkeypatch.setattr(Engine, "MAX_STEPS", 1 << 12)
+    d = K.drives.as_drive("triangle")
+    monkeypatch.delitem(d.__dict__, "_engine", raising=False)
+    reach = float(d._eps_reach(0.5))
+    assert reach == pytest.approx(2048 / np.sqrt(8 * 1.25))
+    # points in the last gap below the reach: the zone above lies past it
+    refused = 0
+    for eps in (reach - 0.125 * np.arange(1, 25)).tolist():
+        try:
+            K.analyze(eps=eps, mu=0.5, drive=d)
+        except ValueError as err:
+            assert str(err).startswith(f"eps = {eps!r} and mu = 0.5 put an edge beyond this drive's reach, "
+                                       f"eps <= {reach:.6g} at mu = 0.5"), str(err)
+            refused += 1
+    assert 0 < refused < 24
+    _refused(lambda: K.zone_edges(0.5, 10**6, drive=d), "mu = 0.5 and n = 1000000 put an edge")
+    # an edge inside the reach, though the search's doubling would pass it, is found
+    n = int(0.9 * reach * 0.2)
+    while True:
+        lo, hi = K.zone_edges(0.5, n, drive=d, certify=False)
+        if hi > 0.8 * reach:
+            break
+        n += 10
+    assert lo <= hi <= reach

@@ -40,8 +40,16 @@ def unsure(u, a, b, x=None):
     affordable: ``x + u <= MAX_PHASE``)."""
     bound = _TOL * (np.abs(u) + 4.0)
     near = (np.abs(a) <= bound) | (np.abs(b) <= bound)
-    size = np.abs(u) if x is None else np.abs(u) + np.abs(x)
-    return near & (size <= MAX_PHASE)
+    return near & affordable(u, x)
+
+
+def affordable(u, x=None):
+    """Where an exact decision is affordable: ``|u| + |x| <= MAX_PHASE``, asked without forming the
+    sum (phases near the largest double would overflow it)."""
+    u = np.abs(u)
+    if x is None:
+        return u <= MAX_PHASE
+    return (u <= MAX_PHASE) & (np.abs(x) <= MAX_PHASE - np.minimum(u, MAX_PHASE))
 
 
 def exact_half_trace(eps, mu, zeta=None):

@@ -196,7 +196,7 @@ def floquet(eps, mu):
     num = math.sin(u + math.atan2(s4, mu * mu * math.tanh(x)))
     # the trace cancels (its bound _square._tau_error, about 16 u (u + 4) / sin(delta), is a large
     # part of it): the array path takes it from the exact product
-    if _TOL * (u + 4.0) > _certify.TRACE_RTOL * abs(num) and x + u <= _certify.MAX_PHASE:
+    if _TOL * (u + 4.0) > _certify.TRACE_RTOL * abs(num) and bool(_certify.affordable(u, x)):
         raise Careful("the trace cancels here")
     tau = num / sd if sd > 0.0 else math.copysign(_INF, num)
     sdp = sd if sd > 0.0 else _INF

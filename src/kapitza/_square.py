@@ -277,14 +277,14 @@ def _floquet(eps, mu, certify=True, trace=False, phi=None, with_unsure=False):
     x, u, D = _phase_angles(eps, np.where(ell, mu, 0.5))
     n, a, b, tau, growth, theta = X.floquet_elliptic(x, u, D, np.where(ell, mu, 0.5))
     stable_e = (a > 0) & (b < 0)
-    check = ell & (_certify.unsure(u, a, b, x) | (~stable_e & (growth <= 0.0) & (x + u <= _certify.MAX_PHASE)))
+    check = ell & (_certify.unsure(u, a, b, x) | (~stable_e & (growth <= 0.0) & _certify.affordable(u, x)))
     certify = certify or trace
     m_x, z_x = mu, None
     verdict_check = check
     if trace:
         err = _tau_error(x, u, np.where(ell, mu, 0.5), tau)
         with np.errstate(invalid="ignore"):
-            ill = ell & (err > _certify.TRACE_RTOL * np.abs(tau)) & (x + u <= _certify.MAX_PHASE)
+            ill = ell & (err > _certify.TRACE_RTOL * np.abs(tau)) & _certify.affordable(u, x)
         if phi is not None:
             # the verdict's points at the mu given, the trace's at the exact phi-system
             only = ill & ~check

@@ -34,6 +34,25 @@ class KapitzaValueError(ValueError):
     """
 
 
+class ReachError(KapitzaValueError):
+    """``eps`` beyond the range a drive's Floquet data are computed over at ``mu`` (a
+    :class:`KapitzaValueError`): ``eps`` the value asked (a user's, or a search's past the user's
+    point), ``eps_max`` the drive's reach at ``mu``, ``why`` what bounds it."""
+
+    def __init__(self, eps: float, mu: float, eps_max: float, why: str):
+        self.eps, self.mu, self.eps_max, self.why = eps, mu, eps_max, why
+        super().__init__(f"eps must satisfy eps <= {self.limit}; got {eps!r}")
+
+    @property
+    def limit(self) -> str:
+        return f"{self.eps_max:.6g} at mu = {self.mu:.6g} for this drive's {self.why}"
+
+    def about(self, point: str) -> KapitzaValueError:
+        """The error to give where a search from ``point`` (what the user gave) went past the reach."""
+        return KapitzaValueError(f"{point} put an edge beyond this drive's reach, eps <= {self.limit} "
+                                 f"(its search reached eps = {self.eps:.6g})")
+
+
 def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
     value = arr[bad].flat[0]
     value = value.item() if hasattr(value, "item") else value
@@ -167,12 +186,17 @@ def arnold(eps, mu, *, together=True):
     """Arnold's ``(eps, mu)`` as float arrays, each finite and > 0 (``mu >= 1`` allowed); with
     ``together`` their shapes must broadcast (a mismatch names both)."""
     eps, mu = positive("eps", eps), positive("mu", mu)
-    if np.any(eps > EPS_MAX):
-        raise KapitzaValueError(f"eps must be <= {EPS_MAX:g} (the phase 2 sqrt(2) eps must be a double); got "
-                                f"{_first_bad(eps, eps > EPS_MAX)}")
+    eps_in_range(eps)
     if together:
         shape_check(eps=eps, mu=mu)
     return eps, mu
+
+
+def eps_in_range(eps, source=""):
+    """Refuse ``eps`` beyond :data:`EPS_MAX` by name (``source``: where it came from, for the message)."""
+    if np.any(eps > EPS_MAX):
+        raise KapitzaValueError(f"eps must be <= {EPS_MAX:g} (the phase 2 sqrt(2) eps must be a double); got "
+                                f"{_first_bad(eps, eps > EPS_MAX)}{source}")
 
 
 def shape_check(**arrays) -> tuple:

@@ -324,7 +324,14 @@ def _analyze(eps, mu, T, A, l, g, drive, damping, zeta, pointwise=True):
     point = _plain_point(eps, mu, T, A, l, g, damping, zeta)
     if point is None:
         point = _validated_point(eps, mu, T, A, l, g, damping, zeta)
-    return _report(d, *point, pointwise)
+    e, physical, T, A, l = point[0], point[3], point[4], point[5], point[6]
+    _v.eps_in_range(np.float64(e), f" (of T = {T!r}, A = {A!r}, l = {l!r})" if physical else "")
+    try:
+        return _report(d, *point, pointwise)
+    except _v.ReachError as err:
+        if err.eps == e:
+            raise
+        raise err.about(f"eps = {e!r} and mu = {point[1]!r}") from None
 
 
 def _validated_point(eps, mu, T, A, l, g, damping, zeta):

@@ -189,7 +189,11 @@ def zone_edges(mu, n, drive=None, zeta=0.0, *, certify=True):
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
     n = _v.nonnegative_int("n", n)
     mu = _v.positive("mu", mu)
-    lo, hi = d.edges(mu, n, zeta, _v.flag("certify", certify))
+    try:
+        lo, hi = d.edges(mu, n, zeta, _v.flag("certify", certify))
+    except _v.ReachError as err:
+        raise err.about(f"mu = {mu.item()!r} and n = {int(n)}" if mu.size == 1 and np.size(n) == 1
+                        else "mu and n") from None
     return _v.scalars(np.asarray(lo), np.asarray(hi))
 
 
@@ -388,7 +392,13 @@ def stability_margin(eps, mu, drive=None, zeta=0.0):
     """
     eps, mu = _v.arnold(eps, mu)
     d, zeta = as_drive(drive), _v.damping_ratio(zeta)
-    stable, zone, lo, hi, margin = d.margin(eps, mu, zeta)
+    try:
+        stable, zone, lo, hi, margin = d.margin(eps, mu, zeta)
+    except _v.ReachError as err:
+        if np.any(eps == err.eps):
+            raise
+        raise err.about(f"eps = {eps.item()!r} and mu = {mu.item()!r}" if eps.size == mu.size == 1
+                        else "eps and mu") from None
     return StabilityMargin(stable=stable, zone=zone, eps_lo=lo, eps_hi=hi, margin=margin)
 
 

@@ -17,6 +17,7 @@ This module imports no drive: the drive classes import it (one direction, no cyc
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -845,7 +846,7 @@ def point_margin(drive, eps, mu, zeta, levels=None):
     first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
     """
     levels = levels or _Levels(drive, zeta)
-    rows, = _prepared(levels, [_margin_rows(eps, mu, far_cost=drive._far_cost)])
+    rows, = _prepared(levels, [_margin_rows(drive, eps, mu)])
     return None if rows is None else _searched(drive, zeta, levels, [rows])[0]
 
 
@@ -873,10 +874,11 @@ def _prepared(levels, builders):
     return out
 
 
-def _margin_rows(eps, mu, L0=None, far_cost=False):
+def _margin_rows(drive, eps, mu, L0=None):
     """The rows of :func:`point_margin`'s search (a :class:`_Rows`), or None where it cannot answer: a
-    builder for :func:`_prepared`. ``L0``: the level at ``(eps, mu)``, when known; ``far_cost``: the
-    drive's verdicts cost more the larger ``eps`` (:attr:`Drive._far_cost`)."""
+    builder for :func:`_prepared`. ``L0``: the level at ``(eps, mu)``, when known. The ladder climbs
+    to the drive's reach at ``mu`` (:meth:`Drive._eps_reach`), fewer rungs a call where the drive's
+    verdicts cost more the larger ``eps`` (:attr:`Drive._far_cost`)."""
     if L0 is None:
         L0 = float((yield np.array([eps]), np.array([mu]))[0])
     if not abs(L0) < 2.0**50:  # no zone resolvable so far out (see margin): the array margin says so
@@ -895,10 +897,12 @@ def _margin_rows(eps, mu, L0=None, far_cost=False):
     # point is near would cost more than the whole search)
     need = zones[-1] + 1
     top = None
-    climb = iter((2, 3) if far_cost else ())
+    climb = iter((2, 3) if drive._far_cost else ())
     ladder = eps * 2.0 ** np.arange(1.0, 1.0 + next(climb, 8))
     rungs, rung_levels = [np.array([eps]), eps * 2.0 ** -np.arange(1.0, 9.0)], [np.array([L0])]
-    while ladder[-1] <= _LADDER_TOP:
+    limit = min(_LADDER_TOP, float(drive._eps_reach(mu)))
+    while ladder[0] <= limit:
+        ladder = ladder[ladder <= limit]
         rungs.append(ladder)
         ask = np.concatenate(rungs[1:]) if len(rung_levels) == 1 else ladder
         lv = yield ask, np.full(ask.shape, mu)
@@ -966,14 +970,17 @@ def along_amplitude(T, n, l, g, drive, c):
     # the first power of two (times g) that has reached zone n + 1, eight doublings per call (a
     # drive's cost may grow with A: no rung far beyond the one needed)
     ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
+    hi = ladder[:1]
     for _ in range(138):
+        e_l, m_l = arnold(ladder)
+        ladder = ladder[:int(np.argmin(np.append(e_l <= drive._eps_reach(m_l), False)))]
+        if not ladder.size:   # (as far as the drive reaches)
+            break
         up = np.flatnonzero(reached(ladder, n + 1, False))
+        hi = ladder[up[:1]] if up.size else ladder[-1:]
         if up.size:
-            hi = ladder[up[:1]]
             break
         ladder = ladder[-1] * 2.0 ** np.arange(1.0, 9.0)
-    else:
-        hi = ladder[-1:]
     _, A_hi = search_bits(lambda A, _: reached(A, n + 1, False), np.zeros(1), hi,
                           certified=lambda A, _: reached(A, n + 1, False, True), ways=drive._search_ways)
     A_lo, _ = search_bits(lambda A, _: reached(A, n, True), np.zeros(1), A_hi,
@@ -994,7 +1001,7 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g, levels=None):
     ``levels`` as in :func:`point_margin`.
     """
     levels = levels or _Levels(drive, zeta)
-    rows, = _prepared(levels, [_rig_rows(eps, mu, zone, T, A, l, g)])
+    rows, = _prepared(levels, [_rig_rows(drive, eps, mu, zone, T, A, l, g)])
     return _searched(drive, zeta, levels, [rows])[0]
 
 
@@ -1006,24 +1013,41 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     the drive per step for all of them."""
     levels = _Levels(drive, zeta)
     if level0 is not None and level0 != np.rint(level0):   # inside zone floor(level0): all at once
-        m_rows, r_rows = _prepared(levels, [_margin_rows(eps, mu, level0, drive._far_cost),
-                                            _rig_rows(eps, mu, int(np.floor(level0)), T, A, l, g)])
+        m_rows, r_rows = _prepared(levels, [_margin_rows(drive, eps, mu, level0),
+                                            _rig_rows(drive, eps, mu, int(np.floor(level0)), T, A, l, g)])
         if m_rows is None:
             return None
         margin, rig = _searched(drive, zeta, levels, [m_rows, r_rows])
         return None if margin is None else (margin, rig)
-    m_rows, = _prepared(levels, [_margin_rows(eps, mu, level0, drive._far_cost)])
+    m_rows, = _prepared(levels, [_margin_rows(drive, eps, mu, level0)])
     margin = None if m_rows is None else _searched(drive, zeta, levels, [m_rows])[0]
     if margin is None:
         return None
     if margin[1] < 0:
         return margin, None
-    r_rows, = _prepared(levels, [_rig_rows(eps, mu, margin[1], T, A, l, g)])
+    r_rows, = _prepared(levels, [_rig_rows(drive, eps, mu, margin[1], T, A, l, g)])
     return margin, _searched(drive, zeta, levels, [r_rows])[0]
 
 
-def _rig_rows(eps, mu, zone, T, A, l, g):
-    """The rows of :func:`rig_intervals`' search (a :class:`_Rows`): a builder for :func:`_prepared`."""
+def _mu_reach(drive, eps, mu, cap):
+    """The largest ``mu`` up to ``cap`` at which ``eps`` is within the drive's reach
+    (:meth:`Drive._eps_reach`), ``mu`` itself being within it (bisected on its logarithm)."""
+    if eps <= drive._eps_reach(cap):
+        return cap
+    lo, hi = math.log(mu), math.log(cap)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if eps <= drive._eps_reach(math.exp(mid)):
+            lo = mid
+        else:
+            hi = mid
+    return math.exp(lo)
+
+
+def _rig_rows(drive, eps, mu, zone, T, A, l, g):
+    """The rows of :func:`rig_intervals`' search (a :class:`_Rows`): a builder for :func:`_prepared`.
+    Its rungs stay within the drive's reach (:meth:`Drive._eps_reach`): the largest ``mu`` searched
+    at this ``eps`` is 4, or less where the drive's reach ends below ``eps`` there."""
     n = zone
 
     def along_A(A_):
@@ -1033,14 +1057,21 @@ def _rig_rows(eps, mu, zone, T, A, l, g):
     # call), and whether the zone is still reached at the ends of the frequency search
     # (the first call also asks the point itself and eight halvings and doublings of mu at this eps:
     # these rungs then narrow each search's bracket to about a binade)
+    mu_top = _mu_reach(drive, eps, mu, 4.0)
     mu_rungs = mu * 2.0 ** np.concatenate([-np.arange(1.0, 9.0), np.arange(1.0, 9.0)])
-    mu_rungs = np.concatenate([[1e-6, 4.0, mu], mu_rungs[(mu_rungs > 1e-6) & (mu_rungs < 4.0)]])
+    mu_rungs = np.concatenate([[1e-6, mu_top, mu], mu_rungs[(mu_rungs > 1e-6) & (mu_rungs < mu_top)]])
     A_rungs, A_levels = [np.array([A])], []
     ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
     for _ in range(138):
-        if ladder[-1] > _LADDER_TOP:  # (as far as along_amplitude goes: the last rung)
-            ladder = ladder[-1:]
         e_l, m_l = along_A(ladder)
+        within = (ladder <= _LADDER_TOP) & (e_l <= drive._eps_reach(m_l))
+        if not within.all():  # (as far as along_amplitude goes: the last rung within reach is the top)
+            keep = int(np.argmin(within))
+            if keep == 0 and A_levels:
+                top = A_rungs[-1][-1]
+                break
+            ladder = ladder[:keep] if keep else np.array([A])
+            e_l, m_l = along_A(ladder)
         first = not A_levels
         extra = mu_rungs.size if first else 0
         k = yield np.concatenate([e_l, np.full(extra, eps)]), np.concatenate([m_l, mu_rungs[:extra]])
@@ -1082,7 +1113,7 @@ def _rig_rows(eps, mu, zone, T, A, l, g):
 
     # (a search whose answer is not needed gets an empty bracket)
     lo = np.array([0.0, 0.0, 1e-6, 1e-6])
-    hi = np.array([top, top, 1e-6 if above else 4.0, 1e-6 if capped else 4.0])
+    hi = np.array([top, top, 1e-6 if above else mu_top, 1e-6 if capped else mu_top])
     kA = np.concatenate(A_levels)
     lo[:2], hi[:2] = _narrowed(lo[:2], hi[:2], np.concatenate(A_rungs), np.stack([kA >= n + 1, kA > n]))
     lo[2:], hi[2:] = _narrowed(lo[2:], hi[2:], mu_rungs, np.stack([mu_levels < n + 1, mu_levels <= n]))
@@ -1090,7 +1121,7 @@ def _rig_rows(eps, mu, zone, T, A, l, g):
     def answer(a, b, ends):
         out = dict(A_lo=float(a[1]), A_hi=float(b[0]))
         mu_lo = 1e-6 if above else float(a[2])
-        mu_hi = 4.0 if capped else float(b[3])
+        mu_hi = mu_top if capped else float(b[3])
         if mu_lo < mu_hi:
             f = 0.5 / T
             out.update(frequency_lo=float(f * mu / mu_hi),

@@ -437,7 +437,7 @@ class Drive:
         if ok.any():
             eng = self._engine
             lo[ok], hi[ok] = zone_edges(eng.floquet, eng.log_tau, mu[ok], n[ok], rate[ok], B[ok],
-                                        noise=self._zone_noise)
+                                        noise=self._zone_noise, reach=(eng.eps_max(mu[ok]), eng.refuse))
         return lo.reshape(sh), hi.reshape(sh)
 
     def _zone_noise(self, eps, mu):
@@ -700,6 +700,15 @@ class Drive:
         """``(rows, zone, lo, hi)``: the undamped zones meeting ``[e_a[i], e_b[i]]`` at ``mu[i]``
         (flat arrays, one entry per zone found), for a drive with :attr:`_windowed`."""
         raise NotImplementedError
+
+    def _eps_reach(self, mu):
+        """The largest ``eps`` whose Floquet data this drive gives at ``mu`` (array_like): a search
+        climbs no further. The generic engine's (:meth:`kapitza.engines.Engine.eps_max`: its steps
+        a period are bounded) where the data come from it; else the phase's own bound."""
+        if self._from_shape:
+            with np.errstate(over="ignore"):
+                return self._engine.eps_max(np.minimum(mu, self._engine.MU_MAX))
+        return np.full(np.shape(mu), _v.EPS_MAX)
 
     @property
     def _from_shape(self) -> bool:

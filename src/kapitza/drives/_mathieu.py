@@ -381,12 +381,12 @@ def sine_verdict0(eps, mu):
     lost its digits) and the exact trace only where it is cheap (products growing by at most
     2^160, three precisions): beside a zone thinner than the long double's band (1/16 ulp and less)
     at larger ``q`` the count may stand uncertified, where the exact trace would take tens of
-    seconds a double. Beyond the trace's reach (``eps > _EPS_TRACE``, where the edges still are)
+    seconds a double. Beyond the trace's reach (``eps > EPS_TRACE``, where the edges still are)
     the counts alone, in long double where an edge lies within the double band."""
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     e, m = eps.ravel(), mu.ravel()
     out = np.zeros(e.size, bool)
-    near = e <= _EPS_TRACE
+    near = e <= EPS_TRACE
     if near.any():
         out[near] = sine_floquet0(e[near], m[near], True, loose=True, exact=False)[4] >= 0
     far = np.flatnonzero(~near)
@@ -1018,7 +1018,7 @@ def _rounding_bound(maps, states, s_before, s, qq, mm):
 
 
 #: the largest eps whose sine-drive trace is integrated (q = 16 eps^2/pi^2 = 1e6)
-_EPS_TRACE = 0.25 * PI * 1000.0
+EPS_TRACE = 0.25 * PI * 1000.0
 
 
 def _sine_traces(eps, mu, bound="running"):
@@ -1027,8 +1027,8 @@ def _sine_traces(eps, mu, bound="running"):
     free of the cancellation of the 1; ``err`` a bound on the error of ``tau`` from rounding (from
     :func:`_half_period`'s ``bound``: ``"running"``, ``"quick"`` or None, then NaN)."""
     eps = np.asarray(eps, float).reshape(-1)
-    if eps.size and not np.max(eps) <= _EPS_TRACE:  # the integration's steps grow like sqrt(q)
-        raise _v.KapitzaValueError(f"eps must satisfy eps <= {_EPS_TRACE:.6g} for the sine drive's Floquet data "
+    if eps.size and not np.max(eps) <= EPS_TRACE:  # the integration's steps grow like sqrt(q)
+        raise _v.KapitzaValueError(f"eps must satisfy eps <= {EPS_TRACE:.6g} for the sine drive's Floquet data "
                                    f"(Mathieu's q = 16 eps^2/pi^2 up to 1e6); got {float(np.max(eps))!r}")
     wI, dwI, wII, dwII, s, E, ds = _half_period(eps, mu, bound)
     m1, p1 = 2.0 * dwI * wII, 2.0 * wI * dwII  # (tau - 1) e^{-2s}, (tau + 1) e^{-2s}

@@ -67,6 +67,11 @@ class SineWave(Drive):
         return Floquet0(tau=tau, log_tau=log_tau, growth=growth, theta=theta, zone=zone,
                         tau_error=more[0] if trace else None, unsure=more[-1] if loose else None)
 
+    def _eps_reach(self, mu):
+        from ._mathieu import EPS_TRACE
+
+        return np.full(np.shape(mu), EPS_TRACE)
+
     def _verdict0(self, eps, mu):
         from ._mathieu import sine_verdict0
 

@@ -43,7 +43,7 @@ def _F(tau, log_tau, sgn):
     return np.where(log_tau < 30.0, small, big) - A1
 
 
-def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None):
+def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None, reach=None):
     """``(eps_lo, eps_hi)`` of zone ``n`` at each ``mu`` (flat arrays; every row has zones).
 
     ``floquet(eps, mu) -> (tau, log_tau, theta, zone)`` and ``trace(eps, mu) -> (tau, log_tau)``
@@ -52,7 +52,9 @@ def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None):
     the span where the zones lie, once per distinct ``mu`` for all the zones asked there.
     ``noise(eps, mu)`` (optional) is the logarithm of a bound on the error of ``tau``: where it
     exceeds 1 and ``|tau|``, the search for a point inside a zone stops (the trace cannot tell it
-    from its gaps there).
+    from its gaps there). ``reach``: ``(eps_max, refuse)``, the largest ``eps`` ``floquet`` answers at
+    each ``mu`` and ``refuse(eps, mu)``, which raises the error for an edge past it (no point beyond
+    it is asked).
     """
     mu = np.asarray(mu, float)
     n = np.asarray(n, np.int64)
@@ -64,6 +66,8 @@ def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None):
     nn = np.concatenate([n, n])
     x0 = (nn + np.where(upper, 1.0, 0.0)) * PI / np.concatenate([rate, rate])
     x0 = np.maximum(x0, 0.5 * PI / np.concatenate([rate, rate]))
+    R = np.full(2 * P, np.inf) if reach is None else np.concatenate([reach[0], reach[0]])
+    x0 = np.minimum(x0, R)
 
     def pred(x, rows):
         tau, lt, th, z = floquet(x, m[rows])
@@ -82,9 +86,9 @@ def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None):
     la = np.full(2 * P, np.nan)
     lb = np.full(2 * P, np.nan)
     if B is not None:
-        _prescan(pred_at, m, c, nn, np.concatenate([rate, rate]), np.concatenate([B, B]), a, b, la, lb)
+        _prescan(pred_at, m, c, nn, np.concatenate([rate, rate]), np.concatenate([B, B]), a, b, la, lb, R)
     x = np.where(np.isfinite(b), 0.5 * b, x0)
-    x = np.where(a > 0, 2.0 * a, x)
+    x = np.minimum(np.where(a > 0, 2.0 * a, x), R)
     todo = np.flatnonzero(~(np.isfinite(b) & np.isfinite(la)))
     for _ in range(80):
         if todo.size == 0:
@@ -96,7 +100,11 @@ def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None):
         a[t_out] = np.maximum(a[t_out], x[t_out])
         la[t_out] = np.where(x[t_out] >= a[t_out], lev[~ok], la[t_out])
         x[t_in] = 0.5 * x[t_in]
-        x[t_out] = 2.0 * x[t_out]
+        x[t_out] = np.minimum(2.0 * x[t_out], R[t_out])
+        beyond = ~np.isfinite(b) & (a >= R)
+        if beyond.any():   # asked at the reach and still below the level: the edge lies past it
+            i = np.flatnonzero(beyond)[:1]
+            reach[1](R[i], m[i])
         done = np.isfinite(b) & (np.isfinite(la) | (b < 1e-300))
         todo = np.flatnonzero(~done)
     # rows still true at the smallest eps tried: the zone reaches eps -> 0 (mu = 0)
@@ -156,7 +164,7 @@ def zone_edges(floquet, trace, mu, n, rate, B=None, noise=None):
     return res[:P], res[P:]
 
 
-def _prescan(level_at, m, c, n, rate, B, a, b, la, lb):
+def _prescan(level_at, m, c, n, rate, B, a, b, la, lb, R):
     """Brackets ``[a, b]`` (and their levels) from the angle sampled at each distinct ``mu``.
 
     At ``mu`` the angle of zone ``n`` lies within ``B`` of ``rate eps``, so its edges lie in
@@ -174,8 +182,10 @@ def _prescan(level_at, m, c, n, rate, B, a, b, la, lb):
     bb = np.zeros(G)
     r[inv] = rate
     bb[inv] = B
-    lo = np.maximum(n_min * PI - bb, PI / 3.0) / r
-    hi = ((n_max + 1) * PI + bb) / r
+    top = np.full(G, np.inf)
+    np.minimum.at(top, inv, R)
+    lo = np.minimum(np.maximum(n_min * PI - bb, PI / 3.0) / r, top)
+    hi = np.minimum(((n_max + 1) * PI + bb) / r, top)
     K = int(min(np.max(np.ceil((hi - lo) * r / (PI / 3.0))) + 1, 400))
     grid = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, K)[None, :]
     lev = level_at(grid.ravel(), np.repeat(keys, K)).reshape(G, K)
