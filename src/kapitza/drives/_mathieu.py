@@ -229,10 +229,38 @@ _LOWER = {0: 0, 1: 1}
 _UPPER = {0: 3, 1: 2}
 
 
+#: Below this ``q`` the count of ``a_0`` comes from its series ``a_0(q) = -q^2/2 + 7 q^4/128 - 29 q^6/2304 + ...``
+#: (DLMF 28.6.1): the ray point ``a = -2 mu^2 q`` lies above it iff
+#: ``mu^2 < q/4 (1 - 7 q^2/64 + 29 q^4/1152 - ...)``, i.e. ``pi mu < 2 eps sqrt(1 - 7 q^2/64 + 29 q^4/1152)``,
+#: the terms left out below 1e-20 relative. The Sturm pivots resolve ``a - a_0`` only to ``u q`` there, an
+#: ``eps`` of ``u/q`` relative about the edge (and lose ``q^2`` to underflow below ``q = 1e-154``): the
+#: lower edge of zone 0 in Kapitza's limit ``mu -> 0``. The other values lie near 1 and above.
+_Q_SERIES = 1e-3
+
+
+def _series_q(eps, mu, q, count, zero):
+    """``count`` with the points of ``q < _Q_SERIES`` recounted from the series of ``a_0`` (in the
+    arguments' precision): ``zero`` (bool) marks the entries that count ``a_0`` (the family of even
+    ``a`` at ``k = 0``, or all four families together); elsewhere the values near 1 and above lie above
+    the ray point there, and none is counted."""
+    small = q < _Q_SERIES
+    if not np.any(small):
+        return count
+    count = np.array(count, copy=True)
+    pi = PI if q.dtype == np.float64 else _PI_LD
+    with np.errstate(under="ignore"):
+        q2 = np.where(small, q, 0.0) ** 2
+        above_a0 = (pi * mu < 2 * eps * np.sqrt(1 - q2 * (7 / 64) + q2 * q2 * (29 / 1152))).astype(count.dtype)
+    count[small] = np.where(np.broadcast_to(zero, small.shape)[small], above_a0[small], 0)
+    return count
+
+
 def _above(fam, k, eps, mu):
     """Whether the ray point ``(q, a)`` at ``eps`` lies above the k-th characteristic value of ``fam``."""
     q, a = _qa(eps, mu)
-    return _count(fam, q, a) >= k + 1
+    fam, k, eps, mu, q, a = np.broadcast_arrays(fam, k, eps, mu, q, a)
+    count = _series_q(eps, mu, q, _count(fam, q, a), (fam == 0) & (k == 0))
+    return count >= k + 1
 
 
 def _crossing(fam, k, mu, lo, hi):
@@ -574,19 +602,27 @@ def sine_window(mu, e1):
     return np.concatenate(rows), np.concatenate(zone), np.concatenate(lo), np.concatenate(hi)
 
 
-def _band(mu):
+def _band(mu, eps=None, u=2.0**-53):
     """Relative half-width around an edge inside which a Sturm count may be decided by rounding:
     the crossing moves by about ``2u / (1 - mu^2)`` relative for an error of ``u (|a| + q)`` in a
-    characteristic value (``d(a_n + 2 mu^2 q)/dq -> -2 (1 - mu^2)`` at large ``q``); eight times that."""
-    u = 2.0**-53
+    characteristic value (``d(a_n + 2 mu^2 q)/dq -> -2 (1 - mu^2)`` at large ``q``), and by about
+    ``u / q`` at the lower edge of zone 0 for small ``q`` (there ``a - a_0`` is of order ``q^2``, where
+    the count is not replaced by the series, :data:`_Q_SERIES`); eight times those (``eps`` given:
+    with the second term). ``u``: the unit roundoff of the counts."""
+    mu = np.asarray(mu)
     with np.errstate(divide="ignore"):
-        return 64.0 * u + 16.0 * u / np.maximum(1.0 - mu * mu, 1e-300) * (mu < 1.0)
+        d = 64 * u + 16 * u / np.maximum(1 - mu * mu, 1e-300) * (mu < 1)
+        if eps is not None:
+            q = 16 * np.asarray(eps) ** 2 / PI**2
+            d = d + 16 * u / np.maximum(q, _Q_SERIES) * ((q >= _Q_SERIES) & (q < 2))
+    return d
 
 
 def _total_count(eps, mu):
     """Characteristic values of all four families below the ray point at ``eps`` (flat arrays)."""
     q, a = _qa(eps, mu)
-    return _count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0)
+    count = _count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0)
+    return _series_q(eps, mu, q, count, True)
 
 
 _PI_LD = np.longdouble("3.141592653589793238462643383279502884") if LONG_DOUBLE is not None else None
@@ -598,12 +634,12 @@ def _counts_ld(eps, mu):
     long double's unit roundoff (``2^-64``): 2,048 times narrower than the double one."""
     u = np.finfo(LONG_DOUBLE).eps / 2
     e, m = eps.astype(LONG_DOUBLE), mu.astype(LONG_DOUBLE)
-    with np.errstate(divide="ignore"):
-        d = 64 * u + 16 * u / np.maximum(1 - m * m, LONG_DOUBLE(1e-300)) * (m < 1)
+    d = _band(m, e, u).astype(LONG_DOUBLE)
     out = []
     for x in (e * (1 - d), e * (1 + d)):
         q, a = _qa(x, m, _PI_LD)
-        out.append(_count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0))
+        count = _count(np.arange(4)[:, None], q[None, :], a[None, :]).reshape(4, -1).sum(axis=0)
+        out.append(_series_q(x, m, q, count, True))
     return out
 
 
@@ -613,7 +649,7 @@ def _sine_zone_of(eps, mu):
     (``a_n < a < b_{n+1}``) and an even count ``2k`` the gap where the rotation angle is locked at
     ``k pi`` -- taken at ``eps (1 -+ delta)`` (:func:`_band`); ``unsure`` where the two differ, i.e.
     an edge within ``delta`` of ``eps``, where rounding may decide and the verdict is certified."""
-    d = _band(mu)
+    d = _band(mu, eps)
     c_lo = _total_count(eps * (1.0 - d), mu)
     c_hi = _total_count(eps * (1.0 + d), mu)
     return c_lo, c_hi, c_lo != c_hi
@@ -725,14 +761,18 @@ def _exact_tau(eps, mu, rounds=8):
     import mpmath
 
     growth = _growth_bits(eps, mu)
-    P = 96 + growth
+    # at small q, |tau| - 1 is of order q^2 (times the distance to the edge of zone 0): the bits it
+    # takes, from the start and beyond the 3,000
+    small = int(max(0.0, -2.0 * (math.log2(16.0 / PI**2) + 2.0 * math.log2(eps)))) if eps > 0 else 0
+    P = 96 + growth + small
+    cap = 1500 + small
     for r in range(8):
         wI, dwI, wII, dwII = _exact_half_period(eps, mu, P)
         num = 2 * wI * dwII - (1 << 2 * P)  # tau * 2^(2P)
         gap = abs(abs(num) - (1 << 2 * P))  # | |tau| - 1 | * 2^(2P)
         # each truncation costs at most 2^-P; a few thousand of them per step (steps x terms^2), grown
         # by at most e^(2G) in the products: tau is known to 2^-(P - growth - 32), num to 2^(P + growth + 32)
-        if gap > (1 << (P + growth + 32)) or P > 1500:  # beyond 2^-3000 the count decides
+        if gap > (1 << (P + growth + 32)) or P > cap:  # beyond 2^-3000 (more at small q) the count decides
             break
         if r + 1 >= rounds:
             return None
@@ -828,9 +868,12 @@ def _certify(eps, mu, c_lo, c_hi, loose=False, exact=True):
             err[i] = ld[5][i]
         else:
             # (without ``exact``: only where the products grow by at most 2^160, q of a few hundred,
-            # and at three precisions at most; beyond, one exact trace takes seconds to minutes)
-            r = _exact_tau(eps[i], mu[i], 8) if exact else (
-                _exact_tau(eps[i], mu[i], 3) if _growth_bits(eps[i], mu[i]) <= 160 else None)
+            # and at three precisions at most -- beyond, one exact trace takes seconds to minutes --
+            # or at all five where they grow by at most 2^16: a step or two at small q, where |tau| - 1
+            # is of order q^2 and the first three may not resolve it)
+            bits = _growth_bits(eps[i], mu[i])
+            r = _exact_tau(eps[i], mu[i], 8) if exact or bits <= 16 else (
+                _exact_tau(eps[i], mu[i], 3) if bits <= 160 else None)
             if r is None:
                 tau[i], log_tau[i], count[i], err[i] = np.nan, np.nan, c_lo[i], np.inf
                 continue
@@ -1080,8 +1123,8 @@ def sine_grid(eps, mu, out):
         lo[live[~up]] = mid[~up]
         live = live[hi[live] - lo[live] > 1]
     # pixels too close to their crossing to be sure of their side
-    d = 2.0 * _band(m[r])
     e_lo = np.where(lo >= 0, eps[np.maximum(lo, 0)], 0.0)
+    d = 2.0 * _band(m[r], np.where(lo >= 0, e_lo, eps[hi]))
     probe = np.concatenate([e_lo * (1.0 + d), eps[hi] * (1.0 - d)])
     sure = _above(np.tile(fam, 2), np.tile(k, 2), probe, np.tile(m[r], 2)) == np.repeat([False, True], r.size)
     # zones: from the crossing of a_n (lower) to that of b_{n+1} (upper; _LOWER, _UPPER)
