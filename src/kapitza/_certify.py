@@ -256,7 +256,7 @@ def pieces_mp(eps, mu, zeta, pieces):
     ``mu^2 (1 + zeta^2)``, ``stable`` iff ``|tau| < cosh(kappa)`` (``kappa = 2 sqrt 8 zeta mu eps``),
     ``growth = log max|lambda|``. The precision starts at 96 bits beyond the growth ``e^G`` of the
     solutions and doubles until ``|tau|`` is resolved from the threshold by more than ``2^32`` times
-    the series' rounding (to 3,000 bits; beyond, the last answer stands)."""
+    the series' rounding (to 3,000 bits, more at small ``eps``; beyond, the last answer stands)."""
     import math
 
     import mpmath
@@ -265,7 +265,11 @@ def pieces_mp(eps, mu, zeta, pieces):
     zs = [0.0] * np.size(eps) if zeta is None else np.asarray(zeta, float).tolist()
     for e, m, z in zip(np.asarray(eps, float).tolist(), np.asarray(mu, float).tolist(), zs):
         bits = _pieces_growth_bits(e, m * m * (1.0 + z * z), pieces)
-        P = 96 + bits
+        # at small eps, |tau| - 1 is of order (8 eps^2)^2 times the distance to the edge of zone 0: the
+        # bits it takes, from the start and beyond the 3,000
+        small = int(max(0.0, -2.0 * (3.0 + 2.0 * math.log2(e)))) if e > 0 else 0
+        P = 96 + bits + small
+        cap = 1500 + small
         while True:
             num = _pieces_half_trace(e, m, z, pieces, P)
             if z == 0.0:
@@ -273,7 +277,7 @@ def pieces_mp(eps, mu, zeta, pieces):
                 # the correctly rounded quotient of the integers
                 one = 1 << (2 * P)
                 gap = abs(num) - one
-                if abs(gap) > 1 << (P + bits + 32) or P > 1500:
+                if abs(gap) > 1 << (P + bits + 32) or P > cap:
                     if gap.bit_length() < 2 * P + 1000:
                         x = gap / one  # |tau| - 1, correctly rounded
                         log_tau = math.log1p(x) if x > -1.0 else -np.inf
@@ -294,7 +298,7 @@ def pieces_mp(eps, mu, zeta, pieces):
                 kappa = 2 * mpmath.sqrt(8) * mpmath.mpf(z) * mpmath.mpf(m) * mpmath.mpf(e)
                 bar = mpmath.cosh(kappa)
                 diff = abs(t) - bar
-                if abs(diff) > mpmath.mpf(2) ** (-(P - bits - 32)) * bar or P > 1500:
+                if abs(diff) > mpmath.mpf(2) ** (-(P - bits - 32)) * bar or P > cap:
                     growth = (mpmath.acosh(abs(t)) if abs(t) > 1 else mpmath.mpf(0)) - kappa
                     log_tau = float(mpmath.log(abs(t))) if num else -np.inf
                     out.append((float(t), log_tau, bool(diff < 0), float(growth)))

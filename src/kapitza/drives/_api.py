@@ -453,10 +453,13 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
             edge[rows] = e0 + inside * np.where(good, np.rint(np.where(good, step, 0.0)), 0).astype(np.int64)
         # out: a double outside the zone (unstable), inn: one inside (stable), widened in turns
         k = np.ones(live.size, np.int64)
+        # (2^39 ulp at most, as far as 40 doublings go, except below an engine's undamped lower edge)
+        far = inside > 0 and drive._from_shape and z is None
+        out_reach = np.maximum(reach, edge) if far else np.minimum(reach, 1 << 39)
         out, inn = edge.copy(), edge + inside
         rows = todo
         found = np.zeros(live.size, bool)
-        for _ in range(40):
+        for _ in range(64):
             st = stable(np.concatenate([out[rows], inn[rows]]), np.concatenate([rows, rows]))
             ok = ~st[:rows.size] & st[rows.size:]
             found[rows[ok]] = True
@@ -464,11 +467,13 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
             if not rows.size:
                 break
             # (widened to half the zone, or 8 ulp where it is thinner and the verdicts cheap, so
-            # that edges a few ulp off about a thin zone are found: left as found beyond)
-            rows = rows[k[rows] < reach[rows]]
-            k[rows] = np.minimum(2 * k[rows], reach[rows])
+            # that edges a few ulp off about a thin zone are found: left as found beyond; below the
+            # engine's lower edge on to the smallest double: in Kapitza's limit mu -> 0 it may lie binades
+            # above the certified one, its trace's tau - 1 lost to cancellation)
+            rows = rows[k[rows] < out_reach[rows]]
+            k[rows] = np.minimum(2 * k[rows], out_reach[rows])
             out[rows] = np.maximum(edge[rows] - inside * k[rows], 1)
-            inn[rows] = edge[rows] + inside * k[rows]
+            inn[rows] = edge[rows] + inside * np.minimum(k[rows], reach[rows])
         # bisection: out stays unstable, inn stable, until they are neighbours
         rows = np.flatnonzero(found)
         for _ in range(70):
@@ -881,7 +886,8 @@ def _margin_rows(drive, eps, mu, L0=None):
     verdicts cost more the larger ``eps`` (:attr:`Drive._far_cost`)."""
     if L0 is None:
         L0 = float((yield np.array([eps]), np.array([mu]))[0])
-    if not abs(L0) < 2.0**50:  # no zone resolvable so far out (see margin): the array margin says so
+    if not abs(L0) < 2.0**50 or mu >= drive.mu_max:
+        # no zone resolvable so far out (see margin), or none at all at this mu: the array margin says so
         return None
     stable = L0 != np.rint(L0)
     k = int(np.floor(L0)) if stable else int(L0)

@@ -438,7 +438,21 @@ class Drive:
             eng = self._engine
             lo[ok], hi[ok] = zone_edges(eng.floquet, eng.log_tau, mu[ok], n[ok], rate[ok], B[ok],
                                         noise=self._zone_noise, reach=(eng.eps_max(mu[ok]), eng.refuse))
+            # Kapitza's limit: zone 0's lower edge from the engine's trace errs by about 1e-16 / mu^4
+            # relative (tau - 1 is of order eps^2 mu^2 there); a drive of linear pieces moves it to the
+            # double its certified verdict puts it at (binades off at mu = 1e-5 and below)
+            low = np.flatnonzero(ok & (n == 0) & (mu < self._KAPITZA_MU) & np.isfinite(lo) & (lo < hi))
+            if low.size and self._certified_pieces() is not None:
+                # (searched from the averaging threshold below mu = 1e-3, where it is the nearer: it errs
+                # by O(mu^2) relative)
+                start = np.where(mu[low] < 1e-3, self.kapitza_eps(mu[low]), lo[low])
+                lo[low], hi[low] = _api.certified_sides(self, mu[low], start, hi[low])
         return lo.reshape(sh), hi.reshape(sh)
+
+    #: Below this ``mu`` the engine's lower edge of zone 0 is certified before it is given (:meth:`_edges0`):
+    #: its error there, about ``1e-16 / mu^4`` relative, passes 1e-10 (a chart settles the pixels within 1e-9
+    #: of its edges by their verdicts)
+    _KAPITZA_MU = 0.03
 
     def _zone_noise(self, eps, mu):
         """The logarithm of the engine's trace bound (uncapped) far out, where nothing after the double
@@ -492,6 +506,11 @@ class Drive:
         l0, l1 = level[: mu.size], level[mu.size:]
         n_lo = np.where(point, np.ceil(l0) - 1, np.floor(l0))
         n_hi = np.where(point, np.floor(l1), np.floor(l1 - 0.25))
+        # the gap below zone 0 at e1 with tau within the engine's error of 1 (Kapitza's limit, where
+        # tau - 1 is lost to cancellation): zone 0 may begin below e1
+        with np.errstate(invalid="ignore"):
+            flat = (l1 == 0) & (np.abs(f.tau[mu.size:] - 1.0) <= self._trace_error(e1, mu))
+        n_hi = np.where(flat, np.maximum(n_hi, 0), n_hi)
         if damped:
             n_lo, n_hi = n_lo - 1, n_hi + 1
         n_lo = np.maximum(n_lo, 0).astype(np.int64)
