@@ -99,3 +99,21 @@ def test_a_point_far_below_the_limit_falls_and_far_above_stands(drive):
         assert list(K.is_stable([0.5 * c, 2.0 * c], mu, drive=drive)) == [False, True]
     assert not K.analyze(eps=1e-300, mu=0.5, drive=drive).stable
     assert not K.analyze(eps=1e-300, mu=1.5, drive=drive).stable
+
+
+@pytest.mark.parametrize("name", list(DRIVES))
+@pytest.mark.parametrize("zeta", [0.1, 1.0])
+@pytest.mark.parametrize("mu", [1e-3, 1e-40])
+def test_damped_zone_0_begins_where_its_certified_verdict_does(name, zeta, mu, k_of):
+    # damping leaves the averaged stiffness as it is: the damped lower edge of zone 0 is the averaging
+    # threshold to O(mu^2); the triangle's was 7.5e-6 at mu = 1e-5 (the threshold 1.9e-5), 0 at 1e-8, and
+    # the sine's hit 0/0 in Hill's determinant once q underflowed
+    drive = DRIVES[name]
+    lo, _ = K.zone_edges(mu, 0, drive=drive, zeta=zeta)
+    exact = float(mpmath.mpf(mu) / mpmath.sqrt(8 * k_of[ORACLE[name]]))
+    assert abs(lo / exact - 1.0) <= 10 * mu**2 + 8e-16
+    up = np.nextafter(lo, np.inf)
+    eps = np.array([np.nextafter(lo, 0), lo, up, np.nextafter(up, np.inf)])
+    want = np.array([False, False, True, True])
+    assert (K.is_stable(eps, mu, drive=drive, zeta=zeta) == want).all()
+    assert (K.stability_grid(eps, [mu], drive=drive, zeta=zeta)[0] == want).all()

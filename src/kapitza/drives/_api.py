@@ -371,7 +371,7 @@ def window_edges(drive, mu, e0, e1, zeta):
     return r_idx, z_idx, lo, hi
 
 
-def certified_sides(drive, mu, lo, hi, zeta=None):
+def certified_sides(drive, mu, lo, hi, zeta=None, far=False):
     """The edges moved to the doubles the certified verdict puts them at: ``lo`` the last unstable
     double below the zone (the next one up is stable), ``hi`` the first unstable one above it (the
     one below is stable), so that zone ``n`` is ``lo < eps < hi`` as :func:`kapitza.is_stable` says
@@ -382,7 +382,8 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
     stable double, is put between the two adjacent doubles where the certified trace changes sign
     (or about the stable doubles found there), for a drive whose certified verdicts come from an
     extended-precision product (:func:`_empty_zones`); a zone with no stable double otherwise keeps
-    the edges as found."""
+    the edges as found. The bracket is widened 2^39 ulp at most; ``far``: below a lower edge on to the
+    smallest double (the edges given may be binades off: Kapitza's limit, :meth:`Drive._edges0`)."""
     lo, hi = lo.copy(), hi.copy()
     windowed = drive._steps() is not None or drive._certified_pieces() is not None
     placeable = windowed or zeta is None
@@ -453,9 +454,7 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
             edge[rows] = e0 + inside * np.where(good, np.rint(np.where(good, step, 0.0)), 0).astype(np.int64)
         # out: a double outside the zone (unstable), inn: one inside (stable), widened in turns
         k = np.ones(live.size, np.int64)
-        # (2^39 ulp at most, as far as 40 doublings go, except below an engine's undamped lower edge)
-        far = inside > 0 and drive._from_shape and z is None
-        out_reach = np.maximum(reach, edge) if far else np.minimum(reach, 1 << 39)
+        out_reach = np.maximum(reach, edge) if far and inside > 0 else np.minimum(reach, 1 << 39)
         out, inn = edge.copy(), edge + inside
         rows = todo
         found = np.zeros(live.size, bool)
@@ -467,9 +466,8 @@ def certified_sides(drive, mu, lo, hi, zeta=None):
             if not rows.size:
                 break
             # (widened to half the zone, or 8 ulp where it is thinner and the verdicts cheap, so
-            # that edges a few ulp off about a thin zone are found: left as found beyond; below the
-            # engine's lower edge on to the smallest double: in Kapitza's limit mu -> 0 it may lie binades
-            # above the certified one, its trace's tau - 1 lost to cancellation)
+            # that edges a few ulp off about a thin zone are found: left as found beyond; with ``far``
+            # below a lower edge on to the smallest double)
             rows = rows[k[rows] < out_reach[rows]]
             k[rows] = np.minimum(2 * k[rows], out_reach[rows])
             out[rows] = np.maximum(edge[rows] - inside * k[rows], 1)

@@ -477,9 +477,19 @@ def sine_tau_minus_one(eps, mu):
     e, m = eps.ravel(), mu.ravel()
     q = 16.0 * e * e / PI**2
     out = np.empty(e.size)
-    for i in range(0, e.size, 2048):
-        out[i:i + 2048] = _hill_half_trace(-2.0 * m[i:i + 2048] ** 2 * q[i:i + 2048], q[i:i + 2048], minus_one=True)
+    # below q = 1e-30: pi^2 q (mu^2 - q/4), to O(q) relative (the continuant 1 - q/(4 mu^2), the sinh^2
+    # pi^2 mu^2 q / 2); Hill's xi_0 = q / (2 mu^2 q) there is 0/0 once q underflows
+    tiny = q < _Q_TINY_HILL
+    out[tiny] = PI**2 * q[tiny] * (m[tiny] * m[tiny] - 0.25 * q[tiny])
+    rest = np.flatnonzero(~tiny)
+    for i in range(0, rest.size, 2048):
+        j = rest[i:i + 2048]
+        out[j] = _hill_half_trace(-2.0 * m[j] ** 2 * q[j], q[j], minus_one=True)
     return out.reshape(eps.shape)
+
+
+#: Below this ``q`` :func:`sine_tau_minus_one` takes the leading terms of Hill's determinant
+_Q_TINY_HILL = 1e-30
 
 
 def _continuant(p):
