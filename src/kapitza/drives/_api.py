@@ -293,7 +293,36 @@ def _damped_edges(drive, mu, n, zeta, phi=None):
     # zone 0 with the gap entirely stable reaches down to eps -> 0
     edge_lo = np.where((n == 0) & (G_lo <= 0), 0.0, edge_lo)
     edge_hi = np.where(G_hi > 0, _bisect(drive, mu, zeta, hi_n, x_hi, rising=True), x_hi)
-    return edge_lo, edge_hi
+    return _kapitza_damped(drive, mu, n, zeta, edge_lo, edge_hi), edge_hi
+
+
+#: Below this ``mu`` the damped lower edge of zone 0 is searched on the certified damped verdicts
+#: (:func:`_kapitza_damped`; the undamped engine's edge errs there by ``1e-16 / mu^4`` and more)
+KAPITZA_DAMPED_MU = 0.03
+
+
+def _kapitza_damped(drive, mu, n, zeta, lo, hi):
+    """``lo`` with zone 0's damped lower edge, below :data:`KAPITZA_DAMPED_MU`, moved to the double the
+    certified damped verdict puts it at (a drive whose damped verdicts are certified): Kapitza's limit,
+    where ``G`` is of order ``eps^4`` and is lost to cancellation (or to underflow, below ``mu`` of about
+    1e-60, where the gap then looked stable all the way down). Searched from the averaging threshold
+    ``mu / sqrt(8 k)``: damping leaves the averaged stiffness, and with it that edge, as it is to
+    leading order (``O(mu^2)`` relative). Kept as found where that search finds no unstable double below
+    (a drive whose levels, rounded, leave a mean that outweighs gravity there: zone 0 reaches ``eps -> 0``)."""
+    rows = np.flatnonzero(((n == 0) & (mu < KAPITZA_DAMPED_MU) & (zeta > 0) & np.isfinite(hi)).reshape(-1))
+    if not rows.size or not drive._damped_certified:
+        return lo
+    m, z, h = mu.reshape(-1)[rows], zeta.reshape(-1)[rows], hi.reshape(-1)[rows]
+    start = drive.kapitza_eps(m)
+    ok = start < h
+    rows, m, z, h, start = rows[ok], m[ok], z[ok], h[ok], start[ok]
+    found = certified_sides(drive, m, start, h, z, far=True)[0]
+    ends = np.concatenate([found, np.nextafter(found, np.inf)])
+    st = drive._floquet(ends, np.tile(m, 2), np.tile(z, 2), True)[3]
+    good = ~st[:found.size] & st[found.size:]
+    lo = np.array(lo, dtype=float, copy=True)
+    lo.reshape(-1)[rows[good]] = found[good]
+    return lo
 
 
 # ---------------------------------------------------------------- the questions

@@ -780,27 +780,8 @@ class Drive:
         return _api.damped_floquet(self, eps, mu, zeta, certify, trace)
 
     def _edges(self, mu, n, zeta):
-        """``(eps_lo, eps_hi)`` of zone ``n`` with damping ratio ``zeta`` (:func:`kapitza.drives._api.damped_edges`).
-
-        Damped, in Kapitza's limit, a drive with certified damped verdicts and no exact segment
-        product (linear pieces, the sine) has zone 0's lower edge moved to the double those verdicts
-        put it at, as undamped (:meth:`_edges0`): searched from the averaging threshold
-        ``mu / sqrt(8 k)`` (damping leaves the averaged stiffness, and with it that edge, as it is to
-        leading order), where the damped excess is lost to cancellation."""
-        lo, hi = _api.damped_edges(self, mu, n, zeta)
-        if self._steps() is not None or not self._damped_certified:
-            return lo, hi
-        shape = np.shape(lo)
-        mu, n, zeta, lo, hi = (np.array(v, dtype=float if i != 1 else np.int64).reshape(-1) for i, v in
-                               enumerate(np.broadcast_arrays(mu, n, zeta, lo, hi)))
-        low = np.flatnonzero((zeta > 0) & (n == 0) & (mu * np.sqrt(1.0 + zeta * zeta) < self._KAPITZA_MU)
-                             & np.isfinite(hi))
-        if low.size:
-            start = self.kapitza_eps(mu[low])
-            ok = start < hi[low]
-            low, start = low[ok], start[ok]
-            lo[low], hi[low] = _api.certified_sides(self, mu[low], start, hi[low], zeta[low], far=True)
-        return lo.reshape(shape), hi.reshape(shape)
+        """``(eps_lo, eps_hi)`` of zone ``n`` with damping ratio ``zeta`` (:func:`kapitza.drives._api.damped_edges`)."""
+        return _api.damped_edges(self, mu, n, zeta)
 
     def closed_form(self, zeta=0.0) -> bool:
         """Whether this drive answers from closed forms at damping ratio ``zeta`` (the square

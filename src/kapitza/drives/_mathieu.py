@@ -481,7 +481,12 @@ def sine_tau_minus_one(eps, mu):
     # pi^2 mu^2 q / 2); Hill's xi_0 = q / (2 mu^2 q) there is 0/0 once q underflows
     tiny = q < _Q_TINY_HILL
     out[tiny] = PI**2 * q[tiny] * (m[tiny] * m[tiny] - 0.25 * q[tiny])
-    rest = np.flatnonzero(~tiny)
+    # a = -2 mu^2 q below the doubles' range (mu tiny against eps: deep in zone 0, tau - 1 of order q
+    # or q^2, not near the cancellation Hill's form avoids): the integrated half period's
+    flat = ~tiny & ~(2.0 * m * m * q > 1e-280)
+    if flat.any():
+        out[flat] = _sine_traces(e[flat], m[flat], bound=None)[2]
+    rest = np.flatnonzero(~tiny & ~flat)
     for i in range(0, rest.size, 2048):
         j = rest[i:i + 2048]
         out[j] = _hill_half_trace(-2.0 * m[j] ** 2 * q[j], q[j], minus_one=True)
