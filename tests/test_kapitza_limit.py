@@ -32,8 +32,13 @@ def _triangle(t):
     return 1 - 2 * t if t <= 1 else -1 + 2 * (t - 1)
 
 
+def _steps(t):
+    return (2, -1, 1, -2)[min(int(2 * t), 3)]
+
+
 SHAPES = {
     "square": (lambda t: 1 if t < 1 else -1, [1]),
+    "steps": (_steps, [0.5, 1, 1.5]),
     "sine": (lambda t: mpmath.sin(mpmath.pi * t), []),
     "triangle": (_triangle, [1]),
 }
@@ -45,8 +50,11 @@ def _measured_triangle():
     return from_samples(t, [float(_triangle(x)) for x in t], period=2.0)
 
 
-DRIVES = {"square": "square", "sine": "sine", "triangle": "triangle", "measured triangle": _measured_triangle()}
-ORACLE = {"square": "square", "sine": "sine", "triangle": "triangle", "measured triangle": "triangle"}
+STEPS = "steps:2,-1,1,-2:0.25,0.25,0.25,0.25"   # (its levels have mean 0 exactly)
+DRIVES = {"square": "square", "sine": "sine", "triangle": "triangle", "measured triangle": _measured_triangle(),
+          "steps": STEPS}
+ORACLE = {"square": "square", "sine": "sine", "triangle": "triangle", "measured triangle": "triangle",
+          "steps": "steps"}
 
 
 @pytest.fixture(scope="module")
@@ -117,3 +125,23 @@ def test_damped_zone_0_begins_where_its_certified_verdict_does(name, zeta, mu, k
     want = np.array([False, False, True, True])
     assert (K.is_stable(eps, mu, drive=drive, zeta=zeta) == want).all()
     assert (K.stability_grid(eps, [mu], drive=drive, zeta=zeta)[0] == want).all()
+
+
+@pytest.mark.parametrize("mu", [1e-9, 1e-30, 1e-300])
+def test_a_rounded_mean_level_moves_kapitzas_limit_as_it_should(mu):
+    # duty 0.25: the level -1/3 rounds to a mean of +1.4e-17, which adds to mu^2 (the edge stays near
+    # sqrt(1.4e-17) / sqrt(8 k) however small mu is); duty 0.3: -1.4e-17, which outweighs mu^2 below
+    # mu = 3.8e-9: the mean stiffness attracts and zone 0 reaches eps -> 0 (its edges were 1e-2 to 3e31
+    # times the averaging threshold, on the wrong side)
+    for text in ("rectangular:0.25", "rectangular:0.3"):
+        lo, hi = K.zone_edges(mu, 0, drive=text)
+        if lo > 0:
+            up = np.nextafter(lo, np.inf)
+            eps = np.array([lo, up])
+            want = np.array([False, True])
+        else:
+            assert text == "rectangular:0.3" and mu < 3.8e-9
+            eps = np.array([5e-324, 1e-300, 0.5 * hi])
+            want = np.ones(3, bool)
+        assert (K.is_stable(eps, mu, drive=text) == want).all(), (text, lo)
+        assert (K.stability_grid(eps, [mu], drive=text)[0] == want).all(), (text, lo)

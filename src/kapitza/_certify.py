@@ -98,8 +98,9 @@ def _half_trace_mp(E8, MM, levels, durations, prec):
 def _dps(e, m2, levels, durations):
     """Digits that cover the cancellation of ``e^{sum r}`` terms (and, near ``eps -> 0``, the
     ``O(rsum^4)`` size of ``tr M/2 - 1``)."""
-    rsum = sum(np.sqrt(8.0 * e * e * abs(m2 + s)) * h for s, h in zip(levels, durations))
-    return 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-300))))
+    # (e, not e^2, which underflows below 1e-162)
+    rsum = sum(np.sqrt(8.0) * e * np.sqrt(abs(m2 + s)) * h for s, h in zip(levels, durations))
+    return 40 + int(rsum / np.log(10.0)) + int(4.0 * max(0.0, -np.log10(max(rsum, 1e-323))))
 
 
 def tau_mp(eps, mu, levels, durations, zeta=None):

@@ -762,6 +762,14 @@ def _growth_bits(eps, mu):
     return int(math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2)) / math.log(2.0)) + 1
 
 
+def _small_q_bits(eps):
+    """At small ``q``, ``|tau| - 1`` is of order ``q^2`` (times the distance to the edge of zone 0): the
+    bits that takes, with which an exact trace starts, and beyond which it goes past the 3,000."""
+    import math
+
+    return int(max(0.0, -2.0 * (math.log2(16.0 / PI**2) + 2.0 * math.log2(eps)))) if eps > 0 else 0
+
+
 def _exact_tau(eps, mu, rounds=8):
     """``(tau, log|tau|, stable)`` of the sine drive at the exact doubles ``eps, mu`` (scalars);
     ``rounds`` below 8: None where the precision's first ``rounds`` settings leave ``|tau| - 1``
@@ -776,9 +784,7 @@ def _exact_tau(eps, mu, rounds=8):
     import mpmath
 
     growth = _growth_bits(eps, mu)
-    # at small q, |tau| - 1 is of order q^2 (times the distance to the edge of zone 0): the bits it
-    # takes, from the start and beyond the 3,000
-    small = int(max(0.0, -2.0 * (math.log2(16.0 / PI**2) + 2.0 * math.log2(eps)))) if eps > 0 else 0
+    small = _small_q_bits(eps)
     P = 96 + growth + small
     cap = 1500 + small
     for r in range(8):
@@ -835,7 +841,9 @@ def sine_damped_exact(eps, mu, zeta, growth=True):
             continue
         e, m, z = key
         growth_bits = _growth_bits(e, m * math.sqrt(1.0 + z * z))   # (the phi-system's mu_c)
-        P = 96 + growth_bits
+        small = _small_q_bits(e)
+        P = 96 + growth_bits + small
+        cap = 1500 + small
         for _ in range(8):
             wI, dwI, wII, dwII = _exact_half_period(e, m, P, z)
             num = 2 * wI * dwII - (1 << 2 * P)  # tau_phi * 2^(2P)
@@ -845,7 +853,7 @@ def sine_damped_exact(eps, mu, zeta, growth=True):
                 ck = mpmath.cosh(kappa)
                 diff = abs(t) - ck
                 err = mpmath.mpf(2) ** (-(P - growth_bits - 32))
-                if abs(diff) > err or P > 1500:
+                if abs(diff) > err or P > cap:
                     break
             P *= 2
         with mpmath.workprec(2 * P + 64):

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import functools
 import math
+from fractions import Fraction
 
 import numpy as np
 
@@ -415,6 +416,11 @@ class PiecewiseConstant(Drive):
             raise _v.KapitzaValueError(
                 "levels and fractions must move the pivot: their rms velocity must be at least 1e-50 A T; got "
                 f"{np.sqrt(max(self._mean_square_velocity, 0.0)):.3g} A T (a step too narrow, or levels too small)")
+
+    @functools.cached_property
+    def _exact_mean(self):
+        """The mean level over the period, exactly (a :class:`fractions.Fraction` of the doubles)."""
+        return sum(Fraction(v) * Fraction(h) for v, h in zip(self.levels, self._durations)) / 2
 
     # ------------------------------------------------------------ kinematics
     def _locate(self, tau):
@@ -912,7 +918,40 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     thin = np.abs(Fz) >= A1
     lo = np.where(thin, z, lo)
     hi = np.where(thin, z, hi)
-    return rows, zone, lo, hi
+    return rows, zone, _kapitza_zone0(drive, mu, rows, zone, lo, hi), hi
+
+
+#: Below this ``mu`` zone 0's lower edge of a step drive is searched on its certified verdicts
+#: (:func:`_kapitza_zone0`): the sheared frame keeps ``tr M / 2 - 1`` to about ``mu = 1e-10``, not beyond
+KAPITZA_STEPS_MU = 1e-8
+
+
+def _kapitza_zone0(drive, mu, rows, zone, lo, hi):
+    """``lo`` with zone 0's lower edge below :data:`KAPITZA_STEPS_MU` moved to the double the certified
+    verdict puts it at, searched from the averaging threshold ``sqrt(mu^2 + s) / sqrt(8 k)`` (off it by
+    ``O(mu^2)`` relative; ``s`` the mean that the rounded levels leave, duty 0.3: -1.4e-17); 0 where that
+    mean holds the rod up (``mu^2 + s <= 0``: the mean stiffness attracts, zone 0 reaches ``eps -> 0``)."""
+    from ._api import certified_sides
+
+    k0 = np.flatnonzero((zone == 0) & (mu[rows] < KAPITZA_STEPS_MU) & np.isfinite(hi))
+    if not k0.size:
+        return lo
+    lo = lo.copy()
+    m = mu[rows[k0]]
+    # mu^2 + s, exactly: the mean stiffness is 8 eps^2 (mu^2 + s); its root from the integers' logarithms
+    # (it may lie beyond the doubles' range as a square)
+    g = [Fraction(v) ** 2 + drive._exact_mean for v in m.tolist()]
+    holds = np.array([x <= 0 for x in g], bool)
+    lo[k0[holds]] = 0.0
+    if holds.all():
+        return lo
+    k0, m = k0[~holds], m[~holds]
+    root = np.array([math.exp(0.5 * (math.log(x.numerator) - math.log(x.denominator))) for x in g if x > 0])
+    start = root / np.sqrt(8.0 * drive._mean_square_velocity)
+    ok = (start > 0) & (start < hi[k0])
+    if ok.any():
+        lo[k0[ok]] = certified_sides(drive, m[ok], start[ok], hi[k0[ok]], far=True)[0]
+    return lo
 
 
 def sampled_edges(drive, mu, n, per_turn=3):
