@@ -655,3 +655,19 @@ def test_a_search_that_would_pass_the_reach_names_the_point_asked(monkeypatch):
             break
         n += 10
     assert lo <= hi <= reach
+
+
+def test_an_animation_of_a_huge_starting_angle_gives_no_warning(capsys, tmp_path, monkeypatch):
+    # theta0 = 1e300: the clock printed theta as a line of 300 digits (constrained layout collapsed, with
+    # matplotlib's warning), and the axis limits of a flat curve met (another warning)
+    from kapitza.figures.motion import padded_limits
+
+    lo, hi = padded_limits(1e300, 1e300)
+    assert lo < 1e300 < hi
+    assert padded_limits(0.0, 1.0) == (-0.08, 1.08)
+    monkeypatch.chdir(tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        code, _, err = run(["animate", "--T", "0.15", "--A", "100", "--periods", "0.1", "--dpi", "30", "--quiet",
+                            "--out", "a.gif", "--theta0", "1e300"], capsys)
+    assert code == 0 and "Warning" not in err and (tmp_path / "a.gif").exists()

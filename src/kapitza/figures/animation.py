@@ -22,7 +22,7 @@ from matplotlib import animation as mpl_animation
 
 from .. import _validate as _v
 from .._io import atomic_path
-from .motion import LINEAR_STYLE, NONLINEAR_STYLE, WINDOW_STYLE, parameter_label
+from .motion import LINEAR_STYLE, NONLINEAR_STYLE, WINDOW_STYLE, padded_limits, parameter_label
 
 __all__ = ["ProgressBar", "AnimationResult", "animate", "ffmpeg_available", "frame_times", "MAX_FRAMES"]
 
@@ -423,9 +423,10 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
             axt.axhline(s * tol, **WINDOW_STYLE)
         axt.plot([], [], label=f"window |θ| ≤ {tol:g} rad", **WINDOW_STYLE)
         lo, hi = min(lo, -tol), max(hi, tol)
-    pad = 0.08 * (hi - lo) or 0.1
+    y0, y1 = padded_limits(lo, hi)
+    pad = y1 - hi
     axt.set_xlim(0.0, duration)
-    axt.set_ylim(lo - pad, hi + pad)
+    axt.set_ylim(y0, y1)
     if linear is not None:
         # An unstable linear motion is drawn until it leaves the axes (then one step beyond).
         off = np.flatnonzero(np.abs(lin_th) > max(abs(lo), abs(hi)) + pad)
@@ -456,8 +457,9 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
             lline.set_data(lin_t[:jl], lin_th[:jl])
         now.set_data([times[k]], [th[k]])
         phase = f"a = {acc[k] / traj.A:+.2f} A" + (" (repels)" if traj.g + acc[k] > 0 else " (attracts)")
+        angle = f"{th[k]:+.3f}" if abs(th[k]) < 1e6 else f"{th[k]:+.4g}"   # (not a line of 300 digits)
         clock.set_text(f"t = {times[k]:.3f} s = {times[k] / (2 * traj.T):.2f} · 2T\n"
-                       f"θ = {th[k]:+.3f} rad\n{phase}")
+                       f"θ = {angle} rad\n{phase}")
         return dynamic
 
     dynamic = [rod, bob, pivot, upright, trail, line, now, clock] + ([lline] if lline is not None else [])

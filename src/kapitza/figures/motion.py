@@ -41,6 +41,14 @@ STROBE_MARK = dict(marker="o", markersize=3.5, linestyle="none", color="#e67e22"
                    markeredgewidth=0.4)
 
 
+def padded_limits(lo, hi):
+    """``(lo, hi)`` widened by 8 % of their span (0.1 where they meet), and by at least a millionth of
+    the larger: limits whose ticks stay apart, and short, for an angle of any size."""
+    pad = 0.08 * (hi - lo) or 0.1
+    pad = max(pad, 1e-6 * max(abs(lo), abs(hi)))
+    return lo - pad, hi + pad
+
+
 def _ax(ax):
     if ax is None:
         fig = new_figure()
@@ -143,8 +151,7 @@ def plot_time_series(traj, ax=None, *, linear=None, tol=None, legend=None):
     lo, hi = float(np.min(traj.theta)), float(np.max(traj.theta))
     if tol is not None:
         lo, hi = min(lo, -tol), max(hi, tol)
-    pad = 0.08 * (hi - lo) or 0.1
-    lo, hi = lo - pad, hi + pad
+    lo, hi = padded_limits(lo, hi)
     if linear is not None:
         label = _model_label(linear)
         off = np.flatnonzero((linear.theta < lo) | (linear.theta > hi))
