@@ -671,3 +671,11 @@ def test_an_animation_of_a_huge_starting_angle_gives_no_warning(capsys, tmp_path
         code, _, err = run(["animate", "--T", "0.15", "--A", "100", "--periods", "0.1", "--dpi", "30", "--quiet",
                             "--out", "a.gif", "--theta0", "1e300"], capsys)
     assert code == 0 and "Warning" not in err and (tmp_path / "a.gif").exists()
+
+
+def test_a_change_beside_a_tiny_value_is_not_a_row_of_digit_groups():
+    # eps = 1e-300: "raise eps to 1.22e-300-0.663 (+22.5 % to +66,294,940,...,000 %)", 300 digits long
+    from kapitza.advice import _pct
+
+    assert _pct(0.663, 1e-300) == "+6.63e+301 %"
+    assert _pct(24.3, 1.0) == "+2,330 %" and _pct(1.5, 1.0) == "+50 %"

@@ -31,6 +31,8 @@ def _pct(edge, value):
     if not math.isfinite(edge):
         return "no limit"
     x = 100.0 * (edge / value - 1.0)
+    if abs(x) >= 1e6:   # (beside a tiny value: not a row of thousands' groups)
+        return f"{x:+.3g} %"
     return f"{x:+,.0f} %" if abs(x) >= 100 else f"{x:+.3g} %"
 
 
