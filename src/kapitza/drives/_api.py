@@ -297,19 +297,23 @@ def _damped_edges(drive, mu, n, zeta, phi=None):
 
 
 #: Below this ``mu`` the damped lower edge of zone 0 is searched on the certified damped verdicts
-#: (:func:`_kapitza_damped`; the undamped engine's edge errs there by ``1e-16 / mu^4`` and more)
+#: (:func:`_kapitza_damped`): for a drive given by its shape (the engine's edge errs there by
+#: ``1e-16 / mu^4`` and more), and for the others (whose excess keeps its digits while it is a double)
 KAPITZA_DAMPED_MU = 0.03
+KAPITZA_DAMPED_MU_EXACT = 1e-50
 
 
 def _kapitza_damped(drive, mu, n, zeta, lo, hi):
-    """``lo`` with zone 0's damped lower edge, below :data:`KAPITZA_DAMPED_MU`, moved to the double the
+    """``lo`` with zone 0's damped lower edge, below :data:`KAPITZA_DAMPED_MU` (or
+    :data:`KAPITZA_DAMPED_MU_EXACT`), moved to the double the
     certified damped verdict puts it at (a drive whose damped verdicts are certified): Kapitza's limit,
     where ``G`` is of order ``eps^4`` and is lost to cancellation (or to underflow, below ``mu`` of about
     1e-60, where the gap then looked stable all the way down). Searched from the averaging threshold
     ``mu / sqrt(8 k)``: damping leaves the averaged stiffness, and with it that edge, as it is to
     leading order (``O(mu^2)`` relative). Kept as found where that search finds no unstable double below
     (a drive whose levels, rounded, leave a mean that outweighs gravity there: zone 0 reaches ``eps -> 0``)."""
-    rows = np.flatnonzero(((n == 0) & (mu < KAPITZA_DAMPED_MU) & (zeta > 0) & np.isfinite(hi)).reshape(-1))
+    below = KAPITZA_DAMPED_MU if drive._from_shape else KAPITZA_DAMPED_MU_EXACT
+    rows = np.flatnonzero(((n == 0) & (mu < below) & (zeta > 0) & np.isfinite(hi)).reshape(-1))
     if not rows.size or not drive._damped_certified:
         return lo
     m, z, h = mu.reshape(-1)[rows], zeta.reshape(-1)[rows], hi.reshape(-1)[rows]
