@@ -145,3 +145,12 @@ def test_a_rounded_mean_level_moves_kapitzas_limit_as_it_should(mu):
             want = np.ones(3, bool)
         assert (K.is_stable(eps, mu, drive=text) == want).all(), (text, lo)
         assert (K.stability_grid(eps, [mu], drive=text)[0] == want).all(), (text, lo)
+
+
+def test_a_report_says_which_side_of_2_a_trace_that_rounds_to_2_is_on():
+    # "trace tr M  2 (stable iff |tr M| < 2)" beside "stable (zone 0)" read as a contradiction
+    stable = str(K.analyze(eps=1e-8, mu=1e-9, drive="triangle"))
+    assert "stable (zone 0)" in stable and "|tr M| rounds to 2, and is below it in extended precision" in stable
+    falls = str(K.analyze(eps=1e-8, mu=1e-7))
+    assert "too weak" in falls and "|tr M| rounds to 2, and is at or above it" in falls
+    assert "rounds to 2" not in str(K.analyze(T=0.15, A=100.0))

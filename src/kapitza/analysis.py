@@ -186,7 +186,11 @@ class StabilityReport(Summary):
             rows.append(("safe tilt", safe_tilt_sentence(self.safe_tilt, self.safe_tilt_periods, self.stable)))
         lam = multipliers(self.multipliers)
         crit = "|tr M| < 2" if self.zeta == 0 else "|tr M| < 1 + det M"
-        rows.append(("trace tr M", f"{_fmt(self.trace)}   (stable iff {crit})"))
+        note = ""
+        if self.zeta == 0 and abs(self.trace) == 2.0:
+            # (a trace within half an ulp of the threshold: the double cannot show which side it is on)
+            note = f"; |tr M| rounds to 2, and is {'below' if self.stable else 'at or above'} it in extended precision"
+        rows.append(("trace tr M", f"{_fmt(self.trace)}   (stable iff {crit}{note})"))
         rows.append(("multipliers", lam))
         rows.append(("growth", f"{_fmt(self.growth)} per period 2T (log of the largest |multiplier|"
                                + ("; < 0: motions decay)" if self.zeta > 0 else ")")))
