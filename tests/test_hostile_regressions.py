@@ -679,3 +679,14 @@ def test_a_change_beside_a_tiny_value_is_not_a_row_of_digit_groups():
 
     assert _pct(0.663, 1e-300) == "+6.63e+301 %"
     assert _pct(24.3, 1.0) == "+2,330 %" and _pct(1.5, 1.0) == "+50 %"
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "/dev/full"])
+def test_a_drive_file_that_never_ends_is_refused_not_read_to_exhaustion(device, capsys, monkeypatch):
+    # --drive-file /dev/full read zeros until the machine ran out of memory (23 GB, killed)
+    from kapitza.cli import _common
+
+    monkeypatch.setattr(_common, "DRIVE_FILE_CHARS", 1 << 20)
+    code, _, err = run(["stability", "--T", "0.15", "--A", "100", "--drive-file", device], capsys)
+    assert_one_line_error(code, err, f"--drive-file {device}: a drive file must be at most 1,048,576 characters",
+                          V.ALLOW_LARGE_ENV + "=1")

@@ -176,6 +176,10 @@ def _drive_from(args):
     return parse_drive(args.drive)
 
 
+#: The most characters of a drive file read (``KAPITZA_ALLOW_LARGE=1`` lifts it): a row ``t,a`` takes some 30
+DRIVE_FILE_CHARS = 64 << 20
+
+
 def drive_file(path, period=None, kind="linear"):
     """A measured drive from a CSV file of ``t,a`` rows (:func:`kapitza.drives.from_samples`).
 
@@ -184,12 +188,19 @@ def drive_file(path, period=None, kind="linear"):
     """
     from ..drives import from_samples
 
+    from .. import _validate as _v
+
+    limit = None if _v.allow_large() else DRIVE_FILE_CHARS
     try:
         with open(path, encoding="utf-8-sig") as fh:
-            text = fh.read()
+            text = fh.read() if limit is None else fh.read(limit + 1)
     except (OSError, UnicodeDecodeError) as exc:
         raise CLIError(f"--drive-file {path}: cannot read it ({exc.strerror if isinstance(exc, OSError) else exc})") \
             from None
+    if limit is not None and len(text) > limit:   # (a device that never ends, such as /dev/zero, too)
+        raise CLIError(f"--drive-file {path}: a drive file must be at most {limit:,} characters (some two million "
+                       f"rows); it is longer. To go past it on purpose, set the environment variable "
+                       f"{_v.ALLOW_LARGE_ENV}=1")
     line_of, t, a = [], [], []
     first = True
     for no, line in enumerate(text.splitlines(), start=1):
