@@ -690,3 +690,12 @@ def test_a_drive_file_that_never_ends_is_refused_not_read_to_exhaustion(device, 
     code, _, err = run(["stability", "--T", "0.15", "--A", "100", "--drive-file", device], capsys)
     assert_one_line_error(code, err, f"--drive-file {device}: a drive file must be at most 1,048,576 characters",
                           V.ALLOW_LARGE_ENV + "=1")
+
+
+@pytest.mark.parametrize("flag", ["--theta-max", "--dtheta-max"])
+def test_a_basin_grid_wider_than_the_doubles_is_refused_by_name(flag, capsys, tmp_path, monkeypatch):
+    # --theta-max 3e307: np.linspace overflowed in its span, matplotlib in the axis' ticks (warnings)
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(["basin", "--T", "0.15", "--A", "100", "--resolution", "4", "--periods", "2", "--quiet",
+                        "--out", "b", flag, "1.7976931348623157e+308"], capsys)
+    assert_one_line_error(code, err, f"{flag[2:].replace('-', '_')} must be <= 1e+300")

@@ -318,6 +318,10 @@ class Basin(Summary):
                     shape=list(self.periods_survived.shape), fraction=self.fraction)
 
 
+#: The largest half-width of a basin's grid, in rad or rad/s
+_GRID_MAX = 1e300
+
+
 @_v.shapes_named
 def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, tol=0.5, theta_max=None,
           dtheta_max=None, n_theta=121, n_dtheta=121, model="nonlinear", damping=None, zeta=None, chunk=4096, workers=1,
@@ -338,10 +342,10 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
         Window half-width [rad], ``0 < tol < pi``.
     theta_max : float, optional
         The grid spans ``-theta_max <= theta0 <= theta_max`` [rad] (default ``tol``:
-        wider starts leave at once).
+        wider starts leave at once); at most 1e300.
     dtheta_max : float, optional
         The grid spans ``-dtheta_max <= dtheta0 <= dtheta_max`` [rad/s] (default
-        ``2 tol / T``, a swing across the window in one half-period).
+        ``2 tol / T``, a swing across the window in one half-period); at most 1e300.
     n_theta, n_dtheta : int, optional
         Grid points (>= 2 each).
     model : {'nonlinear', 'linear'}
@@ -372,6 +376,10 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     tol = _tolerance(tol)
     theta_max = tol if theta_max is None else _v.one("theta_max", _v.positive("theta_max", theta_max))
     dtheta_max = 2.0 * tol / T if dtheta_max is None else _v.one("dtheta_max", _v.positive("dtheta_max", dtheta_max))
+    for name, value in (("theta_max", theta_max), ("dtheta_max", dtheta_max)):
+        if value > _GRID_MAX:   # (the grid's span 2 value, its steps and its axis' ticks are doubles)
+            raise _v.KapitzaValueError(f"{name} must be <= {_GRID_MAX:g} (the grid's span and its axis must be "
+                                       f"doubles); got {value!r}")
     n_theta = _v.bounded_count("n_theta", n_theta, MAX_GRID, minimum=2)
     n_dtheta = _v.bounded_count("n_dtheta", n_dtheta, MAX_GRID, minimum=2)
     _v.bounded_work("n_theta * n_dtheta", n_theta * n_dtheta, 25_000_000, what="grid points held in memory")
