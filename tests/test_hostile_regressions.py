@@ -699,3 +699,19 @@ def test_a_basin_grid_wider_than_the_doubles_is_refused_by_name(flag, capsys, tm
     code, _, err = run(["basin", "--T", "0.15", "--A", "100", "--resolution", "4", "--periods", "2", "--quiet",
                         "--out", "b", flag, "1.7976931348623157e+308"], capsys)
     assert_one_line_error(code, err, f"{flag[2:].replace('-', '_')} must be <= 1e+300")
+
+
+@pytest.mark.parametrize("argv, needle", [
+    # --tol 1.8e308: the axis limits +-tol overflowed in matplotlib's autoscale (a warning); the window of
+    # every other motion function is (0, pi]
+    (["animate", "--T", "0.15", "--A", "100", "--periods", "0.1", "--dpi", "30", "--quiet", "--out", "a.gif",
+      "--tol", "1.7976931348623157e+308"], "tol must lie in (0, 3.14159]"),
+    # --joint-damping 1.8e308: its matrix 2 c overflowed (a warning)
+    (["tower", "--chain", "0.2,0.2", "--grid", "12", "--points", "30", "--out", "t", "--joint-damping",
+      "1.7976931348623157e+308"], "joint_damping must be <= 1e+300 N m s"),
+])
+def test_the_largest_double_as_a_window_or_a_joint_damping_is_refused_by_name(argv, needle, capsys, tmp_path,
+                                                                               monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(argv, capsys)
+    assert_one_line_error(code, err, needle)

@@ -356,8 +356,8 @@ def animate(traj, path, *, fps=25.0, slowdown=None, dpi=100, progress=None, form
     slowdown = default_slowdown(traj.T, fps) if slowdown is None else \
         _v.one("slowdown", _v.positive("slowdown", slowdown))
     dpi = _v.bounded_count("dpi", dpi, MAX_DPI, minimum=20)
-    if tol is not None:
-        tol = _v.one("tol", _v.positive("tol", tol))
+    if tol is not None:   # (the window |theta| <= tol of the motion functions)
+        tol = _v.one("tol", _v.in_range("tol", tol, 0.0, np.pi, hi_open=False))
     duration = float(traj.t[-1])
     times = frame_times(duration, fps, slowdown)
     message = ""
