@@ -715,3 +715,11 @@ def test_the_largest_double_as_a_window_or_a_joint_damping_is_refused_by_name(ar
     monkeypatch.chdir(tmp_path)
     code, _, err = run(argv, capsys)
     assert_one_line_error(code, err, needle)
+
+
+def test_a_chart_to_the_largest_double_is_refused_with_a_readable_count(capsys, tmp_path, monkeypatch):
+    # --eps-max 1.8e308: the zone count overflowed (a warning); at 1e307 the message printed 307 digits
+    monkeypatch.chdir(tmp_path)
+    for top, count in (("1.7976931348623157e+308", "about 1.62e+308"), ("1e307", "about 9e+306")):
+        code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", "c", "--eps-max", top], capsys)
+        assert_one_line_error(code, err, f"the window holds {count} zones (more than 400)")
