@@ -17,6 +17,15 @@ from kapitza.drives import from_samples
 pytestmark = pytest.mark.skipif(not C.HAS_LONG_DOUBLE, reason="numpy's long double is the double here")
 
 
+@pytest.fixture(autouse=True)
+def _long_double_alone(monkeypatch):
+    """The long double tier itself, also where the compiled double-double tier in front of it is
+    loaded (``test_taylor_dd.py`` checks that one)."""
+    from kapitza.engines import magnus
+
+    monkeypatch.setattr(magnus, "certified_pieces", lambda: None)
+
+
 def _measured():
     t = np.linspace(0.0, 1.0, 24, endpoint=False)
     return from_samples(t, np.sin(2 * np.pi * t) + 0.4 * np.cos(6 * np.pi * t + 0.3), kind="linear")

@@ -256,7 +256,7 @@ def pieces_mp(eps, mu, zeta, pieces):
     off the zones (0 on them). Otherwise the damped one: ``tau`` that of the ``phi``-system at
     ``mu^2 (1 + zeta^2)``, ``stable`` iff ``|tau| < cosh(kappa)`` (``kappa = 2 sqrt 8 zeta mu eps``),
     ``growth = log max|lambda|``. The precision starts at 96 bits beyond the growth ``e^G`` of the
-    solutions and doubles until ``|tau|`` is resolved from the threshold by more than ``2^32`` times
+    solutions and doubles until ``|tau|`` is resolved from the threshold by more than ``2^44`` times
     the series' rounding (to 3,000 bits, more at small ``eps``; beyond, the last answer stands)."""
     import math
 
@@ -278,7 +278,7 @@ def pieces_mp(eps, mu, zeta, pieces):
                 # the correctly rounded quotient of the integers
                 one = 1 << (2 * P)
                 gap = abs(num) - one
-                if abs(gap) > 1 << (P + bits + 32) or P > cap:
+                if abs(gap) > 1 << (P + bits + 44) or P > cap:
                     if gap.bit_length() < 2 * P + 1000:
                         x = gap / one  # |tau| - 1, correctly rounded
                         log_tau = math.log1p(x) if x > -1.0 else -np.inf
@@ -299,7 +299,7 @@ def pieces_mp(eps, mu, zeta, pieces):
                 kappa = 2 * mpmath.sqrt(8) * mpmath.mpf(z) * mpmath.mpf(m) * mpmath.mpf(e)
                 bar = mpmath.cosh(kappa)
                 diff = abs(t) - bar
-                if abs(diff) > mpmath.mpf(2) ** (-(P - bits - 32)) * bar or P > cap:
+                if abs(diff) > mpmath.mpf(2) ** (-(P - bits - 44)) * bar or P > cap:
                     growth = (mpmath.acosh(abs(t)) if abs(t) > 1 else mpmath.mpf(0)) - kappa
                     log_tau = float(mpmath.log(abs(t))) if num else -np.inf
                     out.append((float(t), log_tau, bool(diff < 0), float(growth)))
@@ -559,8 +559,22 @@ def pieces_ld(eps, mu, zeta, pieces):
                         else np.zeros(eps.size))
         return rows
 
-    return ld_tier(eps, mu, zeta, counts, lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT),
-                   _LD_MAX_STEPS, _LD_CHUNK)
+    from .engines.magnus import certified_pieces
+
+    dd = certified_pieces()
+    if dd is None:
+        return ld_tier(eps, mu, zeta, counts, lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT),
+                       _LD_MAX_STEPS, _LD_CHUNK)
+    # the compiled double-double tier first; the long double for the points it declines
+    out = dd(eps, mu, zeta, pieces)
+    rest = np.flatnonzero(~out[0])
+    if rest.size:
+        z = None if zeta is None else np.asarray(zeta, float).ravel()[rest]
+        ld = ld_tier(np.asarray(eps, float).ravel()[rest], np.asarray(mu, float).ravel()[rest], z, counts,
+                     lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT), _LD_MAX_STEPS, _LD_CHUNK)
+        for a, b in zip(out, ld):
+            a[rest] = b
+    return out
 
 
 def growth_good(tau, tau_error, growth, rtol=1e-12):

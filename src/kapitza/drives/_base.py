@@ -748,11 +748,12 @@ class Drive:
         where ``damped``) cost about what the double computation does (a long double product, mpmath
         only where that cannot decide): the one-point searches then ask them at every step, and the
         damping layer asks :meth:`_damped_exact` wherever its verdict is near the edge. A drive of
-        linear pieces: where the long double tier (:func:`kapitza._certify.pieces_ld`) is there to
-        decide them."""
+        linear pieces: where the long double tier (:func:`kapitza._certify.pieces_ld`) or the compiled
+        double-double one (:func:`kapitza.engines.magnus.certified_pieces`) is there to decide them."""
         from .._certify import HAS_LONG_DOUBLE
+        from ..engines.magnus import certified_pieces
 
-        return HAS_LONG_DOUBLE and self._certified_pieces() is not None
+        return (HAS_LONG_DOUBLE or certified_pieces() is not None) and self._certified_pieces() is not None
 
     def _damped_exact(self, eps, mu, zeta, growth=True):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points

@@ -17,18 +17,18 @@ import numpy as np
 try:
     import numba
 
-    _jit = numba.njit(cache=True, nogil=True)
+    jit = numba.njit(cache=True, nogil=True)
 except ImportError:  # pragma: no cover - depends on the installation
     numba = None  # type: ignore[assignment]
 
-    def _jit(f):
+    def jit(f):
         return f
 
 LN2 = 0.6931471805599453
 PI = math.pi
 
 
-@_jit
+@jit
 def _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, E, m2, angle):
     """``(a, b, c, d, L, turn)`` of one period: ``M = e^L [[a, b], [c, d]]``."""
     a = 1.0
@@ -90,7 +90,7 @@ def _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, E, m2, angle):
     return a * s, b * s, c * s, d * s, L + e * LN2, turn
 
 
-@_jit
+@jit
 def _loop(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, eps, mu, angle, finish, out):
     """Row ``i`` of ``out``: ``(a, b, c, d, L, turn)``, or with ``finish``
     ``(tau, log_tau, theta, zone, growth, 0)`` (:func:`~kapitza.engines.magnus.rotation`)."""

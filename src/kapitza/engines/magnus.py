@@ -115,21 +115,36 @@ class Grid:
 
 def load_compiled() -> bool:
     """Load the compiled period (:mod:`._compiled`, numba: its import and its cached code, 0.7-1.2 s)
-    now, so that every later call of the engine runs it; until then the engine runs its numpy tree
-    for the first :attr:`Engine.COMPILED_FROM` point-steps a process asks (a command of one report
-    does not pay numba's start-up). Returns whether it is there (numba installed). The two give the same
-    verdicts, zones and edges; traces and growths may differ in their last bits (the products are
-    rounded in another order)."""
+    and the compiled double-double tier of the certified verdicts of linear pieces
+    (:mod:`._taylor_dd`) now, so that every later call of the engine runs them; until then the
+    engine runs its numpy tree for the first :attr:`Engine.COMPILED_FROM` point-steps a process asks
+    (a command of one report does not pay numba's start-up). Returns whether it is there (numba
+    installed). The two give the same verdicts, zones and edges; traces and growths may differ in
+    their last bits (the products are rounded in another order)."""
     global _COMPILED
     if _COMPILED is None:
         from . import _compiled
 
         if _compiled.available():
+            from . import _taylor_dd
+
             _compiled.warm()
+            _taylor_dd.warm()
             _COMPILED = _compiled
         else:
             _COMPILED = False
     return bool(_COMPILED)
+
+
+def certified_pieces():
+    """:func:`kapitza.engines._taylor_dd.pieces_dd`, the compiled double-double tier of the certified
+    verdicts of linear pieces, once the compiled engine is loaded (:func:`load_compiled`); else None
+    (the long double and mpmath tiers decide alone)."""
+    if not _COMPILED:
+        return None
+    from ._taylor_dd import pieces_dd
+
+    return pieces_dd
 
 
 def _polish(shape, x, h, sign):
