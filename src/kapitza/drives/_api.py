@@ -296,37 +296,44 @@ def _damped_edges(drive, mu, n, zeta, phi=None):
     return _kapitza_damped(drive, mu, n, zeta, edge_lo, edge_hi), edge_hi
 
 
-#: Below this ``mu`` the damped lower edge of zone 0 is searched on the certified damped verdicts
-#: (:func:`_kapitza_damped`): for a drive given by its shape (the engine's edge errs there by
-#: ``1e-16 / mu^4`` and more), and for the others (whose excess keeps its digits while it is a double)
-KAPITZA_DAMPED_MU = 0.03
-KAPITZA_DAMPED_MU_EXACT = 1e-50
-
-
 def _kapitza_damped(drive, mu, n, zeta, lo, hi):
-    """``lo`` with zone 0's damped lower edge, below :data:`KAPITZA_DAMPED_MU` (or
-    :data:`KAPITZA_DAMPED_MU_EXACT`), moved to the double the
-    certified damped verdict puts it at (a drive whose damped verdicts are certified): Kapitza's limit,
-    where ``G`` is of order ``eps^4`` and is lost to cancellation (or to underflow, below ``mu`` of about
-    1e-60, where the gap then looked stable all the way down). Searched from the averaging threshold
-    ``mu / sqrt(8 k)``: damping leaves the averaged stiffness, and with it that edge, as it is to
-    leading order (``O(mu^2)`` relative). Kept as found where that search finds no unstable double below
-    (a drive whose levels, rounded, leave a mean that outweighs gravity there: zone 0 reaches ``eps -> 0``)."""
-    below = KAPITZA_DAMPED_MU if drive._from_shape else KAPITZA_DAMPED_MU_EXACT
-    rows = np.flatnonzero(((n == 0) & (mu < below) & (zeta > 0) & np.isfinite(hi)).reshape(-1))
+    """``lo`` with zone 0's damped lower edge below the drive's :meth:`~kapitza.drives.Drive._kapitza_mu`
+    moved to the double the certified damped verdict puts it at (:func:`kapitza_edge`; a drive whose
+    damped verdicts are certified): Kapitza's limit, where ``G`` is of order ``eps^4`` and is lost to
+    cancellation (or to underflow, below ``mu`` of about 1e-60, where the gap then looked stable all
+    the way down). Searched from the averaging threshold ``mu / sqrt(8 k)``: damping leaves the averaged
+    stiffness, and with it that edge, as it is to leading order (``O(mu^2)`` relative). Kept as found
+    where that search finds no unstable double below (a drive whose levels, rounded, leave a mean
+    that outweighs gravity there: zone 0 reaches ``eps -> 0``)."""
+    rows = np.flatnonzero(((n == 0) & (mu < drive._kapitza_mu(True)) & (zeta > 0) & np.isfinite(hi)).reshape(-1))
     if not rows.size or not drive._damped_certified:
         return lo
     m, z, h = mu.reshape(-1)[rows], zeta.reshape(-1)[rows], hi.reshape(-1)[rows]
     start = drive.kapitza_eps(m)
     ok = start < h
     rows, m, z, h, start = rows[ok], m[ok], z[ok], h[ok], start[ok]
-    found = certified_sides(drive, m, start, h, z, far=True)[0]
-    ends = np.concatenate([found, np.nextafter(found, np.inf)])
-    st = drive._floquet(ends, np.tile(m, 2), np.tile(z, 2), True)[3]
-    good = ~st[:found.size] & st[found.size:]
+    found, _, good = kapitza_edge(drive, m, start, h, z)
     lo = np.array(lo, dtype=float, copy=True)
     lo.reshape(-1)[rows[good]] = found[good]
     return lo
+
+
+def kapitza_edge(drive, mu, start, hi, zeta=None):
+    """Zone 0's lower edge in Kapitza's limit (small ``mu``), where the double computation loses it
+    to cancellation (``tau - 1`` is of order ``eps^2 mu^2``): ``(lo, hi, good)``, the edges moved to
+    the doubles the certified verdicts put them at (:func:`certified_sides` from ``start``, below
+    on to the smallest double: the averaging threshold ``mu / sqrt(8 k)`` is off the edge by
+    ``O(mu^2)`` relative, a double search may be binades off), and ``good`` where the lower one is
+    found so: unstable, the next double up stable. The one refinement of that edge for every drive
+    (:meth:`Drive._edges0`, the step drives' sampled edges, the damping layer)."""
+    lo, hi = certified_sides(drive, mu, start, hi, zeta, far=True)
+    ends = np.concatenate([lo, np.nextafter(lo, np.inf)])
+    mm = np.tile(mu, 2)
+    if zeta is None:
+        st = np.asarray(drive._verdict0(ends, mm), bool)
+    else:
+        st = np.asarray(drive._floquet(ends, mm, np.tile(zeta, 2), True)[3], bool)
+    return lo, hi, ~st[:lo.size] & st[lo.size:]
 
 
 # ---------------------------------------------------------------- the questions

@@ -441,18 +441,26 @@ class Drive:
             # Kapitza's limit: zone 0's lower edge from the engine's trace errs by about 1e-16 / mu^4
             # relative (tau - 1 is of order eps^2 mu^2 there); a drive of linear pieces moves it to the
             # double its certified verdict puts it at (binades off at mu = 1e-5 and below)
-            low = np.flatnonzero(ok & (n == 0) & (mu < self._KAPITZA_MU) & np.isfinite(lo) & (lo < hi))
+            low = np.flatnonzero(ok & (n == 0) & (mu < self._kapitza_mu(False)) & np.isfinite(lo) & (lo < hi))
             if low.size and self._certified_pieces() is not None:
                 # (searched from the averaging threshold below mu = 1e-3, where it is the nearer: it errs
                 # by O(mu^2) relative)
                 start = np.where(mu[low] < 1e-3, self.kapitza_eps(mu[low]), lo[low])
-                lo[low], hi[low] = _api.certified_sides(self, mu[low], start, hi[low], far=True)
+                found, top, good = _api.kapitza_edge(self, mu[low], start, hi[low])
+                lo[low[good]], hi[low[good]] = found[good], top[good]
         return lo.reshape(sh), hi.reshape(sh)
 
-    #: Below this ``mu`` the engine's lower edge of zone 0 is certified before it is given (:meth:`_edges0`):
-    #: its error there, about ``1e-16 / mu^4`` relative, passes 1e-10 (a chart settles the pixels within 1e-9
-    #: of its edges by their verdicts)
-    _KAPITZA_MU = 0.03
+    def _kapitza_mu(self, damped: bool) -> float:
+        """Kapitza's limit: below this ``mu`` zone 0's lower edge (damped or not) is searched on the
+        certified verdicts from the averaging threshold (:func:`kapitza.drives._api.kapitza_edge`),
+        where the double computation loses it to cancellation. A drive given by its shape: 0.03 (the
+        engine's edge errs there by about ``1e-16 / mu^4`` relative, which passes 1e-10: a chart
+        settles the pixels within 1e-9 of its edges by their verdicts). Else, damped, 1e-50 (the
+        excess keeps its digits while it is a double) and, undamped, the drive's own (0: none; the
+        step drives' sheared frame keeps ``tr M / 2 - 1`` to about ``mu = 1e-10``)."""
+        if self._from_shape:
+            return 0.03
+        return 1e-50 if damped else 0.0
 
     def _zone_noise(self, eps, mu):
         """The logarithm of the engine's trace bound (uncapped) far out, where nothing after the double

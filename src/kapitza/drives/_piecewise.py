@@ -460,6 +460,9 @@ class PiecewiseConstant(Drive):
     def _steps(self):
         return self.levels, self.fractions
 
+    def _kapitza_mu(self, damped):
+        return 1e-50 if damped else 1e-8
+
     def _certified_cheap(self, damped):
         return LONG_DOUBLE is not None
 
@@ -921,19 +924,15 @@ def zones_in_window(drive, mu, e_a, e_b, per_turn=3, margin=None, keep_all=False
     return rows, zone, _kapitza_zone0(drive, mu, rows, zone, lo, hi), hi
 
 
-#: Below this ``mu`` zone 0's lower edge of a step drive is searched on its certified verdicts
-#: (:func:`_kapitza_zone0`): the sheared frame keeps ``tr M / 2 - 1`` to about ``mu = 1e-10``, not beyond
-KAPITZA_STEPS_MU = 1e-8
-
-
 def _kapitza_zone0(drive, mu, rows, zone, lo, hi):
-    """``lo`` with zone 0's lower edge below :data:`KAPITZA_STEPS_MU` moved to the double the certified
-    verdict puts it at, searched from the averaging threshold ``sqrt(mu^2 + s) / sqrt(8 k)`` (off it by
-    ``O(mu^2)`` relative; ``s`` the mean that the rounded levels leave, duty 0.3: -1.4e-17); 0 where that
-    mean holds the rod up (``mu^2 + s <= 0``: the mean stiffness attracts, zone 0 reaches ``eps -> 0``)."""
-    from ._api import certified_sides
+    """``lo`` with zone 0's lower edge below the drive's :meth:`~kapitza.drives.Drive._kapitza_mu` moved
+    to the double the certified verdict puts it at (:func:`kapitza.drives._api.kapitza_edge`), searched
+    from the averaging threshold ``sqrt(mu^2 + s) / sqrt(8 k)`` (off it by ``O(mu^2)`` relative; ``s`` the
+    mean that the rounded levels leave, duty 0.3: -1.4e-17); 0 where that mean holds the rod up
+    (``mu^2 + s <= 0``: the mean stiffness attracts, zone 0 reaches ``eps -> 0``)."""
+    from ._api import kapitza_edge
 
-    k0 = np.flatnonzero((zone == 0) & (mu[rows] < KAPITZA_STEPS_MU) & np.isfinite(hi))
+    k0 = np.flatnonzero((zone == 0) & (mu[rows] < drive._kapitza_mu(False)) & np.isfinite(hi))
     if not k0.size:
         return lo
     lo = lo.copy()
@@ -950,7 +949,8 @@ def _kapitza_zone0(drive, mu, rows, zone, lo, hi):
     start = root / np.sqrt(8.0 * drive._mean_square_velocity)
     ok = (start > 0) & (start < hi[k0])
     if ok.any():
-        lo[k0[ok]] = certified_sides(drive, m[ok], start[ok], hi[k0[ok]], far=True)[0]
+        found, _, good = kapitza_edge(drive, m[ok], start[ok], hi[k0[ok]])
+        lo[k0[ok][good]] = found[good]
     return lo
 
 
