@@ -248,6 +248,15 @@ def pieces_phase(eps, mu, pieces):
                for x0, x1, s0, s1 in pieces)
 
 
+def small_eps_bits(eps, scale):
+    """At small ``eps``, ``|tau| - 1`` is of order ``(scale eps^2)^2`` times the distance to the edge of
+    zone 0 (``scale eps^2`` the drive's strength: ``8 eps^2`` for linear pieces, ``q`` for the sine):
+    the bits that takes, with which an exact trace starts, and beyond which it goes past the 3,000."""
+    import math
+
+    return int(max(0.0, -2.0 * (math.log2(scale) + 2.0 * math.log2(eps)))) if eps > 0 else 0
+
+
 def pieces_mp(eps, mu, zeta, pieces):
     """Verdicts at the exact doubles of a drive linear on each of ``pieces``, decided in extended
     precision (flat arrays; :func:`_pieces_half_trace`): ``[(tau, log|tau|, stable, growth)]``.
@@ -266,9 +275,7 @@ def pieces_mp(eps, mu, zeta, pieces):
     zs = [0.0] * np.size(eps) if zeta is None else np.asarray(zeta, float).tolist()
     for e, m, z in zip(np.asarray(eps, float).tolist(), np.asarray(mu, float).tolist(), zs):
         bits = _pieces_growth_bits(e, m * m * (1.0 + z * z), pieces)
-        # at small eps, |tau| - 1 is of order (8 eps^2)^2 times the distance to the edge of zone 0: the
-        # bits it takes, from the start and beyond the 3,000
-        small = int(max(0.0, -2.0 * (3.0 + 2.0 * math.log2(e)))) if e > 0 else 0
+        small = small_eps_bits(e, 8.0)
         P = 96 + bits + small
         cap = 1500 + small
         while True:

@@ -40,7 +40,7 @@ import threading
 import numpy as np
 
 from .. import _validate as _v
-from .._certify import LONG_DOUBLE, growth_good
+from .._certify import LONG_DOUBLE, growth_good, small_eps_bits
 
 
 PI = np.pi
@@ -762,14 +762,6 @@ def _growth_bits(eps, mu):
     return int(math.pi * math.sqrt(2.0 * q * (1.0 + float(mu) ** 2)) / math.log(2.0)) + 1
 
 
-def _small_q_bits(eps):
-    """At small ``q``, ``|tau| - 1`` is of order ``q^2`` (times the distance to the edge of zone 0): the
-    bits that takes, with which an exact trace starts, and beyond which it goes past the 3,000."""
-    import math
-
-    return int(max(0.0, -2.0 * (math.log2(16.0 / PI**2) + 2.0 * math.log2(eps)))) if eps > 0 else 0
-
-
 def _exact_tau(eps, mu, rounds=8):
     """``(tau, log|tau|, stable)`` of the sine drive at the exact doubles ``eps, mu`` (scalars);
     ``rounds`` below 8: None where the precision's first ``rounds`` settings leave ``|tau| - 1``
@@ -784,7 +776,7 @@ def _exact_tau(eps, mu, rounds=8):
     import mpmath
 
     growth = _growth_bits(eps, mu)
-    small = _small_q_bits(eps)
+    small = small_eps_bits(eps, 16.0 / PI**2)   # (q = 16 eps^2 / pi^2)
     P = 96 + growth + small
     cap = 1500 + small
     for r in range(8):
@@ -841,7 +833,7 @@ def sine_damped_exact(eps, mu, zeta, growth=True):
             continue
         e, m, z = key
         growth_bits = _growth_bits(e, m * math.sqrt(1.0 + z * z))   # (the phi-system's mu_c)
-        small = _small_q_bits(e)
+        small = small_eps_bits(e, 16.0 / PI**2)
         P = 96 + growth_bits + small
         cap = 1500 + small
         for _ in range(8):

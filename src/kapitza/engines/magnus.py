@@ -347,7 +347,7 @@ class Engine:
                 self.refuse(eps, mu)
             m2 = float(mu[0]) ** 2
             root = math.sqrt(8.0 * max(abs(m2 + self.s_min), abs(m2 + self.s_max)))
-            if not float(eps[0]) <= 0.5 * self.STEP_PHASE_MAX * self.MAX_STEPS / root:   # (eps_max, in floats)
+            if not float(eps[0]) <= self._phase_cap / root:   # (eps_max, in floats)
                 self.refuse(eps, mu)
             rate = root * float(eps[0])
             want = min(max(2.0 * rate / self.PHASE, self.min_steps), self.MAX_STEPS)
@@ -363,11 +363,17 @@ class Engine:
         n = np.exp2(np.ceil(np.log2(np.minimum(want, self.MAX_STEPS))))
         return n.astype(np.int64)
 
+    @property
+    def _phase_cap(self):
+        """The largest ``eps sqrt(8 max|mu^2 + s|)``: :attr:`MAX_STEPS` steps over ``tau`` in ``[0, 2]``,
+        each of a phase at most :attr:`STEP_PHASE_MAX`."""
+        return 0.5 * self.STEP_PHASE_MAX * self.MAX_STEPS
+
     def eps_max(self, mu):
         """The largest ``eps`` integrated at ``mu`` (:meth:`steps_for`; ``mu <= MU_MAX``)."""
         m2 = np.asarray(mu, float) ** 2
         smax = np.maximum(np.abs(m2 + self.s_min), np.abs(m2 + self.s_max))
-        return 0.5 * self.STEP_PHASE_MAX * self.MAX_STEPS / np.sqrt(8.0 * smax)
+        return self._phase_cap / np.sqrt(8.0 * smax)
 
     def refuse(self, eps, mu):
         """Raise the error naming the first point of flat ``eps, mu`` that :meth:`steps_for` cannot integrate
