@@ -49,6 +49,17 @@ def machine():
     return lines
 
 
+def load_line(when=""):
+    """The load average as one line: ``"load average at the end: 0.52 0.61 0.70"`` for
+    ``when="at the end"``, ``"load average 0.52 0.61 0.70"`` without ``when``; ``"load average
+    unknown"`` where the platform has none."""
+    try:
+        values = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    except (AttributeError, OSError):   # (no load average on this platform)
+        return "load average unknown"
+    return f"load average {when}: {values}" if when else f"load average {values}"
+
+
 def header(name):
     """Print a benchmark's first lines: its name and the time, the machine, the load average."""
     import datetime
@@ -56,7 +67,4 @@ def header(name):
     print(f"{name}  {datetime.datetime.now().isoformat(timespec='seconds')}")
     for line in machine():
         print("  " + line)
-    try:
-        print(f"  load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
-    except OSError:   # (no load average on this platform)
-        pass
+    print("  " + load_line())

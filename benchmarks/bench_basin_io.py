@@ -13,7 +13,6 @@ Measured in one run, min and median over repeats (the machine may be shared):
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import statistics
 import subprocess
@@ -25,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, load_line, median_time  # noqa: E402
 
 import kapitza as K  # noqa: E402
 from kapitza import _io  # noqa: E402
@@ -61,11 +60,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     res = 48 if args.tiny else 512
     repeats = 2 if args.tiny else 3
-    print(f"kapitza {K.__version__} basin benchmark{' (--tiny)' if args.tiny else ''}, "
-          f"{datetime.datetime.now().isoformat(timespec='seconds')}")
-    for line in machine():
-        print(line)
-    print(f"load average at the start: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    header("bench_basin_io")
+    print(f"  kapitza {K.__version__} basin benchmark{' (--tiny)' if args.tiny else ''}")
     print()
 
     print(f"basins: T = {T} s, A = {A} m/s^2, {res} x {res} grid, 50 periods; min and median of {repeats}")
@@ -100,7 +96,7 @@ def main(argv=None):
             whole[workers] = (min(times), statistics.median(times))
             print(f"  --workers {workers}: min {whole[workers][0]:7.3f} s  median {whole[workers][1]:7.3f} s")
         print(f"  ratio workers 1 / workers 2: {whole[1][0] / whole[2][0]:.2f}x (min)")
-    print(f"load average at the end: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
+    print(load_line("at the end"))
     if args.tiny:
         print("(--tiny: sizes too small for the target to mean anything; not checked)")
     else:

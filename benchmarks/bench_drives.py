@@ -13,7 +13,6 @@ figure is a median over repeats; the baseline is measured in the same run:
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 import time
@@ -22,7 +21,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 
 import kapitza.drives as kd  # noqa: E402
 from kapitza.drives import _api  # noqa: E402
@@ -85,8 +84,7 @@ def main():
     ap.add_argument("--tiny", action="store_true", help="seconds-long smoke run")
     a = ap.parse_args()
     n, repeats, sample = (128, 2, 10) if a.tiny else (2048, 7, 200)
-    print(f"bench_drives {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
-    print("\n".join(machine()))
+    header("bench_drives")
     report("four-step drive", FOUR_STEP, n, repeats, sample)
     report("square wave, damping ratio 0.2", kd.SquareWave(), n, repeats, sample, zeta=0.2)
     try:

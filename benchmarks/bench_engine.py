@@ -26,7 +26,6 @@ same run:
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 import time
@@ -35,7 +34,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 
 import kapitza as K
 from kapitza import _square as Z
@@ -152,10 +151,8 @@ def main(argv=None):
     n_mu_edges = 100 if tiny else 10_000
     edge_repeats = 3 if tiny else 21
 
-    print(f"kapitza {K.__version__} engine benchmark{' (--tiny)' if tiny else ''}, "
-          f"{datetime.datetime.now().isoformat(timespec='seconds')}")
-    for line in machine():
-        print(line)
+    header("bench_engine")
+    print(f"  kapitza {K.__version__} engine benchmark{' (--tiny)' if tiny else ''}")
     print()
 
     # ------------------------------------------------------------ stability grid

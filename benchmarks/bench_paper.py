@@ -27,7 +27,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine  # noqa: E402
+from _timing import header, load_line  # noqa: E402
 
 import matplotlib  # noqa: E402
 
@@ -89,13 +89,10 @@ def main(argv=None):
     figures = (1,) if args.tiny else tuple(range(1, 9))
     checks = (0, 1, 2) if args.tiny else None
     quick = args.quick or args.tiny
-    print("kapitza paper: " + ("tiny run" if args.tiny else "the whole reproduction")
+    header("bench_paper")
+    print("  kapitza paper: " + ("tiny run" if args.tiny else "the whole reproduction")
           + f" ({len(figures)} figures, {len(checks) if checks else len(C.CHECKS)} checks, "
           + ("quick" if quick else "full") + " parameter sets)")
-    for line in machine():
-        print("  " + line)
-    if hasattr(os, "getloadavg"):
-        print("  load average before: " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
     runs = {"base": [], "one": [], "new": []}
     with tempfile.TemporaryDirectory() as tmp:
         # Alternated, so that a change in the machine's load falls on all three alike.
@@ -116,8 +113,7 @@ def main(argv=None):
     passed = all(x[2].passed for v in runs.values() for x in v)
     print(f"same files written: {same} ({len(names['new'])} files)")
     print(f"every check passed: baseline {passed}, build {passed} ({len(runs['new'][0][2].checks)} checks)")
-    if hasattr(os, "getloadavg"):
-        print("  load average after: " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
+    print("  " + load_line("after"))
     return 0 if (same and passed) else 1
 
 

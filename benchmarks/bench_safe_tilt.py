@@ -16,7 +16,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 
 from kapitza.drives import parse_drive  # noqa: E402
 from kapitza.parameters import to_physical  # noqa: E402
@@ -34,8 +34,8 @@ def baseline(eps, mu, drive, zeta, periods, tol=np.pi / 2):
 def main():
     tiny = "--tiny" in sys.argv
     periods, repeats = (10, 1) if tiny else (50, 3)
-    print("\n".join(machine()))
-    print(f"load average {os.getloadavg()[0]:.2f} (the machine is shared: timings are under that load)\n")
+    header("bench_safe_tilt")
+    print("  (the machine is shared: timings are under that load)\n")
     print(f"{'case':<34} {'safe_tilt':>10} {'bisection':>10} {'ratio':>7}   theta* (ours / bisection)")
     for name, eps, mu, drive, zeta in [("zone 0, square wave", 0.5, 0.3, "square", 0.0),
                                        ("zone 1, square wave", 1.78, 0.3, "square", 0.0),

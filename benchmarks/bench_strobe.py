@@ -17,7 +17,6 @@ extrapolated from the per-trajectory-period cost; ``--full`` also runs it once.
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 import time
@@ -26,7 +25,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 
 from kapitza.motion import stroboscopic_map
 
@@ -68,9 +67,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.tiny:
         args.n, args.periods, args.repeats, args.sample, args.full = 2000, 3, 1, 3, False
-    print(f"bench_strobe  {datetime.datetime.now().isoformat(timespec='seconds')}")
-    for line in machine():
-        print("  " + line)
+    header("bench_strobe")
     print(f"  parameters T = {T} s, A = {A} m/s^2, l = {L} m, g = {G} m/s^2 (zone 0); "
           f"states uniform in |theta| <= 0.6 rad, |theta'| <= 6 rad/s")
     th0, om0 = ensemble(args.n)

@@ -19,7 +19,6 @@ Measured in the same run:
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import shutil
 import sys
@@ -30,7 +29,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine  # noqa: E402
+from _timing import header  # noqa: E402
 
 import kapitza  # noqa: E402
 import kapitza.motion._periods as B  # noqa: E402
@@ -128,9 +127,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.tiny:
         a.n, a.periods, a.chunk, a.sample, a.dask_n, a.dask_periods = 4, 20, 4, 2, 4, 10
-    print(f"bench_sweep  {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
-    for line in machine():
-        print("  " + line)
+    header("bench_sweep")
 
     # 1. the sweep kernel over the chart
     eps, mu = np.linspace(*EPS, a.n), np.linspace(*MU, a.n)

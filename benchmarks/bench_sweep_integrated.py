@@ -15,7 +15,6 @@ for a seconds-long smoke run.
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 import time
@@ -23,7 +22,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine  # noqa: E402
+from _timing import header  # noqa: E402
 
 import kapitza  # noqa: E402
 from kapitza.drives import parse_drive  # noqa: E402
@@ -68,10 +67,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.tiny:
         a.n, a.periods = 2, 5
-    print(f"bench_sweep_integrated  {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-          f"load average {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f}")
-    for line in machine():
-        print("  " + line)
+    header("bench_sweep_integrated")
     eps, mu = np.meshgrid(np.linspace(*EPS, a.n), np.linspace(*MU, a.n))
     T, A = (np.asarray(v, float).ravel() for v in kapitza.to_physical(eps, mu))
     sq, sine = parse_drive("square"), parse_drive("sine")

@@ -26,7 +26,6 @@ block), so they agree to the integration error: the safe tilt to 1 % except at r
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import resource
 import shutil
@@ -38,7 +37,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine  # noqa: E402
+from _timing import header, load_line  # noqa: E402
 
 import kapitza  # noqa: E402
 from kapitza.sweeps.kernel import block_quantities  # noqa: E402
@@ -66,13 +65,6 @@ def cpu(fn):
     return time.process_time() - t0, out
 
 
-def load():
-    try:
-        return "load average " + ", ".join(f"{v:.1f}" for v in os.getloadavg())
-    except OSError:
-        return "load average unknown"
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=48, help="grid side of the kernel comparison (default 48)")
@@ -89,10 +81,8 @@ def main(argv=None):
     if a.tiny:
         a.n, a.periods, a.chunks, a.cli_n, a.int_n, a.int_periods, a.int_big_n = 6, 30, "3,6", 8, 2, 10, 0
     chunks = [int(v) for v in a.chunks.split(",")]
-    print(f"kapitza {kapitza.__version__}; {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
-    for line in machine():
-        print(line)
-    print(f"{load()} at the start (2 cores; CPU times below are this process's own)")
+    header("bench_sweep_kernel")
+    print(f"  kapitza {kapitza.__version__} (2 cores; CPU times below are this process's own)")
     parts = set(a.parts.split(","))
     eps, mu = np.linspace(*EPS, a.n), np.linspace(*MU, a.n)
     tilt_map(eps[:2], mu[:2], 5, 2, True)  # compile or load the cache once, outside the timings
@@ -102,7 +92,7 @@ def main(argv=None):
         command_run(a)
     if "integrated" in parts:
         integrated(a)
-    print(f"\n{load()} at the end")
+    print(f"\n{load_line('at the end')}")
 
 
 def kernel(a, eps, mu, chunks):
@@ -142,10 +132,10 @@ def command_run(a):
             return wall, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
 
         fixed, fixed_cpu = command(2, 1, "fixed.zarr")  # start-up: imports, the cluster, the store, the cache
-        before = load()
+        before = load_line()
         wall, cpu_s = command(a.cli_n, a.periods, "m.zarr")
         per, per_cpu = (wall - fixed) / a.cli_n ** 2, (cpu_s - fixed_cpu) / a.cli_n ** 2
-        print(f"  {wall:.1f} s wall ({before} before, {load()} after), of which {fixed:.1f} s fixed (the same "
+        print(f"  {wall:.1f} s wall ({before} before, {load_line()} after), of which {fixed:.1f} s fixed (the same "
               f"command on 2 x 2 points, 1 period): {1e3 * per:.3f} ms per point;")
         print(f"  CPU of the command and its workers: {cpu_s:.1f} s, of which {fixed_cpu:.1f} s fixed: "
               f"{1e3 * per_cpu:.3f} ms per point")

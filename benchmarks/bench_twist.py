@@ -16,7 +16,6 @@ Measured in the same run, medians over repeats:
 from __future__ import annotations
 
 import argparse
-import datetime
 import os
 import sys
 
@@ -24,7 +23,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _timing import machine, median_time  # noqa: E402
+from _timing import header, median_time  # noqa: E402
 
 import kapitza as K  # noqa: E402
 from kapitza import _normal_form as NFE  # noqa: E402
@@ -70,9 +69,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.tiny:
         a.n, a.sample, a.repeats = 200, 3, 1
-    print(f"bench_twist {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC")
-    for line in machine():
-        print("  " + line)
+    header("bench_twist")
     eps, mu = points(a.n)
     redo = int(np.sum(NFE._normal_form(eps, mu)[0].area_defect == 0))
     t, tmin, tmax = median_time(lambda: K.twist_coefficient(eps, mu), a.repeats)

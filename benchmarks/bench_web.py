@@ -40,7 +40,7 @@ import orjson
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-from _timing import header, median_time  # noqa: E402
+from _timing import header, load_line, median_time  # noqa: E402
 from web_server import running_server  # noqa: E402
 
 import kapitza  # noqa: E402
@@ -232,7 +232,7 @@ def mixed(args):
     print(f"  server resident memory: {before:.0f} MiB after the warm-up, {after:.0f} MiB after the load "
           f"({after - before:+.0f} MiB)")
     try:
-        print(f"  load average {os.getloadavg()[0]:.2f} at the end")
+        print("  " + load_line("at the end"))
     except OSError:
         pass
 
