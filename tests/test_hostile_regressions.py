@@ -723,3 +723,15 @@ def test_a_chart_to_the_largest_double_is_refused_with_a_readable_count(capsys, 
     for top, count in (("1.7976931348623157e+308", "about 1.62e+308"), ("1e307", "about 9e+306")):
         code, _, err = run(["chart", "--points", "40", "--no-magnify", "--out", "c", "--eps-max", top], capsys)
         assert_one_line_error(code, err, f"the window holds {count} zones (more than 400)")
+
+
+@pytest.mark.parametrize("kwargs, needle", [
+    # a result with fewer entries than an input (A from mu and g alone): the message broadcast the
+    # inputs to the result's shape and raised numpy's broadcast error instead
+    (dict(eps=[0.5, 0.5], mu=[1.9927699841902062e+162], l=1.0, g=9.81), "give A = 0.0"),
+    (dict(eps=0.5, mu=0.3, l=[1.0, 1.0], g=[1.7976931348623157e+308]), "give A = inf"),
+    (dict(eps=[0.5, 0.5], mu=0.3, l=1.0, g=[1.7976931348623157e+308]), "g = 1.7976931348623157e+308"),
+])
+def test_derived_parameters_out_of_range_name_the_inputs_whatever_their_shapes(kwargs, needle):
+    with pytest.raises(V.KapitzaValueError, match=needle.replace("+", r"\+").replace(".", r"\.")):
+        K.to_physical(**kwargs)

@@ -97,9 +97,12 @@ def _refuse_outside(given, **results):
     for name, v in results.items():
         bad = ~(np.isfinite(v) & (v > 0))
         if np.any(bad):
-            shown = ", ".join(f"{k} = {float(np.broadcast_to(x, bad.shape)[bad].flat[0])!r}" for k, x in given.items())
+            # (a result may depend on some of the inputs only, and have fewer entries than others)
+            shape = np.broadcast_shapes(bad.shape, *(np.shape(x) for x in given.values()))
+            i = np.unravel_index(int(np.argmax(np.broadcast_to(bad, shape))), shape) if shape else ()
+            shown = ", ".join(f"{k} = {float(np.broadcast_to(x, shape)[i])!r}" for k, x in given.items())
             raise _v.KapitzaValueError(
-                f"{', '.join(given)} give {name} = {float(np.asarray(v)[bad].flat[0])!r}, outside the range of "
+                f"{', '.join(given)} give {name} = {float(np.broadcast_to(v, shape)[i])!r}, outside the range of "
                 f"positive doubles; got {shown}")
 
 
