@@ -735,3 +735,10 @@ def test_a_chart_to_the_largest_double_is_refused_with_a_readable_count(capsys, 
 def test_derived_parameters_out_of_range_name_the_inputs_whatever_their_shapes(kwargs, needle):
     with pytest.raises(V.KapitzaValueError, match=needle.replace("+", r"\+").replace(".", r"\.")):
         K.to_physical(**kwargs)
+
+
+@pytest.mark.parametrize("name", ["zeta", "damping"])
+def test_an_integrated_motion_refuses_many_dampings_by_the_name_given(name):
+    # DOP853 follows one parameter set: the message named the internal c
+    with pytest.raises(V.KapitzaValueError, match=rf"single parameter set; got {name} of shape \(2,\)"):
+        K.nonlinear_motion(0.5, 0.1, 0.0, 0.15, 100.0, **{name: [0.5, 0.6]})

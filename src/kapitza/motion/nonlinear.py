@@ -207,7 +207,8 @@ def nonlinear_motion(t, theta0, dtheta0, T=None, A=None, l=1.0, g=G_EARTH, *, ep
         th, om = _exact_motion_plan(t, r, dtheta0, plan)
     else:
         rtol, atol = _tolerances(rtol, atol)
-        T, A, l, g, c = _single_set(T=T, A=A, l=l, g=g, c=c)
+        # (the damping named as it was given)
+        T, A, l, g, c = _single_set(T=T, A=A, l=l, g=g, **{"zeta" if zeta is not None else "damping": c})
         th, om = _integrated_drive(t, r, dtheta0, T, A, l, g, c, rtol, atol, False, drive)
     return _v.scalars(np.asarray(_add_turns(th, k)), np.asarray(om))
 
