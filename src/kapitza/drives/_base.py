@@ -822,8 +822,14 @@ class Drive:
         last unstable double below the zone, the first above it: :func:`kapitza.is_stable` agrees at
         every double); a chart that needs the curves to a pixel passes False."""
         lo, hi = self._edges(mu, n, zeta)
+        return self._sides(mu, zeta, lo, hi) if certify else (lo, hi)
+
+    def _sides(self, mu, zeta, lo, hi):
+        """Edges ``lo, hi`` found by :meth:`_edges` moved to the doubles the certified verdict puts them
+        at (:func:`kapitza.drives._api.certified_sides`), where this drive needs it (:attr:`_edges_need_sides`;
+        damped, where its damped verdicts are certified)."""
         damped = np.any(np.asarray(zeta) > 0)
-        if certify and (self._damped_certified if damped else self._edges_need_sides):
+        if self._damped_certified if damped else self._edges_need_sides:
             shape = np.shape(lo)
             m = np.broadcast_to(np.asarray(mu, float), shape).ravel()
             z = np.broadcast_to(np.asarray(zeta, float), shape).ravel() if damped else None
@@ -889,7 +895,7 @@ class Drive:
         if zone >= 0 and np.isfinite(lo) and np.isfinite(hi):
             # one point: its edges moved to the doubles the certified verdict puts them at, as
             # zone_edges gives them (the array margin keeps the solver's doubles)
-            lo, hi = (float(v) for v in self.edges(np.float64(mu), np.int64(zone), np.float64(zeta)))
+            lo, hi = (float(v) for v in self._sides(np.float64(mu), np.float64(zeta), np.float64(lo), np.float64(hi)))
             m = min(eps - lo, hi - eps) / eps
         return bool(st), int(zone), float(lo), float(hi), float(m)
 
