@@ -1063,20 +1063,17 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
             return None
         margin, rig = _searched(drive, zeta, levels, [m_rows, r_rows])
         return None if margin is None else (margin, rig)
-    if level0 is not None and abs(level0) < 2.0**50:
-        # off the zones, in the gap theta = k pi: the margin's zone is k - 1 or k (k alone below zone 0),
-        # and each one's rig edges are searched with the margin (one call a step for all of them;
-        # below zone 0 nothing is searched in vain)
-        k = int(level0)
-        zones = [k - 1, k] if k >= 1 else [k]
-        built = _prepared(levels, [_margin_rows(drive, eps, mu, level0)]
-                          + [_rig_rows(drive, eps, mu, n, T, A, l, g) for n in zones])
+    if level0 is not None and level0 == 0:
+        # below zone 0 (the gap theta = 0): the margin's zone can only be zone 0, whose rig edges are
+        # searched with the margin (one call a step for all of them; in a gap k >= 1 it is k - 1 or k,
+        # and searching both zones' rig edges costs more points than the calls it saves)
+        built = _prepared(levels, [_margin_rows(drive, eps, mu, level0), _rig_rows(drive, eps, mu, 0, T, A, l, g)])
         if built[0] is None:
             return None
-        margin, *rigs = _searched(drive, zeta, levels, built)
+        margin, rig = _searched(drive, zeta, levels, built)
         if margin is None:
             return None
-        return margin, (rigs[zones.index(margin[1])] if margin[1] in zones else None)
+        return margin, (rig if margin[1] == 0 else None)
     m_rows, = _prepared(levels, [_margin_rows(drive, eps, mu, level0)])
     margin = None if m_rows is None else _searched(drive, zeta, levels, [m_rows])[0]
     if margin is None:
