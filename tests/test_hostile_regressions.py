@@ -675,10 +675,10 @@ def test_an_animation_of_a_huge_starting_angle_gives_no_warning(capsys, tmp_path
 
 def test_a_change_beside_a_tiny_value_is_not_a_row_of_digit_groups():
     # eps = 1e-300: "raise eps to 1.22e-300-0.663 (+22.5 % to +66,294,940,...,000 %)", 300 digits long
-    from kapitza.advice import _pct
+    from kapitza.advice import percent_change
 
-    assert _pct(0.663, 1e-300) == "+6.63e+301 %"
-    assert _pct(24.3, 1.0) == "+2,330 %" and _pct(1.5, 1.0) == "+50 %"
+    assert percent_change(0.663, 1e-300) == "+6.63e+301 %"
+    assert percent_change(24.3, 1.0) == "+2,330 %" and percent_change(1.5, 1.0) == "+50 %"
 
 
 @pytest.mark.parametrize("device", ["/dev/zero", "/dev/full"])
@@ -742,3 +742,20 @@ def test_an_integrated_motion_refuses_many_dampings_by_the_name_given(name):
     # DOP853 follows one parameter set: the message named the internal c
     with pytest.raises(V.KapitzaValueError, match=rf"single parameter set; got {name} of shape \(2,\)"):
         K.nonlinear_motion(0.5, 0.1, 0.0, 0.15, 100.0, **{name: [0.5, 0.6]})
+
+
+def test_a_stroke_below_the_doubles_is_refused_for_every_drive(capsys):
+    # T = 1e-300: the stroke A T^2 / 6 rounds to 0 and the report divided by it (the square wave
+    # refused it already, on the paper's 2 g T^2 / l)
+    code, _, err = run(["stability", "--T", "1e-300", "--A", "100", "--drive", "triangle"], capsys)
+    assert_one_line_error(code, err, "whose stroke rounds to 0 m")
+    with pytest.raises(V.KapitzaValueError, match="stroke"):
+        K.analyze(T=1e-300, A=100.0, drive="sine")
+
+
+def test_a_report_shows_changes_past_a_million_per_cent_in_scientific_notation():
+    # T = 1e-150: the zone's stroke lies 1e149 % away; its percentage was printed with 150 digits
+    text = str(K.analyze(T=1e-150, A=100.0, drive="triangle"))
+    assert "+5.02e+149 %" in text
+    assert max(len(w) for w in text.split()) < 40
+

@@ -27,7 +27,9 @@ KNOBS = {
 }
 
 
-def _pct(edge, value):
+def percent_change(edge, value):
+    """The change from ``value`` to ``edge`` in percent, with its sign, as a report shows it ("no
+    limit" for an infinite ``edge``; past a million per cent in scientific notation)."""
     if not math.isfinite(edge):
         return "no limit"
     x = 100.0 * (edge / value - 1.0)
@@ -71,17 +73,19 @@ def _record(knob, value, lo, hi, stable, held, zone, words=("raise", "lower")):
     if stable:
         action = "keep"
         if math.isfinite(b):
-            text = (f"{name} may range over {_num(a)}-{_num(b)}{u} ({_pct(lo, value)} / {_pct(hi, value)}){keep}; "
-                    f"outside it the upright falls")
+            text = (f"{name} may range over {_num(a)}-{_num(b)}{u} ({percent_change(lo, value)} / "
+                    f"{percent_change(hi, value)}){keep}; outside it the upright falls")
         else:
-            text = f"{name} may fall to {_num(a)}{u} ({_pct(lo, value)}; no upper limit){keep}"
+            text = f"{name} may fall to {_num(a)}{u} ({percent_change(lo, value)}; no upper limit){keep}"
     elif value < lo:
         action = words[0]
-        change = _pct(lo, value) if not math.isfinite(b) else f"{_pct(lo, value)} to {_pct(hi, value)}"
+        change = (percent_change(lo, value) if not math.isfinite(b)
+                  else f"{percent_change(lo, value)} to {percent_change(hi, value)}")
         text = f"{action} {name} to {rng} ({change}){keep}"
     else:
         action = words[1]
-        change = f"{_pct(hi, value)} to {_pct(lo, value)}" if math.isfinite(hi) else _pct(lo, value)
+        change = (f"{percent_change(hi, value)} to {percent_change(lo, value)}" if math.isfinite(hi)
+                  else percent_change(lo, value))
         text = f"{action} {name} to {rng} ({change}){keep}"
     return dict(knob=knob, unit=unit, value=v, lo=a, hi=b if math.isfinite(b) else None, holding=held,
                 action=action, zone=zone, change_lo=100.0 * (lo / value - 1.0),

@@ -13,6 +13,7 @@ import numpy as np
 
 from . import _validate as _v
 from ._display import Summary, multipliers
+from .advice import directions, percent_change
 from .drives import as_drive
 from .parameters import G_EARTH, to_arnold
 from .safety import safe_tilt_sentence
@@ -152,8 +153,6 @@ class StabilityReport(Summary):
     def directions(self) -> list:
         """Which knob to turn which way to reach (or how far one may leave) the nearest zone
         (:func:`kapitza.advice.directions`): records with a ``text`` sentence each."""
-        from .advice import directions
-
         return directions(self, self.given)
 
     @property
@@ -209,17 +208,19 @@ class StabilityReport(Summary):
                 kept = "amplitude" if self.given == "amplitude" else "stroke"
                 if self.frequency_hi is not None and np.isfinite(self.frequency_hi):
                     rows.append(("", f"{_fmt(self.frequency_lo, 6)} < frequency < {_fmt(self.frequency_hi, 6)} Hz at "
-                                     f"this {kept} ({_pct(self.frequency_lo, f)} / {_pct(self.frequency_hi, f)})"))
+                                     f"this {kept} ({percent_change(self.frequency_lo, f)} / "
+                                     f"{percent_change(self.frequency_hi, f)})"))
                 else:
                     rows.append(("", f"frequency > {_fmt(self.frequency_lo, 6)} Hz at this {kept} "
-                                     f"({_pct(self.frequency_lo, f)}; no upper limit)"))
+                                     f"({percent_change(self.frequency_lo, f)}; no upper limit)"))
             if self.stroke_lo is not None and self.stroke_hi is not None:
                 st, k, word = self.stroke, 1.0, "stroke"
                 if self.given == "amplitude":
                     k, word = 0.5, "amplitude"
                 rows.append(("",
                              f"{_fmt(1e3 * k * self.stroke_lo, 6)} < {word} < {_fmt(1e3 * k * self.stroke_hi, 6)} mm "
-                                 f"at this frequency ({_pct(self.stroke_lo, st)} / {_pct(self.stroke_hi, st)})"))
+                                 f"at this frequency ({percent_change(self.stroke_lo, st)} / "
+                                 f"{percent_change(self.stroke_hi, st)})"))
             if not self.stable and np.nextafter(self.eps_lo, np.inf) >= self.eps_hi:
                 # (no double lies inside: the knobs' ranges would name one value twice)
                 rows.append(("to hold it", f"nothing: zone {self.nearest_zone} is thinner than the spacing of the "
@@ -251,12 +252,6 @@ def _unstable_verdict(tau, nearest, eps, eps_lo):
     if tau > 0:
         return "unstable: parametric resonance, 2T-type (multipliers real, positive)"
     return "unstable: parametric resonance, 4T-type, period doubling (multipliers real, negative)"
-
-
-def _pct(edge, value):
-    """The change from ``value`` to ``edge`` in percent, with its sign."""
-    x = 100.0 * (edge / value - 1.0)
-    return f"{x:+,.0f} %" if abs(x) >= 100 else f"{x:+.3g} %"
 
 
 def _fmt(v, digits=12):
@@ -330,6 +325,11 @@ def _analyze(eps, mu, T, A, l, g, drive, damping, zeta, pointwise=True):
         point = _validated_point(eps, mu, T, A, l, g, damping, zeta)
     e, physical, T, A, l = point[0], point[3], point[4], point[5], point[6]
     _v.eps_in_range(np.float64(e), f" (of T = {T!r}, A = {A!r}, l = {l!r})" if physical else "")
+    if physical and not d.point_stroke(T, A) > 0.0:
+        # (the report's rig intervals are read against the stroke)
+        raise _v.KapitzaValueError(
+            f"T and A must give a stroke {float(d._stroke_coefficient):.6g} A T^2 within the range of positive "
+            f"doubles; got T = {T!r}, A = {A!r}, whose stroke rounds to 0 m")
     try:
         return _report(d, *point, pointwise)
     except _v.ReachError as err:
