@@ -759,3 +759,14 @@ def test_a_report_shows_changes_past_a_million_per_cent_in_scientific_notation()
     assert "+5.02e+149 %" in text
     assert max(len(w) for w in text.split()) < 40
 
+
+def test_the_safe_tilt_at_an_extreme_mu_is_its_limit_with_no_warning():
+    # mu = 1e-151 (g = 1e-300 m/s^2): with g = 9.81 the scaled problem had A ~ 1e303 and DOP853's
+    # initial step overflowed (a warning); the answer is the mu -> 0 limit
+    from kapitza.safety import safe_tilt
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        far = safe_tilt(0.53, 1e-151, drive="triangle", periods=20)
+        near = safe_tilt(0.53, 1e-40, drive="triangle", periods=20)
+    assert far == near > 0.5

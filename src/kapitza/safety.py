@@ -102,6 +102,10 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
         e, m = _v.broadcast(eps=_v.positive("eps", eps), mu=_v.positive("mu", mu))
         z = _v.one("zeta", _v.nonnegative("zeta", 0.0 if zeta is None else zeta))
         l_, g_ = 1.0, G_EARTH
+        if np.size(m) == 1 and not 1e-100 < G_EARTH / float(np.ravel(m)[0]) ** 2 < 1e100:
+            # an extreme mu: g chosen for A = 1 m/s^2 (with g = 9.81 the pivot's acceleration and the
+            # rod's rate would differ by a hundred orders of magnitude, beyond DOP853's error norm)
+            g_ = float(np.ravel(m)[0]) ** 2
         Tv, Av = to_physical(e, m, l_, g_)
         c = 2.0 * z * np.sqrt(g_ / l_)
     else:
