@@ -769,14 +769,35 @@ def margin(eps, mu, drive, zeta):
 _LADDER_TOP = 1e150
 
 
+#: From this many engine steps a period at the point (about 0.4 ms a point with the compiled loop),
+#: one point's searches ask four points a row a step instead of the drive's number
+_COSTLY_STEPS = 1 << 14
+
+
+def _ways(drive, point):
+    """Points per row and step of one point's searches (:attr:`Drive._search_ways`): four where each
+    costs a long period of the generic engine (:data:`_COSTLY_STEPS`; far up the zones the calls'
+    own cost is small against their points, and fewer points in all win: a triangle report at
+    ``eps = 5,300`` took 40 s with 16 points a row a step, 17 s with 4)."""
+    ways = drive._search_ways
+    if point is None or not drive._from_shape:
+        return ways
+    eps, mu = (np.array([float(v)]) for v in point)
+    eng = drive._engine
+    if not (eps[0] <= eng.eps_max(mu)[0] and mu[0] <= eng.MU_MAX):
+        return ways
+    return min(ways, 4) if eng.steps_for(eps, mu)[0] >= _COSTLY_STEPS else ways
+
+
 class _Levels:
     """The level of points ``(eps, mu)`` at one damping ratio, as the one-point searches read it:
     ``n + 1/2`` on zone ``n``, ``k`` in the gap ``theta = k pi``; with ``tau / cosh(kappa)`` (``|.| < 1``
     where stable, damped or not). Certified answers are remembered: a search's final pair is asked again."""
 
-    def __init__(self, drive, zeta):
+    def __init__(self, drive, zeta, point=None):
         self.drive, self.zeta = drive, float(zeta)
         self.known: dict[tuple[float, float], tuple[float, float]] = {}
+        self.ways = _ways(drive, point)
 
     def __call__(self, e, m, certify, with_tau=False):
         e, m = np.broadcast_arrays(np.asarray(e, float), np.asarray(m, float))
@@ -840,7 +861,7 @@ def _searched(drive, zeta, levels, sets):
 
     lo = np.concatenate([r.lo for r in sets])
     hi = np.concatenate([r.hi for r in sets])
-    a, b = _search(drive, zeta > 0, pred, lo, hi)
+    a, b = _search(drive, zeta > 0, pred, lo, hi, levels.ways)
     # the certified predicate at the pairs found, for the sets that read it (remembered from the
     # search, where it asked it there)
     want = np.concatenate([np.full(n, r.checked) for r, n in zip(sets, sizes)])
@@ -863,11 +884,11 @@ def _narrowed(lo, hi, xs, ok):
     return np.where(good, new_lo, lo), np.where(good, new_hi, hi)
 
 
-def _search(drive, damped, pred, lo, hi):
+def _search(drive, damped, pred, lo, hi, ways):
     """:func:`search_bits` (guided) of the one-point searches, ``pred(x, rows, certify)`` returning
     ``(ok, f)``: where the drive's certified verdicts are cheap every step asks them, and the pair
     found is final; elsewhere the steps ask the fast predicate and the final pair is certified."""
-    return search_bits(pred, lo, hi, ways=drive._search_ways, certified=lambda x, rows: pred(x, rows, True),
+    return search_bits(pred, lo, hi, ways=ways, certified=lambda x, rows: pred(x, rows, True),
                        guided=True,
                        certified_steps=drive._certified_cheap(damped))
 
@@ -888,7 +909,7 @@ def point_margin(drive, eps, mu, zeta, levels=None):
     rises: zone ``n``'s lower edge is the last ``eps`` with level ``<= n``, its upper edge the
     first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
     """
-    levels = levels or _Levels(drive, zeta)
+    levels = levels or _Levels(drive, zeta, (eps, mu))
     rows, = _prepared(levels, [_margin_rows(drive, eps, mu)])
     return None if rows is None else _searched(drive, zeta, levels, [rows])[0]
 
@@ -1044,7 +1065,7 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g, levels=None):
     below ``mu = 1e-6`` nothing is searched (a zone reaching there has no upper frequency).
     ``levels`` as in :func:`point_margin`.
     """
-    levels = levels or _Levels(drive, zeta)
+    levels = levels or _Levels(drive, zeta, (eps, mu))
     rows, = _prepared(levels, [_rig_rows(drive, eps, mu, zone, T, A, l, g)])
     return _searched(drive, zeta, levels, [rows])[0]
 
@@ -1055,7 +1076,7 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     answer. ``level0``: the certified level at the point (``zone + 1/2`` on a zone, ``theta / pi``
     off them), when known. A point inside a zone has the six edges searched together: one call of
     the drive per step for all of them."""
-    levels = _Levels(drive, zeta)
+    levels = _Levels(drive, zeta, (eps, mu))
     if level0 is not None and level0 != np.rint(level0):   # inside zone floor(level0): all at once
         m_rows, r_rows = _prepared(levels, [_margin_rows(drive, eps, mu, level0),
                                             _rig_rows(drive, eps, mu, int(np.floor(level0)), T, A, l, g)])
