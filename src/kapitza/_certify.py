@@ -584,11 +584,17 @@ def pieces_ld(eps, mu, zeta, pieces):
     return out
 
 
-def growth_good(tau, tau_error, growth, rtol=1e-12):
+def growth_good(tau, tau_error, growth, rtol=1e-12, log_tau=None):
     """Where a growth ``acosh|tau| (- kappa)`` from an extended-precision ``tau`` is good to ``rtol``:
-    it moves by ``tau``'s error over ``sqrt(tau^2 - 1)`` (0 on a zone)."""
+    it moves by ``tau``'s error over ``sqrt(tau^2 - 1)`` (0 on a zone). ``log_tau``, ``log|tau|`` of
+    that precision, gives ``sqrt(tau^2 - 1)`` where the double ``tau`` has rounded to +-1 (just past
+    the threshold, where the growth is most sensitive)."""
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        err = np.where(np.abs(tau) > 1.0, tau_error / np.sqrt(np.abs(tau * tau - 1.0)), 0.0)
+        if log_tau is None:
+            off, room = np.abs(tau) > 1.0, np.sqrt(np.abs(tau * tau - 1.0))
+        else:
+            off, room = log_tau > 0.0, np.sqrt(np.abs(np.expm1(2.0 * np.asarray(log_tau, float))))
+        err = np.where(off, tau_error / room, 0.0)
     return err <= rtol * np.abs(growth)
 
 
@@ -600,7 +606,7 @@ def pieces_exact(eps, mu, zeta, pieces, growth=True, trace=False):
     error of ``tau`` (the long double's bound and the rounding to a double; a half ulp from mpmath)."""
     dec, st, tau, log_tau, rate, err = pieces_ld(eps, mu, zeta, pieces)
     if growth:
-        dec &= growth_good(tau, err, rate)
+        dec &= growth_good(tau, err, rate, log_tau=log_tau)
     if trace:
         with np.errstate(invalid="ignore"):
             dec &= err <= TRACE_RTOL * np.abs(tau)

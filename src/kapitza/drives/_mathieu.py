@@ -352,7 +352,8 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     shape = eps.shape
     e, m = eps.ravel(), mu.ravel()
-    tau, log_tau, _, err = _sine_traces(e, m, "running" if errors else "quick")
+    tau, log_tau, tau_m1, err = _sine_traces(e, m, "running" if errors else "quick")
+    fresh = np.ones(e.size, bool)   # (the points whose tau - 1 is still the double trace's)
     c_lo, c_hi, unsure = _sine_zone_of(e, m)
     count = c_lo.copy()
     with np.errstate(invalid="ignore"):
@@ -379,6 +380,7 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
         t = np.where(st & (np.abs(t) >= 1.0), sgn * np.nextafter(1.0, 0.0),
                      np.where(~st & (np.abs(t) <= 1.0), sgn * np.nextafter(1.0, 2.0), t))
         log_tau[rows] = np.where(t == tau[rows], log_tau[rows], np.log(np.abs(t)))
+        fresh[rows] &= t == tau[rows]
         tau[rows] = t
         unsure[rows] = False
     unsure |= mismatch
@@ -388,9 +390,17 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     if idx.size:
         tau[idx], log_tau[idx], count[idx], err[idx] = _certify(e[idx], m[idx], c_lo[idx], c_hi[idx], loose, exact)
         rough[idx] = ~(err[idx] <= 1e-13 * np.abs(tau[idx]))
+        fresh[idx] = False
     stable = count % 2 == 1
     zone = np.where(stable, (count - 1) // 2, -1)
     growth = np.where(stable, 0.0, acosh_from_log(log_tau, tau))
+    # just past tau = +1 (below zone 0 at small q, or mu > 1 where the whole period repels) the growth
+    # acosh(1 + x) from tau - 1 itself: tau rounds to 1 there (x of 1e-17 gave a growth of 0)
+    with np.errstate(invalid="ignore"):
+        near = fresh & ~stable & (tau_m1 > 0.0) & (tau_m1 < 0.5)
+    if near.any():
+        x = tau_m1[near]
+        growth[near] = np.log1p(x + np.sqrt(x * (x + 2.0)))
     acos_t = np.arccos(np.clip(tau, -1.0, 1.0))
     z = np.maximum(zone, 0)
     theta = np.where(stable, np.where(z % 2 == 0, z * PI + acos_t, z * PI + PI - acos_t), (count // 2) * PI)
@@ -821,8 +831,8 @@ def sine_damped_exact(eps, mu, zeta, growth=True):
 
     todo = np.array([known(k) is None for k in keys], bool)
     if _ld_pays(eps[todo], mu[todo]):   # the long double tier first; mpmath where it cannot decide
-        dec, st, tau, _, gr, err = sine_ld(eps[todo], mu[todo], zeta[todo])
-        good = growth_good(tau, err, gr)
+        dec, st, tau, log_tau, gr, err = sine_ld(eps[todo], mu[todo], zeta[todo])
+        good = growth_good(tau, err, gr, log_tau=log_tau)
         for key, d, s_, g, ok in zip((k for k, t in zip(keys, todo) if t), dec, st, gr, good):
             if d and (ok or not growth):
                 _remember(key, (bool(s_), float(g), bool(ok)))

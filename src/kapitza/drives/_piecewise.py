@@ -309,9 +309,9 @@ def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=N
                 & (rsum <= MAX_PHASE)
             # a reported growth acosh|tau| beside an edge: tau's error over sqrt(tau^2 - 1) (a double's
             # rounding alone is a per cent of it a few doubles out): mpmath's angle there
-            off = ~stable & (np.abs(tau) > 1.0) & (rsum <= MAX_PHASE)
+            off = ~stable & ((np.abs(tau) > 1.0) | (log_tau > 0.0)) & (rsum <= MAX_PHASE)
             off &= ~growth_good(tau, np.where(np.isnan(known), 0.0, known) + _U * np.abs(tau),
-                                acosh_from_log(log_tau, tau))
+                                acosh_from_log(log_tau, tau), log_tau=log_tau)
         ill |= off
         if np.any(ill):
             idx = np.flatnonzero(ill)
@@ -470,9 +470,9 @@ class PiecewiseConstant(Drive):
         # long double first; mpmath where its rounding bound leaves the verdict open (or, for a
         # reported growth, where the long double's is not good to 1e-12)
         eps, mu, zeta = (np.asarray(v, float).ravel() for v in (eps, mu, zeta))
-        dec, stable, tau, _, rate, err = extended_verdicts(eps, mu, zeta, self.levels, self._durations)
+        dec, stable, tau, log_tau, rate, err = extended_verdicts(eps, mu, zeta, self.levels, self._durations)
         if growth:
-            dec &= growth_good(tau, err, rate)
+            dec &= growth_good(tau, err, rate, log_tau=log_tau)
         out = [(bool(st), float(gr)) for st, gr in zip(stable, rate)]
         rest = np.flatnonzero(~dec)
         if rest.size:
