@@ -770,3 +770,14 @@ def test_the_safe_tilt_at_an_extreme_mu_is_its_limit_with_no_warning():
         far = safe_tilt(0.53, 1e-151, drive="triangle", periods=20)
         near = safe_tilt(0.53, 1e-40, drive="triangle", periods=20)
     assert far == near > 0.5
+
+
+@pytest.mark.parametrize("argv, needle", [
+    # mu = 3e160 (A = 1e-320): a = -2 mu^2 q overflowed (a warning)
+    (["--T", "0.15", "--A", "1e-320"], "mu must satisfy mu <= 1e+150"),
+    # mu = 1e149 (g = 1e300): the half period's phase sqrt(2 q (1 + mu^2)) overflowed its step count
+    (["--T", "0.15", "--A", "100", "--g", "1e300"], "eps must satisfy eps <= 1.11072e-146 at mu = 1e+149"),
+])
+def test_the_sine_refuses_a_mu_beyond_its_reach_by_name(argv, needle, capsys):
+    code, _, err = run(["stability", *argv, "--drive", "sine"], capsys)
+    assert_one_line_error(code, err, needle)

@@ -217,9 +217,18 @@ def _count(fam, q, x):
     return out
 
 
+#: the largest mu of the sine drive's Floquet data (``a = -2 mu^2 q`` and ``mu^2`` stay doubles; far
+#: beyond mu_max = 1, where the upright is always unstable)
+MU_MAX = 1e150
+
+
 def _qa(eps, mu, pi=PI):
     """Mathieu's ``(q, a)`` of the sine drive at ``(eps, mu)``: one rounding, shared by every path
-    (``pi`` in the arguments' precision: the long-double counts pass their own)."""
+    (``pi`` in the arguments' precision: the long-double counts pass their own). ``mu`` beyond
+    :data:`MU_MAX` is refused by name."""
+    if np.size(mu) and not np.max(mu) <= MU_MAX:
+        raise _v.KapitzaValueError(f"mu must satisfy mu <= {MU_MAX:g} for the sine drive's Floquet data "
+                                   f"(mu^2 must stay a double); got {float(np.max(mu))!r}")
     q = 16.0 * eps * eps / pi**2
     return q, -2.0 * mu * mu * q
 
@@ -1085,8 +1094,15 @@ def _rounding_bound(maps, states, s_before, s, qq, mm):
     return _STEP_ROUNDING * np.exp(top - s + np.log(np.sum(np.exp(logs - top), axis=0)))
 
 
-#: the largest eps whose sine-drive trace is integrated (q = 16 eps^2/pi^2 = 1e6)
+#: the largest eps whose sine-drive trace is integrated (q = 16 eps^2/pi^2 = 1e6), at mu = 0
 EPS_TRACE = 0.25 * PI * 1000.0
+
+
+def eps_reach(mu):
+    """The largest ``eps`` whose sine-drive trace is integrated at ``mu``: :data:`EPS_TRACE` up to
+    ``mu = 1``, beyond it ``EPS_TRACE sqrt(2 / (1 + mu^2))`` (the half period's phase
+    ``sqrt(2 q (1 + mu^2))`` at most that of ``q = 1e6`` at ``mu = 1``)."""
+    return np.minimum(EPS_TRACE, EPS_TRACE * np.sqrt(2.0) / np.hypot(1.0, np.asarray(mu, float)))
 
 
 def _sine_traces(eps, mu, bound="running"):
@@ -1095,9 +1111,14 @@ def _sine_traces(eps, mu, bound="running"):
     free of the cancellation of the 1; ``err`` a bound on the error of ``tau`` from rounding (from
     :func:`_half_period`'s ``bound``: ``"running"``, ``"quick"`` or None, then NaN)."""
     eps = np.asarray(eps, float).reshape(-1)
-    if eps.size and not np.max(eps) <= EPS_TRACE:  # the integration's steps grow like sqrt(q)
-        raise _v.KapitzaValueError(f"eps must satisfy eps <= {EPS_TRACE:.6g} for the sine drive's Floquet data "
-                                   f"(Mathieu's q = 16 eps^2/pi^2 up to 1e6); got {float(np.max(eps))!r}")
+    mu = np.broadcast_to(np.asarray(mu, float).reshape(-1), eps.shape)
+    # the integration's steps grow like its phase sqrt(2 q (1 + mu^2)): at most that of q = 1e6
+    reach = eps_reach(mu)
+    over = ~(eps <= reach)
+    if over.any():
+        i = int(np.argmax(over))
+        raise _v.ReachError(float(eps[i]), float(mu[i]), float(reach[i]),
+                            "Floquet data (Mathieu's q = 16 eps^2 / pi^2 up to 1e6, q (1 + mu^2) up to 2e6)")
     wI, dwI, wII, dwII, s, E, ds = _half_period(eps, mu, bound)
     m1, p1 = 2.0 * dwI * wII, 2.0 * wI * dwII  # (tau - 1) e^{-2s}, (tau + 1) e^{-2s}
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # (log|tau| = -inf where tau is 0)

@@ -68,9 +68,9 @@ class SineWave(Drive):
                         tau_error=more[0] if trace else None, unsure=more[-1] if loose else None)
 
     def _eps_reach(self, mu):
-        from ._mathieu import EPS_TRACE
+        from ._mathieu import eps_reach
 
-        return np.full(np.shape(mu), EPS_TRACE)
+        return eps_reach(mu)
 
     def _verdict0(self, eps, mu):
         from ._mathieu import sine_verdict0
