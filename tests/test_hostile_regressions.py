@@ -769,7 +769,10 @@ def test_the_safe_tilt_at_an_extreme_mu_is_its_limit_with_no_warning():
         warnings.simplefilter("error")
         far = safe_tilt(0.53, 1e-151, drive="triangle", periods=20)
         near = safe_tilt(0.53, 1e-40, drive="triangle", periods=20)
-    assert far == near > 0.5
+        # mu = 2.2e-163 (g = 5e-324): mu^2 itself is 0 in doubles (a division by zero)
+        sub = safe_tilt(0.53, 2.2e-163, drive="sine", periods=20)
+        sine = safe_tilt(0.53, 1e-30, drive="sine", periods=20)
+    assert far == near > 0.5 and sub == sine > 0.5
 
 
 @pytest.mark.parametrize("argv, needle", [

@@ -102,11 +102,15 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
         e, m = _v.broadcast(eps=_v.positive("eps", eps), mu=_v.positive("mu", mu))
         z = _v.one("zeta", _v.nonnegative("zeta", 0.0 if zeta is None else zeta))
         l_, g_ = 1.0, G_EARTH
-        if np.size(m) == 1 and not 1e-100 < G_EARTH / float(np.ravel(m)[0]) ** 2 < 1e100:
-            # an extreme mu: g chosen for A = 1 m/s^2 (with g = 9.81 the pivot's acceleration and the
-            # rod's rate would differ by a hundred orders of magnitude, beyond DOP853's error norm)
-            g_ = float(np.ravel(m)[0]) ** 2
-        Tv, Av = to_physical(e, m, l_, g_)
+        mc = m
+        if np.size(m) == 1 and not 1e-50 < float(np.ravel(m)[0]) < 1e50 and 1e-100 < float(np.ravel(e)[0]) < 1e100:
+            # an extreme mu: with g = 9.81 and l = 1 the pivot's acceleration and the rod's rate would
+            # differ by a hundred orders of magnitude, beyond DOP853's error norm; g = mu and l = 1 / mu
+            # (A = l) keep them together. The motion is integrated at mu clamped to 1e+-150 (mu^2 is
+            # lost beside the shape already at 1e-9); the verdict below is the point's own
+            mc = np.full(np.shape(m), min(max(float(np.ravel(m)[0]), 1e-150), 1e150))
+            l_, g_ = 1.0 / float(np.ravel(mc)[0]), float(np.ravel(mc)[0])
+        Tv, Av = to_physical(e, mc, l_, g_)
         c = 2.0 * z * np.sqrt(g_ / l_)
     else:
         if zeta is not None and np.any(_v.nonnegative("zeta", zeta) != 0):
