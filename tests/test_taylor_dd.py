@@ -157,3 +157,39 @@ def test_the_tiers_answer_alike_with_and_without_it(dd, monkeypatch):
 def test_edges_with_the_tier_loaded_match_the_oracle(dd):
     _check_edges(K.TriangleWave(), TRIANGLE_PIECES, 0.3, [7])
     _check_edges(K.TriangleWave(), TRIANGLE_PIECES, 0.55, range(2), zeta=0.3)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_measured_drives_beside_their_edges_agree_with_mpmath(dd, seed):
+    """Property: for a random drive linear between 5-16 samples, random mu and damping, the tier's
+    verdicts at the doubles beside zone edges are mpmath's, and its traces lie within its bound of
+    mpmath's fixed-point product (resolved far beyond the doubles)."""
+    rng = np.random.default_rng(100 + seed)
+    n = int(rng.integers(5, 17))
+    t = np.sort(rng.uniform(0.0, 1.0, n))
+    t[0] = 0.0
+    a = rng.normal(size=n)
+    pieces = K.drives.from_samples(t, a, period=1.0)._linear_pieces()
+    drive = K.drives.from_samples(t, a, period=1.0)
+    mu = float(rng.uniform(0.05, 0.6))
+    zeta = float(rng.choice([0.0, rng.uniform(0.01, 0.5)]))
+    rows = []
+    for n_zone in range(2):
+        lo, hi = (float(v) for v in K.zone_edges(mu, n_zone, drive=drive, zeta=zeta))
+        for x in (lo, hi):
+            if np.isfinite(x) and x > 0:
+                rows += _beside(x, 2).tolist()
+    eps = np.array(rows)
+    assert eps.size
+    z = None if zeta == 0.0 else np.full(eps.size, zeta)
+    dec, st, tau, _, _, err, low = dd.pieces_dd(eps, np.full(eps.size, mu), z, pieces, low=True)
+    assert dec.all()
+    ref = _certify.pieces_mp(eps, np.full(eps.size, mu), z, pieces)
+    assert st.tolist() == [r[2] for r in ref]
+    m2 = mu * mu * (1.0 + zeta * zeta)
+    for i in range(eps.size):
+        P = 200 + _certify._pieces_growth_bits(eps[i], m2, pieces)
+        num = _certify._pieces_half_trace(eps[i], mu, zeta, pieces, P)
+        with mpmath.workprec(2 * P + 64):
+            exact = mpmath.mpf(num) / mpmath.mpf(2) ** (2 * P)
+            assert abs(mpmath.mpf(tau[i]) + mpmath.mpf(low[i]) - exact) <= err[i], (eps[i], mu, zeta)
