@@ -784,3 +784,11 @@ def test_the_safe_tilt_at_an_extreme_mu_is_its_limit_with_no_warning():
 def test_the_sine_refuses_a_mu_beyond_its_reach_by_name(argv, needle, capsys):
     code, _, err = run(["stability", *argv, "--drive", "sine"], capsys)
     assert_one_line_error(code, err, needle)
+
+
+def test_notable_points_refuse_a_half_period_whose_phase_overflows():
+    # T = 1.7e307: w_h T overflowed (a warning) and the rotation's angle became -inf
+    from kapitza.phase_plane import notable_points
+
+    with pytest.raises(V.KapitzaValueError, match=r"T must satisfy T sqrt\(\(A \+ g\) / l\) <= 1\.8e308"):
+        notable_points(phi0=-0.3, T=1.7155153728201348e+307, A=100.0)

@@ -396,7 +396,13 @@ def notable_points(phi0, T, A, r0=1.0, l=1.0, g=G_EARTH):
     w_h = np.sqrt((A + g) / l)
     w_e = np.sqrt((A - g) / l)
     D = w_h / w_e
-    x = w_h * T
+    with np.errstate(over="ignore"):
+        x = w_h * T
+    if not np.all(np.isfinite(x)):
+        i = np.unravel_index(int(np.argmax(~np.isfinite(x))), x.shape) if x.ndim else ()
+        raise _v.KapitzaValueError(
+            f"T must satisfy T sqrt((A + g) / l) <= 1.8e308 (the phases of the half period must be doubles); "
+            f"got T = {float(T[i])!r} with A = {float(A[i])!r}, l = {float(l[i])!r}, g = {float(g[i])!r}")
     phi1 = _phi_h(T, phi0, w_h)
     psi0 = phi0 - QPI - np.round((phi0 - QPI) / PI) * PI
     with np.errstate(over="ignore", under="ignore"):
