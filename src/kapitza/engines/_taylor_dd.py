@@ -123,13 +123,13 @@ def _norm2(a, b, c, d):
 
 
 @jit
-def _step(ah, al, bh, bl, delta, hh_, hl_, kw, W):
+def _step(ah, al, bh, bl, delta, hh_, hl_, kw, W, S):
     """One Taylor step of ``y'' = (a + b u) y`` over ``u`` in ``[0, 1]`` (``a, b`` the coefficients
     times ``h^2``, double-doubles; ``h = hh_ + hl_``; ``delta`` bounds the coefficients' own rounding),
-    in the basis ``(y, y' / 2^kw)``, as :func:`kapitza._certify.taylor_ld` takes it: ``(fro, s00h,
-    s00l, s01h, s01l, s10h, s10l, s11h, s11l)``, the four entries as double-doubles and ``fro`` the
-    Frobenius bound on their error with the product's rounding share counted in (``inf``: the series
-    did not converge in the room of ``W``, scratch ``[2, terms, 2]``)."""
+    in the basis ``(y, y' / 2^kw)``, as :func:`kapitza._certify.taylor_ld` takes it: its matrix into
+    ``S`` (:func:`_dd_matmul`'s layout), and the Frobenius bound on its error, the product's rounding
+    share counted in, returned (``inf``: the series did not converge in the room of ``W``, scratch
+    ``[2, terms, 2]``)."""
     A0 = abs(ah) + abs(al)
     A1 = abs(bh) + abs(bl)
     s = A0 + A1
@@ -159,7 +159,7 @@ def _step(ah, al, bh, bl, delta, hh_, hl_, kw, W):
         if K > 8 and 4.0 * max(s, 1e-300) * max(max(r0, r1), r2) / (K * (K + 1)) < UNIT / 64.0:
             break
         if K + 2 >= W.shape[1]:
-            return (math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            return math.inf
         rp = r0
         r0 = r1
         r1 = r2
@@ -199,7 +199,34 @@ def _step(ah, al, bh, bl, delta, hh_, hl_, kw, W):
     e10 = math.ldexp(ed0 / h, -kw) * (1.0 + 1e-14) + 2.0 * UNIT * abs(s10h)
     fro = (math.sqrt(ev0 * ev0 + e01 * e01 + e10 * e10 + ed1 * ed1)
            + 2.0 * UNIT * math.sqrt(v0h * v0h + s01h * s01h + s10h * s10h + d1h * d1h)) * (1.0 + 1e-12)
-    return (fro, v0h, v0l, s01h, s01l, s10h, s10l, d1h, d1l)
+    S[0], S[1], S[2], S[3], S[4], S[5], S[6], S[7] = v0h, v0l, s01h, s01l, s10h, s10l, d1h, d1l
+    return fro
+
+
+@jit
+def _dd_matmul(S, P):
+    """``P <- S P`` in place for 2x2 matrices of double-doubles, each an array ``(00h, 00l, 01h, 01l,
+    10h, 10l, 11h, 11l)``."""
+    for r in range(2):
+        sah, sal, sbh, sbl = S[4 * r], S[4 * r + 1], S[4 * r + 2], S[4 * r + 3]
+        for c in range(2):
+            xh, xl = dd_mul(sah, sal, P[2 * c], P[2 * c + 1])
+            yh, yl = dd_mul(sbh, sbl, P[4 + 2 * c], P[5 + 2 * c])
+            S[8 + 4 * r + 2 * c], S[9 + 4 * r + 2 * c] = dd_add(xh, xl, yh, yl)
+    P[:] = S[8:16]
+
+
+@jit
+def _rescale(P):
+    """Scale the double-double matrix ``P`` in place by a power of two to a largest entry in ``[1/2, 1)``;
+    return ``(the exponent taken out, whether P is not 0)``."""
+    big = max(max(abs(P[0]), abs(P[2])), max(abs(P[4]), abs(P[6])))
+    if not big > 0.0:
+        return 0, False
+    sc = math.frexp(big)[1]
+    for i in range(8):
+        P[i] = math.ldexp(P[i], -sc)
+    return sc, True
 
 
 @jit
@@ -264,8 +291,11 @@ def _point(px0, px1, ps0, ps1, e, m, z, damped, W, out):
     fro = np.empty(total)
     npre = np.empty(total)
     epre = np.empty(total, np.int64)
-    # the product P (double-doubles) over 2^ex
-    p00h, p00l, p01h, p01l, p10h, p10l, p11h, p11l = 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0
+    # the product P (double-doubles) over 2^ex; S a step's matrix, then the product's scratch
+    P = np.zeros(8)
+    P[0] = 1.0
+    P[6] = 1.0
+    S = np.empty(16)
     ex = 0
     j = 0
     for p in range(n):
@@ -289,50 +319,23 @@ def _point(px0, px1, ps0, ps1, e, m, z, damped, W, out):
             th, tl = dd_mul(Eh, El, th, tl)
             ah, al = dd_mul(th, tl, h2h, h2l)
             delta = (base + 24.0 * UNIT * (abs(ah) + abs(bh))) * (1.0 + 1e-12)
-            r = _step(ah, al, bh, bl, delta, hh_, hl_, kw, W)
-            if not r[0] < math.inf:
+            fro[j] = _step(ah, al, bh, bl, delta, hh_, hl_, kw, W, S)
+            if not fro[j] < math.inf:
                 return
-            fro[j] = r[0]
-            s00h, s00l, s01h, s01l, s10h, s10l, s11h, s11l = r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8]
-            Sh[j, 0] = s00h
-            Sh[j, 1] = s01h
-            Sh[j, 2] = s10h
-            Sh[j, 3] = s11h
-            npre[j] = _norm2(p00h, p01h, p10h, p11h)
+            Sh[j, 0], Sh[j, 1], Sh[j, 2], Sh[j, 3] = S[0], S[2], S[4], S[6]
+            npre[j] = _norm2(P[0], P[2], P[4], P[6])
             epre[j] = ex
-            # P <- S P
-            x0h, x0l = dd_mul(s00h, s00l, p00h, p00l)
-            y0h, y0l = dd_mul(s01h, s01l, p10h, p10l)
-            n00h, n00l = dd_add(x0h, x0l, y0h, y0l)
-            x0h, x0l = dd_mul(s00h, s00l, p01h, p01l)
-            y0h, y0l = dd_mul(s01h, s01l, p11h, p11l)
-            n01h, n01l = dd_add(x0h, x0l, y0h, y0l)
-            x0h, x0l = dd_mul(s10h, s10l, p00h, p00l)
-            y0h, y0l = dd_mul(s11h, s11l, p10h, p10l)
-            n10h, n10l = dd_add(x0h, x0l, y0h, y0l)
-            x0h, x0l = dd_mul(s10h, s10l, p01h, p01l)
-            y0h, y0l = dd_mul(s11h, s11l, p11h, p11l)
-            n11h, n11l = dd_add(x0h, x0l, y0h, y0l)
-            p00h, p00l, p01h, p01l, p10h, p10l, p11h, p11l = n00h, n00l, n01h, n01l, n10h, n10l, n11h, n11l
-            big = max(max(abs(p00h), abs(p01h)), max(abs(p10h), abs(p11h)))
+            _dd_matmul(S, P)
+            big = max(max(abs(P[0]), abs(P[2])), max(abs(P[4]), abs(P[6])))
             if big > 2.0**60 or big < 2.0**-60:
-                if not big > 0.0:
+                sc, nonzero = _rescale(P)
+                if not nonzero:
                     return
-                sc = math.frexp(big)[1]
-                p00h, p00l = math.ldexp(p00h, -sc), math.ldexp(p00l, -sc)
-                p01h, p01l = math.ldexp(p01h, -sc), math.ldexp(p01l, -sc)
-                p10h, p10l = math.ldexp(p10h, -sc), math.ldexp(p10l, -sc)
-                p11h, p11l = math.ldexp(p11h, -sc), math.ldexp(p11l, -sc)
                 ex += sc
             j += 1
-    big = max(max(abs(p00h), abs(p01h)), max(abs(p10h), abs(p11h)))
-    if not big > 0.0:
+    sc, nonzero = _rescale(P)
+    if not nonzero:
         return
-    sc = math.frexp(big)[1]
-    p00h, p00l = math.ldexp(p00h, -sc), math.ldexp(p00l, -sc)
-    p11h, p11l = math.ldexp(p11h, -sc), math.ldexp(p11l, -sc)
-    p01h = math.ldexp(p01h, -sc)
-    p10h = math.ldexp(p10h, -sc)
     ex += sc
     # the error: sum_j |S_m ... S_(j+1)| fro_j |S_(j-1) ... S_1| (first order, a millionth more), the
     # suffixes' norms from a backward product in doubles kept near 1 by powers of two
@@ -349,8 +352,8 @@ def _point(px0, px1, ps0, ps1, e, m, z, damped, W, out):
         sc = math.frexp(big)[1] if big > 0.0 else 0
         q00, q01, q10, q11 = math.ldexp(a0, -sc), math.ldexp(a1, -sc), math.ldexp(a2, -sc), math.ldexp(a3, -sc)
         qe += sc
-    acc = acc * (1.0 + 1e-6) + 2.0 * UNIT * math.sqrt(p00h * p00h + p01h * p01h + p10h * p10h + p11h * p11h)
-    trh, trl = dd_add(p00h, p00l, p11h, p11l)
+    acc = acc * (1.0 + 1e-6) + 2.0 * UNIT * math.sqrt(P[0] * P[0] + P[2] * P[2] + P[4] * P[4] + P[6] * P[6])
+    trh, trl = dd_add(P[0], P[1], P[6], P[7])
     trh *= 0.5
     trl *= 0.5
     err = 0.5 * (1.4142135623730951 * (1.0 + 1e-15) * acc + 1.01 * UNIT * abs(2.0 * trh))
