@@ -566,20 +566,21 @@ def pieces_ld(eps, mu, zeta, pieces):
                         else np.zeros(eps.size))
         return rows
 
+    def ld(eps, mu, zeta):
+        return ld_tier(eps, mu, zeta, counts, lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT),
+                       _LD_MAX_STEPS, _LD_CHUNK)
+
     from .engines.magnus import certified_pieces
 
     dd = certified_pieces()
     if dd is None:
-        return ld_tier(eps, mu, zeta, counts, lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT),
-                       _LD_MAX_STEPS, _LD_CHUNK)
+        return ld(eps, mu, zeta)
     # the compiled double-double tier first; the long double for the points it declines
     out = dd(eps, mu, zeta, pieces)
     rest = np.flatnonzero(~out[0])
     if rest.size:
-        z = None if zeta is None else np.asarray(zeta, float).ravel()[rest]
-        ld = ld_tier(np.asarray(eps, float).ravel()[rest], np.asarray(mu, float).ravel()[rest], z, counts,
-                     lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT), _LD_MAX_STEPS, _LD_CHUNK)
-        for a, b in zip(out, ld):
+        flat = (np.asarray(v, float).ravel()[rest] for v in (eps, mu))
+        for a, b in zip(out, ld(*flat, None if zeta is None else np.asarray(zeta, float).ravel()[rest])):
             a[rest] = b
     return out
 
