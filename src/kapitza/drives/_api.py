@@ -782,11 +782,11 @@ def _ways(drive, point):
     ways = drive._search_ways
     if point is None or not drive._from_shape:
         return ways
-    eps, mu = (np.array([float(v)]) for v in point)
-    eng = drive._engine
-    if not (eps[0] <= eng.eps_max(mu)[0] and mu[0] <= eng.MU_MAX):
+    try:
+        steps = drive._engine.steps_for(*(np.array([float(v)]) for v in point))[0]
+    except ValueError:   # (beyond the engine's reach: the search refuses it by name)
         return ways
-    return min(ways, 4) if eng.steps_for(eps, mu)[0] >= _COSTLY_STEPS else ways
+    return min(ways, 4) if steps >= _COSTLY_STEPS else ways
 
 
 class _Levels:
@@ -1077,24 +1077,18 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     off them), when known. A point inside a zone has the six edges searched together: one call of
     the drive per step for all of them."""
     levels = _Levels(drive, zeta, (eps, mu))
-    if level0 is not None and level0 != np.rint(level0):   # inside zone floor(level0): all at once
+    # where the margin's zone is known beforehand its rig edges are searched with it, one call a step
+    # for all six: inside zone floor(level0), and below zone 0 (the gap theta = 0). In a gap k >= 1 it
+    # is k - 1 or k, and searching both zones' rig edges costs more points than the calls it saves
+    known = None if level0 is None else (int(np.floor(level0)) if level0 != np.rint(level0) else
+                                         (0 if level0 == 0 else None))
+    if known is not None:
         m_rows, r_rows = _prepared(levels, [_margin_rows(drive, eps, mu, level0),
-                                            _rig_rows(drive, eps, mu, int(np.floor(level0)), T, A, l, g)])
+                                            _rig_rows(drive, eps, mu, known, T, A, l, g)])
         if m_rows is None:
             return None
         margin, rig = _searched(drive, zeta, levels, [m_rows, r_rows])
-        return None if margin is None else (margin, rig)
-    if level0 is not None and level0 == 0:
-        # below zone 0 (the gap theta = 0): the margin's zone can only be zone 0, whose rig edges are
-        # searched with the margin (one call a step for all of them; in a gap k >= 1 it is k - 1 or k,
-        # and searching both zones' rig edges costs more points than the calls it saves)
-        built = _prepared(levels, [_margin_rows(drive, eps, mu, level0), _rig_rows(drive, eps, mu, 0, T, A, l, g)])
-        if built[0] is None:
-            return None
-        margin, rig = _searched(drive, zeta, levels, built)
-        if margin is None:
-            return None
-        return margin, (rig if margin[1] == 0 else None)
+        return None if margin is None else (margin, rig if margin[1] == known else None)
     m_rows, = _prepared(levels, [_margin_rows(drive, eps, mu, level0)])
     margin = None if m_rows is None else _searched(drive, zeta, levels, [m_rows])[0]
     if margin is None:
