@@ -328,7 +328,7 @@ def _analyze(eps, mu, T, A, l, g, drive, damping, zeta, pointwise=True):
     if physical and not d.point_stroke(T, A) > 0.0:
         # (the report's rig intervals are read against the stroke)
         raise _v.KapitzaValueError(
-            f"T and A must give a stroke {float(d._stroke_coefficient):.6g} A T^2 within the range of positive "
+            f"T and A must give a stroke {d.point_stroke(1.0, 1.0):.6g} A T^2 within the range of positive "
             f"doubles; got T = {T!r}, A = {A!r}, whose stroke rounds to 0 m")
     try:
         return _report(d, *point, pointwise)
