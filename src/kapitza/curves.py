@@ -136,13 +136,10 @@ def zone_curves(eps_range=(0.0, 4.0), mu_range=(0.0, 1.0), points=1200, max_zone
     s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, points))
     mu = np.unique(np.clip(m0 + (m1 - m0) * s, tiny, 1.0 - tiny))
     q = np.sqrt((1.0 - mu) * (1.0 + mu))
-    with np.errstate(over="ignore"):   # (at the largest eps: then counted as (SQRT8 q / pi) eps)
-        z_hi = float(np.floor(SQRT8 * q.max() * e1 / np.pi))
-        # Zone n needs eps >= n pi / (SQRT8 q) at least; the lowest zone that can reach e0:
-        z_lo = max(0.0, float(np.floor(SQRT8 * q.min() * e0 / np.pi)) - 1.0)
-    if not np.isfinite(z_hi - z_lo):
-        z_hi = float(np.floor(SQRT8 * q.max() / np.pi * e1))
-        z_lo = max(0.0, float(np.floor(SQRT8 * q.min() / np.pi * e0)) - 1.0)
+    # zone n needs eps >= n pi / (SQRT8 q) at least (SQRT8 q / pi < 1: no overflow at the largest eps);
+    # the highest zone that can reach e1 and the lowest that can reach e0:
+    z_hi = float(np.floor(SQRT8 * q.max() / np.pi * e1))
+    z_lo = max(0.0, float(np.floor(SQRT8 * q.min() / np.pi * e0)) - 1.0)
     if z_hi - z_lo + 1.0 > max_zones:
         count = z_hi - z_lo + 1.0
         shown = f"{int(count):,}" if count < 1e15 else f"about {count:.3g}"
