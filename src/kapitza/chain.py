@@ -136,9 +136,9 @@ class Chain:
             raise _v.KapitzaValueError(f"links must be one of 'rod', 'point'; got {self.links!r}")
         if np.ndim(self.joint_damping) != 0:
             raise _v.KapitzaValueError(f"joint_damping must be a single number; got {self.joint_damping!r}")
-        c = _v.one("joint_damping", _v.nonnegative("joint_damping", self.joint_damping))
-        if c > 1e300:   # (its matrix C = c D^T D, with entries 2 c, and C / inertia are doubles)
-            raise _v.KapitzaValueError(f"joint_damping must be <= 1e+300 N m s; got {float(c)!r}")
+        # (its matrix C = c D^T D, with entries 2 c, and C / inertia must be doubles)
+        c = _v.one("joint_damping", _v.in_range("joint_damping", self.joint_damping, 0.0, 1e300, lo_open=False,
+                                                hi_open=False))
         object.__setattr__(self, "lengths", L)
         object.__setattr__(self, "masses", m)
         object.__setattr__(self, "joint_damping", float(c))

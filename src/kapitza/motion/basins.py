@@ -374,12 +374,11 @@ def basin(T=None, A=None, l=1.0, g=G_EARTH, *, eps=None, mu=None, periods=50, to
     """
     T, A, l, g = _scalar_parameters(T, A, l, g, eps, mu)
     tol = _tolerance(tol)
-    theta_max = tol if theta_max is None else _v.one("theta_max", _v.positive("theta_max", theta_max))
-    dtheta_max = 2.0 * tol / T if dtheta_max is None else _v.one("dtheta_max", _v.positive("dtheta_max", dtheta_max))
-    for name, value in (("theta_max", theta_max), ("dtheta_max", dtheta_max)):
-        if value > _GRID_MAX:   # (the grid's span 2 value, its steps and its axis' ticks are doubles)
-            raise _v.KapitzaValueError(f"{name} must be <= {_GRID_MAX:g} (the grid's span and its axis must be "
-                                       f"doubles); got {value!r}")
+    # (the grid's span 2 value, its steps and its axis' ticks must be doubles)
+    theta_max = _v.one("theta_max", _v.in_range("theta_max", tol if theta_max is None else theta_max, 0.0, _GRID_MAX,
+                                                hi_open=False))
+    dtheta_max = _v.one("dtheta_max", _v.in_range("dtheta_max", 2.0 * tol / T if dtheta_max is None else dtheta_max,
+                                                  0.0, _GRID_MAX, hi_open=False))
     n_theta = _v.bounded_count("n_theta", n_theta, MAX_GRID, minimum=2)
     n_dtheta = _v.bounded_count("n_dtheta", n_dtheta, MAX_GRID, minimum=2)
     _v.bounded_work("n_theta * n_dtheta", n_theta * n_dtheta, 25_000_000, what="grid points held in memory")
