@@ -135,6 +135,10 @@ def test_it_declines_what_it_cannot_take(dd):
     z = np.array([0.1, 0.0, 1.0, 0.1, 0.1])
     dec = dd.pieces_dd(eps, mu, z, TRIANGLE_PIECES)[0]
     assert not dec.any()
+    # (and the same points brought back within its range are decided: the refusals are those limits')
+    back = dd.pieces_dd(np.array([1e-3, 100.0, 10.0, 0.5, 0.5]), mu, np.array([0.1, 0.0, 1.0, 0.1, 0.1]),
+                        TRIANGLE_PIECES)[0]
+    assert back.all()
 
 
 def test_the_tiers_answer_alike_with_and_without_it(dd, monkeypatch):
