@@ -23,7 +23,7 @@ def _long_double_alone(monkeypatch):
     loaded (``test_taylor_dd.py`` checks that one)."""
     from kapitza.engines import magnus
 
-    monkeypatch.setattr(magnus, "certified_pieces", lambda: None)
+    monkeypatch.setattr(magnus, "compiled_pieces_tier", lambda: None)
 
 
 def _measured():

@@ -151,7 +151,7 @@ def test_the_tiers_answer_alike_with_and_without_it(dd, monkeypatch):
     with_dd = _certify.pieces_exact(eps, mu, None, TRIANGLE_PIECES, growth=True, trace=True)
     from kapitza.engines import magnus
 
-    monkeypatch.setattr(magnus, "certified_pieces", lambda: None)
+    monkeypatch.setattr(magnus, "compiled_pieces_tier", lambda: None)
     without = _certify.pieces_exact(eps, mu, None, TRIANGLE_PIECES, growth=True, trace=True)
     assert [r[2] for r in with_dd] == [r[2] for r in without]
     for a, b in zip(with_dd, without):

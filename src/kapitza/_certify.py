@@ -570,9 +570,9 @@ def pieces_ld(eps, mu, zeta, pieces):
         return ld_tier(eps, mu, zeta, counts, lambda e, m2, rows: _pieces_ld_chunk(e, m2, pieces, rows, LD_UNIT),
                        _LD_MAX_STEPS, _LD_CHUNK)
 
-    from .engines.magnus import certified_pieces
+    from .engines.magnus import compiled_pieces_tier
 
-    dd = certified_pieces()
+    dd = compiled_pieces_tier()
     if dd is None:
         return ld(eps, mu, zeta)
     # the compiled double-double tier first; the long double for the points it declines

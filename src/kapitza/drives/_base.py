@@ -757,11 +757,11 @@ class Drive:
         only where that cannot decide): the one-point searches then ask them at every step, and the
         damping layer asks :meth:`_damped_exact` wherever its verdict is near the edge. A drive of
         linear pieces: where the long double tier (:func:`kapitza._certify.pieces_ld`) or the compiled
-        double-double one (:func:`kapitza.engines.magnus.certified_pieces`) is there to decide them."""
+        double-double one (:func:`kapitza.engines.magnus.compiled_pieces_tier`) is there to decide them."""
         from .._certify import HAS_LONG_DOUBLE
-        from ..engines.magnus import certified_pieces
+        from ..engines.magnus import compiled_pieces_tier
 
-        return (HAS_LONG_DOUBLE or certified_pieces() is not None) and self._certified_pieces() is not None
+        return (HAS_LONG_DOUBLE or compiled_pieces_tier() is not None) and self._certified_pieces() is not None
 
     def _damped_exact(self, eps, mu, zeta, growth=True):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points

@@ -136,7 +136,7 @@ def load_compiled() -> bool:
     return bool(_COMPILED)
 
 
-def certified_pieces():
+def compiled_pieces_tier():
     """:func:`kapitza.engines._taylor_dd.pieces_dd`, the compiled double-double tier of the certified
     verdicts of linear pieces, once the compiled engine is loaded (:func:`load_compiled`); else None
     (the long double and mpmath tiers decide alone)."""
