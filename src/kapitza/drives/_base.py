@@ -387,35 +387,32 @@ class Drive:
             trace_error = np.array(trace_error, float, copy=True)
             trace_error[idx] = [r[4] for r in res]
             res = [r[:4] for r in res]
+        t_x, lt_x, st_x, gr_x = (np.array([r[i] for r in res]) for i in range(4))
+        st_x = st_x.astype(bool)
+        z, k = zone[idx], np.rint(theta[idx] / PI).astype(np.int64)
         # whether |tau| rises with eps, where a point the engine put in a gap is stable (one engine call)
-        up = np.array([st and zone[i] < 0 for i, (_, _, st, _) in zip(idx.tolist(), res)], bool)
-        rises = {}
+        up = st_x & (z < 0)
         if up.any():
             j = idx[up]
             h = 1e-7 * eps[j]
             lt = self._engine.log_tau(np.concatenate([eps[j] + h, eps[j] - h]), np.concatenate([mu[j], mu[j]]))[1]
-            rises = dict(zip(j.tolist(), (lt[:j.size] > lt[j.size:]).tolist()))
-        flips = []
-        for i, (t, lt, st, gr) in zip(idx.tolist(), res):
-            tau[i], log_tau[i] = t, lt
-            if st and zone[i] < 0:
-                k = int(np.rint(theta[i] / PI))
-                zone[i] = max(k - 1 if rises[i] else k, 0)
-            elif not st and (zone[i] >= 0 or (int(np.rint(theta[i] / PI)) % 2 == 1) != (t < 0)):
-                # (where the engine said unstable with this sign, its theta came from that turn)
-                zone[i] = -1
-                flips.append(i)
-            if st:
-                n = int(zone[i])
-                a = float(np.arccos(np.clip(t, -1.0, 1.0)))
-                theta[i] = n * PI + (a if n % 2 == 0 else PI - a)
-            growth[i] = 0.0 if st else gr
-        if flips:
+            z[up] = np.maximum(k[up] - (lt[:j.size] > lt[j.size:]), 0)
+        # (where the engine said unstable with this sign, its theta came from that turn)
+        flip = ~st_x & ((z >= 0) | ((k % 2 == 1) != (t_x < 0)))
+        z[flip] = -1
+        tau[idx], log_tau[idx], zone[idx] = t_x, lt_x, z
+        if st_x.any():
+            n = z[st_x]
+            a = np.arccos(np.clip(t_x[st_x], -1.0, 1.0))
+            theta[idx[st_x]] = n * PI + np.where(n % 2 == 0, a, PI - a)
+        growth[idx] = np.where(st_x, 0.0, gr_x)
+        flips = idx[flip]
+        if flips.size:
             # off the zones: theta = k pi with the exact trace's parity, the one such k within pi of
             # the engine's turn of (1, 0) (one engine call; any direction turns by less than pi from
             # k pi, and the turn stays accurate where the trace has lost its digits, with its sign or
             # the engine's zone)
-            j = np.array(flips)
+            j = flips
             theta[j] = PI * gap_of_turn(self._engine.period(eps[j], mu[j], True)[2], tau[j] < 0)
         return tau, log_tau, theta, zone, growth, trace_error
 
