@@ -884,13 +884,19 @@ def _narrowed(lo, hi, xs, ok):
     return np.where(good, new_lo, lo), np.where(good, new_hi, hi)
 
 
+#: Points per row and step of a one-point search's certified steps where each point costs (Taylor steps
+#: of linear pieces: the secant of certified ends places the change within a few ulp, and fewer
+#: points a step cost less than the step or two more they may take).
+_CERTIFIED_WAYS = 8
+
+
 def _search(drive, damped, pred, lo, hi, ways):
     """:func:`search_bits` (guided) of the one-point searches, ``pred(x, rows, certify)`` returning
     ``(ok, f)``: where the drive's certified verdicts are cheap every step asks them, and the pair
     found is final; elsewhere the steps ask the fast predicate and the final pair is certified."""
     return search_bits(pred, lo, hi, ways=ways, certified=lambda x, rows: pred(x, rows, True),
-                       guided=True,
-                       certified_steps=drive._certified_cheap(damped))
+                       guided=True, certified_steps=drive._certified_cheap(damped),
+                       certified_ways=_CERTIFIED_WAYS if drive._far_cost else ways)
 
 
 def _parity(n):
@@ -1370,7 +1376,8 @@ def _secant_points(m, al, bl, fal, fbl, half):
     m[use, pts.shape[1]:] = pts[:, -1:]
 
 
-def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_steps=False):
+def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_steps=False, f_ends=None,
+                certified_ways=None):
     """Bisection on the bit patterns of non-negative doubles taking ``ways - 1`` points per row at each
     step: the pair of adjacent doubles where a predicate changes (once, False below and True above),
     in about ``64 / log2(ways)`` calls of ``pred`` instead of the 64 of halving. ``pred(x, rows)`` is
@@ -1387,33 +1394,40 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
     ``certified``: the same predicate decided to the last bit (``pred`` may err within a few ulp of
     its change, at a fraction of the cost). The final pair is checked with it; where it is not
     False below and True above, the change is searched with it (seven points a row a call, guided
-    like the steps: each of its points may cost an extended-precision product) in a window of 4 ulp
-    either side, widened sixteenfold (to 2^20 ulp at most) until it holds the change (a drive given
-    by its shape may err by a thousand ulp where its trace is flat), and kept where found there.
-    Guided, ``certified`` returns ``(ok, f)`` too.
+    like the steps, from the ends' ``f``: each of its points may cost an extended-precision product)
+    in the narrowest window that holds the change, of 4 ulp either side widened sixteenfold to
+    2^20 ulp (their ends asked in one call: a drive given by its shape may err by a thousand ulp
+    where its trace is flat), and kept where found there. Guided, ``certified`` returns ``(ok, f)``
+    too.
 
     ``certified_steps``: the certified predicate costs about what ``pred`` does (a long double
-    product): once every row's bracket is within 2^36 ulp (2^-16 of its value; the fast steps'
-    secant points have then come within a few thousand ulp) the steps ask it instead, so the
-    final pair is certified as found (the check above then costs nothing where ``certified``
+    product): once a row's bracket is within 2^36 ulp (2^-16 of its value; the fast steps'
+    secant points have then come within a few thousand ulp) the steps ask it instead for every row,
+    so the final pair is certified as found (the check above then costs nothing where ``certified``
     remembers its points).
+
+    ``certified_steps``' steps take ``certified_ways`` points a row (default ``ways``; fewer where each
+    certified point costs an extended-precision product). ``f_ends``: ``(f(lo), f(hi))``, where known
+    (guided), for the first step's secant.
     """
     a = lo.view(np.int64).copy()
     b = hi.view(np.int64).copy()
-    j = np.arange(1, ways, dtype=np.int64)
-    fa = np.full(a.size, np.nan)   # f at the bracket's ends, where evaluated (guided)
-    fb = np.full(a.size, np.nan)
-    half = (ways - 2) // 2
+    certified_ways = certified_ways or ways
+    j = np.arange(1, max(ways, certified_ways), dtype=np.int64)
+    # f at the bracket's ends, where evaluated (guided)
+    fa, fb = ((np.full(a.size, np.nan), np.full(a.size, np.nan)) if f_ends is None else
+              (np.array(f_ends[0], float), np.array(f_ends[1], float)))
     for _ in range(70):
         live = np.flatnonzero(b - a > 1)
         if not live.size:
             break
         al, bl = a[live], b[live]
-        step = np.maximum((bl - al) // ways, 1)
-        m = np.minimum(al[:, None] + step[:, None] * j[None, :], (bl - 1)[:, None])
+        narrow = certified_steps and bool(np.any(bl - al < (1 << 36)))
+        w = certified_ways if narrow else ways
+        step = np.maximum((bl - al) // w, 1)
+        m = np.minimum(al[:, None] + step[:, None] * j[None, :w - 1], (bl - 1)[:, None])
         if guided:
-            _secant_points(m, al, bl, fa[live], fb[live], half)
-        narrow = certified_steps and bool(np.all(bl - al < (1 << 36)))
+            _secant_points(m, al, bl, fa[live], fb[live], (w - 2) // 2)
         res = (certified if narrow else pred)(m.view(np.float64), live)
         ok = np.asarray(res[0] if guided else res, bool)
         first = np.argmax(ok, axis=1)
@@ -1438,19 +1452,26 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
     # (an end of the given bracket carries no claim: the predicate may hold all the way)
     bad = inner[(ends[:, 0] & (a[inner] > lo_i[inner])) | (~ends[:, 1] & (b[inner] < hi_i[inner]))]
     if bad.size:
-        rows, wa, wb = bad[:0], a[:0], b[:0]
-        for width in (4, 64, 1024, 1 << 14, 1 << 18, 1 << 20):
-            if not bad.size:
-                break
-            ca, cb = np.maximum(a[bad] - width, lo_i[bad]), np.minimum(b[bad] + width, hi_i[bad])
-            w_ends = decided(np.stack([ca, cb], axis=1).view(np.float64), bad)
-            keep = ~w_ends[:, 0] & w_ends[:, 1]   # the certified change lies in the window
-            rows, wa, wb = (np.concatenate([rows, bad[keep]]), np.concatenate([wa, ca[keep]]),
-                            np.concatenate([wb, cb[keep]]))
-            # (a window at both ends of the bracket cannot grow: its rows keep the pair found)
-            bad = bad[~keep & ((ca > lo_i[bad]) | (cb < hi_i[bad]))]
-        if rows.size:   # the change in each window: seven certified points a row a call (guided)
+        # the windows about each bad pair, widening sixteenfold, asked in one call: the narrowest that
+        # holds the certified change (False at its lower end, True at its upper) is searched
+        widths = np.array([4, 64, 1024, 1 << 14, 1 << 18, 1 << 20], np.int64)
+        ca = np.maximum(a[bad][:, None] - widths[None, :], lo_i[bad][:, None])
+        cb = np.minimum(b[bad][:, None] + widths[None, :], hi_i[bad][:, None])
+        res = certified(np.concatenate([ca, cb], axis=1).view(np.float64), bad)
+        w_ok = np.asarray(res[0] if guided else res, bool)
+        w_f = np.asarray(res[1], float) if guided else None
+        k = widths.size
+        holds = ~w_ok[:, :k] & w_ok[:, k:]
+        # (a window at both ends of the bracket cannot grow: past it its row keeps the pair found)
+        stuck = (ca <= lo_i[bad][:, None]) & (cb >= hi_i[bad][:, None])
+        first = np.argmax(holds, axis=1)
+        r = np.arange(bad.size)
+        keep = holds[r, first] & ~np.array([stuck[i, :first[i]].any() for i in r.tolist()], bool)
+        if keep.any():   # the change in each window: seven certified points a row a call (guided)
+            rows, sel = bad[keep], (r[keep], first[keep])
+            wa, wb = ca[sel], cb[sel]
+            f_ends = None if w_f is None else (w_f[:, :k][sel], w_f[:, k:][sel])
             wa, wb = search_bits(lambda x, r: certified(x, rows[r]), wa.view(np.float64), wb.view(np.float64),
-                                 ways=8, guided=guided)
+                                 ways=8, guided=guided, f_ends=f_ends)
             a[rows], b[rows] = wa.view(np.int64), wb.view(np.int64)
     return a.view(np.float64), b.view(np.float64)
