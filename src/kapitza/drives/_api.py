@@ -792,7 +792,8 @@ def _ways(drive, point):
 class _Levels:
     """The level of points ``(eps, mu)`` at one damping ratio, as the one-point searches read it:
     ``n + 1/2`` on zone ``n``, ``k`` in the gap ``theta = k pi``; with ``tau / cosh(kappa)`` (``|.| < 1``
-    where stable, damped or not). Certified answers are remembered: a search's final pair is asked again."""
+    where stable, damped or not; damped and off the zones, ``cosh(kappa + growth) / cosh(kappa)`` with
+    ``tau``'s sign, as exact as the growth). Certified answers are remembered: a search's final pair is asked again."""
 
     def __init__(self, drive, zeta, point=None):
         self.drive, self.zeta = drive, float(zeta)
@@ -811,11 +812,18 @@ class _Levels:
         lv, tau = np.empty(size), np.empty(size)
         if todo.any():
             count = int(todo.sum())
-            t, _, theta, st, zn, kappa = self.drive._floquet(e.ravel()[todo], m.ravel()[todo],
+            t, g, theta, st, zn, kappa = self.drive._floquet(e.ravel()[todo], m.ravel()[todo],
                                                              np.full(count, self.zeta), certify)
             lv[todo] = np.where(st, zn + 0.5, np.rint(theta / PI))
             with np.errstate(over="ignore", invalid="ignore"):
-                tau[todo] = t / np.cosh(kappa)
+                ratio = t / np.cosh(kappa)
+                if self.zeta > 0:
+                    # off the zones |tau| = cosh(kappa + growth): from the damped growth, settled in
+                    # extended precision near the edges where the trace is the engine's (the searches'
+                    # secant then places the change within an ulp or two)
+                    cosh_ratio = (np.exp(g) + np.exp(-2.0 * kappa - g)) / (1.0 + np.exp(-2.0 * kappa))
+                    ratio = np.where(g > -kappa, np.sign(t) * cosh_ratio, ratio)
+                tau[todo] = ratio
             if certify:
                 self.known.update(zip((k for k, d in zip(keys, todo) if d), zip(lv[todo].tolist(), tau[todo].tolist())))
         if certify:
