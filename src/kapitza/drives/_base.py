@@ -337,15 +337,27 @@ class Drive:
         return self._ENGINE_BAND * np.exp(np.minimum(self._engine_growth(eps, mu), 700.0))
 
     def _engine_growth(self, eps, mu):
-        """``G`` of :meth:`_trace_error`: a bound on the growth over the repelling parts of the period."""
+        """``G`` of :meth:`_trace_error`: a bound on the growth over the repelling parts of the period
+        (``sqrt(8) eps`` times the sum over the linear pieces of their width times
+        ``sqrt(max(mu^2 + s, 0))`` at their larger end, where the drive gives them)."""
         eps, mu = np.asarray(eps, float), np.asarray(mu, float)
         m2 = mu * mu
-        pieces = self._exact_pieces()
+        table = self._growth_table
         with np.errstate(over="ignore", invalid="ignore"):
-            if pieces is not None:
-                return sum(np.sqrt(8.0 * eps * eps * np.maximum(np.maximum(m2 + s0, m2 + s1), 0.0)) * (x1 - x0)
-                           for x0, x1, s0, s1 in pieces)
+            if table is not None:
+                widths, tops = table
+                return SQRT8 * np.abs(eps) * (np.sqrt(np.maximum(m2[..., None] + tops, 0.0)) * widths).sum(axis=-1)
             return 2.0 * SQRT8 * eps * np.sqrt(np.maximum(m2 + self._engine.s_max, 0.0))
+
+    @functools.cached_property
+    def _growth_table(self):
+        """``(widths, tops)`` of the linear pieces (:meth:`_exact_pieces`; their larger end's ``s``),
+        as arrays, for :meth:`_engine_growth`; None without them."""
+        pieces = self._exact_pieces()
+        if pieces is None:
+            return None
+        x0, x1, s0, s1 = (np.array([p[i] for p in pieces], float) for i in range(4))
+        return x1 - x0, np.maximum(s0, s1)
 
     def _settle_pieces(self, pieces, eps, mu, tau, log_tau, theta, zone, growth, exact_growth=True,
                        trace_error=None, phi=None):

@@ -19,6 +19,7 @@ interpolated signal to about 1e-12; the interpolation itself differs from the tr
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 
 import numpy as np
@@ -115,6 +116,11 @@ class SampledDrive(Drive):
         return self._s[i]
 
     def _linear_pieces(self):
+        return self._pieces
+
+    @functools.cached_property
+    def _pieces(self):
+        """The samples as linear pieces (built once: a report asks for them at every step)."""
         if self.kind == "linear":
             x, f = self._xp, self._fp
             return tuple(zip(x[:-1].tolist(), x[1:].tolist(), f[:-1].tolist(), f[1:].tolist()))
