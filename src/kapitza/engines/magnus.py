@@ -355,10 +355,11 @@ class Engine:
                 np.array([self.min_steps], np.int64)
         if mu.size and not np.max(mu) <= self.MU_MAX:
             self.refuse(eps, mu)
-        if eps.size and not np.all(eps <= self.eps_max(mu)):
+        m2 = mu * mu
+        root = np.sqrt(8.0 * np.maximum(np.abs(m2 + self.s_min), np.abs(m2 + self.s_max)))
+        if eps.size and not np.all(eps <= self._phase_cap / root):   # (eps_max)
             self.refuse(eps, mu)
-        smax = np.maximum(np.abs(mu * mu + self.s_min), np.abs(mu * mu + self.s_max))
-        rate = np.sqrt(8.0 * smax) * eps  # phase per unit tau, at most
+        rate = root * eps  # phase per unit tau, at most
         want = np.maximum(2.0 * rate / self.PHASE, self.min_steps)
         n = np.exp2(np.ceil(np.log2(np.minimum(want, self.MAX_STEPS))))
         return n.astype(np.int64)
