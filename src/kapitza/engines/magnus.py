@@ -56,6 +56,12 @@ _COMPILED: Any = None  # the compiled module once looked up (False: numba not in
 _TREE_WORK = 0  # point-steps asked of the engine before it was looked up (Engine.COMPILED_FROM)
 
 
+#: the bytes of a :class:`Grid` a step (sixteen arrays of doubles)
+_GRID_STEP_BYTES = 128
+#: the steps of a :class:`Grid` formed at once
+_GRID_BLOCK = 1 << 16
+
+
 class Grid:
     """Steps over one period ``[0, 2]`` aligned with ``breaks``; the shape at their nodes.
 
@@ -85,32 +91,41 @@ class Grid:
         self.h = np.concatenate([width, np.zeros(pad)])
         x = np.concatenate([left, np.zeros(pad)])
         self.x = x
-        nodes = x[:, None] + self.h[:, None] * NODES[None, :]
-        s = np.asarray(shape(np.clip(nodes[: self.m], 0.0, np.nextafter(2.0, 0.0))), float)
-        s = np.concatenate([s, np.zeros((pad, 3))])
-        self.s_nodes = s[: self.m]
         # Omega in closed form (module notes, with A = [[0, 1], [k, 0]]): with k2 = k(node 2),
         # g2 = (sqrt(15) h/3)(k3 - k1), g3 = (10 h/3)(k3 - 2 k2 + k1) and [X, Y] expanded,
         #   p = (-20 h g2 + 4/3 h^3 k2 g2 + h^2 g2 g3 / 30) / 240
         #   q = h + (h^3 g2^2 / 15 - 4/3 h^2 g3) / 240
         #   r = h k2 + g3 / 12 + (h g3 (20 h k2 + g3) / 15 - 2 h g2^2 (1 - h^2 k2 / 30)) / 240
         # k = E (mu^2 + s), E = 8 eps^2: each a polynomial in E and mu^2 with fixed coefficients.
-        h = self.h
-        s2 = s[:, 1]
-        d2 = SQRT15 / 3.0 * h * (s[:, 2] - s[:, 0])       # g2 / E
-        d3 = 10.0 / 3.0 * h * (s[:, 2] - 2.0 * s[:, 1] + s[:, 0])  # g3 / E
-        self.s2 = s2
-        self.p1 = -20.0 * h * d2 / 240.0                         # p = E p1 + E^2 (p2 + m2 p2m)
-        self.p2 = (4.0 / 3.0 * h**3 * s2 * d2 + h * h * d2 * d3 / 30.0) / 240.0
-        self.p2m = 4.0 / 3.0 * h**3 * d2 / 240.0
-        self.q1 = -4.0 / 3.0 * h * h * d3 / 240.0               # q = h + E q1 + E^2 q2
-        self.q2 = h**3 * d2 * d2 / 15.0 / 240.0
-        # r = E (h (m2 + s2) + d3/12) + E^2 (r2 + m2 r2m) + E^3 (r3 + m2 r3m)
-        self.r1 = h * s2 + d3 / 12.0
-        self.r2 = (h * d3 * (20.0 * h * s2 + d3) / 15.0 - 2.0 * h * d2 * d2) / 240.0
-        self.r2m = (h * d3 * 20.0 * h / 15.0) / 240.0
-        self.r3 = (2.0 * h * d2 * d2 * h * h * s2 / 30.0) / 240.0
-        self.r3m = (2.0 * h * d2 * d2 * h * h / 30.0) / 240.0
+        # (formed a block of steps at a time: a grid of millions of steps holds few temporaries)
+        s = np.zeros((n, 3))
+        self.s_nodes = s[: self.m]
+        self.s2 = s[:, 1]
+        for name in ("p1", "p2", "p2m", "q1", "q2", "r1", "r2", "r2m", "r3", "r3m"):
+            setattr(self, name, np.empty(n))
+        top = np.nextafter(2.0, 0.0)
+        for b0 in range(0, n, _GRID_BLOCK):
+            b = slice(b0, min(b0 + _GRID_BLOCK, n))
+            h = self.h[b]
+            real = min(b.stop, self.m) - b0
+            if real > 0:
+                nodes = x[b0:b0 + real, None] + h[:real, None] * NODES[None, :]
+                s[b0:b0 + real] = np.asarray(shape(np.clip(nodes, 0.0, top)), float)
+            sb = s[b]
+            s2 = sb[:, 1]
+            d2 = SQRT15 / 3.0 * h * (sb[:, 2] - sb[:, 0])       # g2 / E
+            d3 = 10.0 / 3.0 * h * (sb[:, 2] - 2.0 * sb[:, 1] + sb[:, 0])  # g3 / E
+            self.p1[b] = -20.0 * h * d2 / 240.0                         # p = E p1 + E^2 (p2 + m2 p2m)
+            self.p2[b] = (4.0 / 3.0 * h**3 * s2 * d2 + h * h * d2 * d3 / 30.0) / 240.0
+            self.p2m[b] = 4.0 / 3.0 * h**3 * d2 / 240.0
+            self.q1[b] = -4.0 / 3.0 * h * h * d3 / 240.0               # q = h + E q1 + E^2 q2
+            self.q2[b] = h**3 * d2 * d2 / 15.0 / 240.0
+            # r = E (h (m2 + s2) + d3/12) + E^2 (r2 + m2 r2m) + E^3 (r3 + m2 r3m)
+            self.r1[b] = h * s2 + d3 / 12.0
+            self.r2[b] = (h * d3 * (20.0 * h * s2 + d3) / 15.0 - 2.0 * h * d2 * d2) / 240.0
+            self.r2m[b] = (h * d3 * 20.0 * h / 15.0) / 240.0
+            self.r3[b] = (2.0 * h * d2 * d2 * h * h * s2 / 30.0) / 240.0
+            self.r3m[b] = (2.0 * h * d2 * d2 * h * h / 30.0) / 240.0
 
 
 def load_compiled() -> bool:
@@ -332,10 +347,17 @@ class Engine:
         self.s_min = min(float(vals.min()), _polish(shape, xs[np.argmin(flat)], 2.0 / g.m, 1.0))
         self.s_max = max(float(vals.max()), _polish(shape, xs[np.argmax(flat)], 2.0 / g.m, -1.0))
 
+    #: the grids kept for reuse, at most about this many bytes (a grid takes 128 bytes a step: one of
+    #: 2^21 steps, 270 MB); the least recently used go first, before a new one is built
+    GRID_BYTES = 1 << 28
+
     def grid(self, n):
-        g = self._grids.get(n)
+        g = self._grids.pop(n, None)   # (re-inserted: the dict's order is the order of use)
         if g is None:
-            g = self._grids[n] = Grid(self.shape, self.breaks, n)
+            while self._grids and _GRID_STEP_BYTES * (sum(self._grids) + n) > self.GRID_BYTES:
+                del self._grids[next(iter(self._grids))]
+            g = Grid(self.shape, self.breaks, n)
+        self._grids[n] = g
         return g
 
     def steps_for(self, eps, mu):
