@@ -523,6 +523,11 @@ def _continuant(p):
     renormalised by its largest entry), not N rounds of the recurrence. (Each round's products,
     sums and scaling are formed in place: half the temporaries of the plain expressions, the same
     roundings.)"""
+    from ..engines.magnus import compiled_sine
+
+    kernels = compiled_sine()
+    if kernels is not None:   # (the same products, one row at a time)
+        return kernels.continuant(p)
     n = p.shape[-1]
     size = p.shape[:-1] + (1 << max(n - 1, 0).bit_length(),)   # identities fill up to a power of two
     a, b, c, d = np.ones(size), np.zeros(size), np.zeros(size), np.ones(size)
@@ -997,39 +1002,45 @@ def _half_period_steps(qq, mm, m, fact, sign, bound):
     running = bound == "running"
     if running:   # the state before each step, and the maps
         states, kept = np.empty((m, 2, b, 2)), []
-    # the steps' 2x2 maps (y, y') -> (y, y'), all steps of a block at once (their series do not
-    # depend on the state), then applied in order
-    block = max(1, 16384 // b)
-    t_all = 0
-    for j0 in range(0, m, block):
-        jj = np.arange(j0, min(j0 + block, m))
-        cj, sj = np.cos(2.0 * jj * h), np.sin(2.0 * jj * h)
-        trig = np.where((kk % 2 == 0)[:, None], cj[None, :], sj[None, :]) * sign[kk % 4][:, None]
-        C = scale[:, None, :] * trig[:, :, None]           # (terms, steps, points)
-        C[0] += 2.0 * qq * mm * mm
-        Y = np.zeros((_TERMS + 2, jj.size, b, 2))          # last axis: from (1, 0) and from (0, 1)
-        Y[0, ..., 0] = 1.0
-        Y[1, ..., 1] = h
-        for k in range(_TERMS):
-            Y[k + 2] = np.einsum("ijb,ijbc->jbc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
-        T_y = Y.sum(axis=0)                                # (steps, points, 2): row y of each map
-        T_dy = np.einsum("k,kjbc->jbc", np.arange(_TERMS + 2.0), Y) / h
-        # the maps as (steps, 2, points, 1): (y, y') from y (M0) and from y' (M1); the state S
-        # holds y and y' (S[0], S[1]) of both solutions: one step is a few numpy calls
-        TT = np.stack([T_y, T_dy], axis=1)
-        if running:
-            kept.append(TT)
-        M0, M1 = TT[..., 0, None], TT[..., 1, None]
-        S = np.stack([y, dy])
-        for t in range(jj.size):
+    from ..engines.magnus import compiled_sine
+
+    kernels = None if running else compiled_sine()
+    if kernels is not None:   # (the same steps, one point at a time)
+        y, dy, logs_big = kernels.half_period_steps(qq, mm, m, scale, sign, h)
+    else:
+        # the steps' 2x2 maps (y, y') -> (y, y'), all steps of a block at once (their series do not
+        # depend on the state), then applied in order
+        block = max(1, 16384 // b)
+        t_all = 0
+        for j0 in range(0, m, block):
+            jj = np.arange(j0, min(j0 + block, m))
+            cj, sj = np.cos(2.0 * jj * h), np.sin(2.0 * jj * h)
+            trig = np.where((kk % 2 == 0)[:, None], cj[None, :], sj[None, :]) * sign[kk % 4][:, None]
+            C = scale[:, None, :] * trig[:, :, None]           # (terms, steps, points)
+            C[0] += 2.0 * qq * mm * mm
+            Y = np.zeros((_TERMS + 2, jj.size, b, 2))          # last axis: from (1, 0) and from (0, 1)
+            Y[0, ..., 0] = 1.0
+            Y[1, ..., 1] = h
+            for k in range(_TERMS):
+                Y[k + 2] = np.einsum("ijb,ijbc->jbc", C[:k + 1], Y[k::-1]) * (h * h / ((k + 1) * (k + 2)))
+            T_y = Y.sum(axis=0)                                # (steps, points, 2): row y of each map
+            T_dy = np.einsum("k,kjbc->jbc", np.arange(_TERMS + 2.0), Y) / h
+            # the maps as (steps, 2, points, 1): (y, y') from y (M0) and from y' (M1); the state S
+            # holds y and y' (S[0], S[1]) of both solutions: one step is a few numpy calls
+            TT = np.stack([T_y, T_dy], axis=1)
             if running:
-                states[t_all] = S
-            S = M0[t] * S[0] + M1[t] * S[1]
-            big = np.abs(S).max(axis=(0, 2))
-            S /= big[:, None]
-            logs_big[t_all] = np.log(big)
-            t_all += 1
-        y, dy = S[0], S[1]
+                kept.append(TT)
+            M0, M1 = TT[..., 0, None], TT[..., 1, None]
+            S = np.stack([y, dy])
+            for t in range(jj.size):
+                if running:
+                    states[t_all] = S
+                S = M0[t] * S[0] + M1[t] * S[1]
+                big = np.abs(S).max(axis=(0, 2))
+                S /= big[:, None]
+                logs_big[t_all] = np.log(big)
+                t_all += 1
+            y, dy = S[0], S[1]
     # s and a bound on its rounding (log's, within an ulp, and the sum's)
     partial = np.cumsum(logs_big, axis=0)
     s = partial[-1].copy()

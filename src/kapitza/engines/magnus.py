@@ -129,22 +129,24 @@ class Grid:
 
 
 def load_compiled() -> bool:
-    """Load the compiled period (:mod:`._compiled`, numba: its import and its cached code, 0.7-1.2 s)
-    and the compiled double-double tier of the certified verdicts of linear pieces
-    (:mod:`._taylor_dd`) now, so that every later call of the engine runs them; until then the
-    engine runs its numpy tree for the first :attr:`Engine.COMPILED_FROM` point-steps a process asks
-    (a command of one report does not pay numba's start-up). Returns whether it is there (numba
-    installed). The two give the same verdicts, zones and edges; traces and growths may differ in
-    their last bits (the products are rounded in another order)."""
+    """Load the compiled period (:mod:`._compiled`, numba: its import and its cached code, 0.7-1.2 s),
+    the compiled double-double tier of the certified verdicts of linear pieces (:mod:`._taylor_dd`)
+    and the sine drive's compiled kernels (:mod:`._sine`) now, so that every later call of the
+    engine runs them; until then the engine runs its numpy tree for the first
+    :attr:`Engine.COMPILED_FROM` point-steps a process asks (a command of one report does not pay
+    numba's start-up). Returns whether it is there (numba installed). The two give the same
+    verdicts, zones and edges; traces and growths may differ in their last bits (the products are
+    rounded in another order)."""
     global _COMPILED
     if _COMPILED is None:
         from . import _compiled
 
         if _compiled.available():
-            from . import _taylor_dd
+            from . import _sine, _taylor_dd
 
             _compiled.warm()
             _taylor_dd.warm()
+            _sine.warm()
             _COMPILED = _compiled
         else:
             _COMPILED = False
@@ -160,6 +162,17 @@ def compiled_pieces_tier():
     from ._taylor_dd import pieces_dd
 
     return pieces_dd
+
+
+def compiled_sine():
+    """:mod:`kapitza.engines._sine`, the sine drive's compiled kernels (Hill's continuant, the Taylor
+    steps of the half period), once the compiled engine is loaded (:func:`load_compiled`); else None
+    (their numpy forms run)."""
+    if not _COMPILED:
+        return None
+    from . import _sine
+
+    return _sine
 
 
 def _polish(shape, x, h, sign):
