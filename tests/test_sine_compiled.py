@@ -72,3 +72,17 @@ def test_the_traces_and_verdicts_of_the_sine_drive_agree(monkeypatch):
 
     ref, got = both(lambda: kapitza.is_stable(eps, mu, drive="sine", zeta=0.05), monkeypatch)
     assert np.array_equal(ref, got)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_compiled_sturm_counts_are_the_numpy_ones(seed, monkeypatch):
+    rng = np.random.default_rng(seed)
+    n = 400
+    fam = rng.integers(0, 4, n)
+    q = np.concatenate([10.0 ** rng.uniform(-6, 6, n - 8), np.zeros(4), np.full(4, 1e8)])
+    # values about the characteristic values: around r^2, and some exactly on a diagonal entry
+    r = rng.integers(0, 60, n).astype(float)
+    x = r * r + rng.normal(0.0, 1.0, n) * np.sqrt(q + 1.0)
+    x[:10] = (2.0 * r[:10]) ** 2
+    ref, got = both(lambda: M._count(fam, q, x), monkeypatch)
+    assert got.dtype == ref.dtype and np.array_equal(ref, got)

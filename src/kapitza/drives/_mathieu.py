@@ -185,6 +185,12 @@ def _count(fam, q, x):
     out = np.zeros(q.size, np.int64)
     if not q.size:
         return out
+    if q.dtype == np.float64:
+        from ..engines.magnus import compiled_sine
+
+        kernels = compiled_sine()
+        if kernels is not None:   # (the same pivots, one point at a time)
+            return kernels.count(off, _SHIFT[fam], _FIRST[fam], q, x, _PIVMIN)
     q2 = q * q
     d = off * off + _SHIFT[fam] * q - x
     d[d == 0.0] = -_PIVMIN

@@ -3,7 +3,9 @@
 - :func:`continuant`: Hill's continuant of :func:`kapitza.drives._mathieu._continuant`, the same
   pairwise product of the steps' 2x2 matrices, renormalised at each level, one row at a time;
 - :func:`half_period_steps`: the Taylor steps of :func:`kapitza.drives._mathieu._half_period_steps`
-  (the maps and the rescaled state; its error bound ``"quick"`` or none), one point at a time.
+  (the maps and the rescaled state; its error bound ``"quick"`` or none), one point at a time;
+- :func:`count`: the Sturm counts of :func:`kapitza.drives._mathieu._count` in doubles, one point
+  at a time (the same pivots, and the same rows at which a count is known to be final).
 
 Each is the numpy kernel's own arithmetic in the same order, without numpy's calls on arrays of a
 few points: a test runs both against each other. Logarithms, cosines and sines come from the
@@ -16,7 +18,10 @@ import math
 
 import numpy as np
 
-from ._compiled import jit
+from ._compiled import numba
+
+# (numpy's error model: a float divided by zero is an infinity, as in the numpy kernels, not an error)
+jit = numba.njit(cache=True, nogil=True, error_model="numpy") if numba is not None else (lambda f: f)
 
 
 @jit
@@ -156,7 +161,46 @@ def half_period_steps(qq, mm, m, scale, sign, h):
     return y, dy, logs
 
 
+@jit
+def _counts(off, shift, first, q, x, pivmin, out):
+    for i in range(q.size):
+        o = off[i]
+        q2 = q[i] * q[i]
+        xi = x[i]
+        d = o * o + shift[i] * q[i] - xi
+        if d == 0.0:
+            d = -pivmin
+        cnt = 1 if d < 0.0 else 0
+        e2 = first[i] * q2
+        r = 1
+        # (a pivot that comes out exactly zero makes the next one -inf, counted, as in the numpy form)
+        while True:
+            t = o + 2.0 * r
+            Dr = t * t - xi
+            d = Dr - e2 / d
+            if d < 0.0:
+                cnt += 1
+            e2 = q2
+            if r % 4 == 0 or r == 2:
+                t = t + 2.0
+                if Dr > 0.0 and d >= 0.5 * Dr and (t * t - xi) * Dr >= 4.0 * q2:
+                    out[i] = cnt
+                    break
+            r += 1
+
+
+def count(off, shift, first, q, x, pivmin):
+    """The Sturm counts of :func:`kapitza.drives._mathieu._count` at flat double arrays (each point's
+    family given by its diagonal offset, shift and first off-diagonal factor)."""
+    out = np.zeros(q.size, np.int64)
+    c = np.ascontiguousarray
+    _counts(c(off, float), c(shift, float), c(first, float), c(q, float), c(x, float), float(pivmin), out)
+    return out
+
+
 def warm() -> None:
     """Load both kernels' compiled code (from numba's cache, compiled there the first time)."""
     continuant(np.full((1, 3), 0.01))
     half_period_steps(np.array([0.1]), np.array([0.3]), 2, np.ones((3, 1)), np.ones(4), 0.5)
+    one = np.ones(1)
+    count(one, one, one, one, one, 1e-290)
