@@ -157,11 +157,14 @@ def test_a_report_says_which_side_of_2_a_trace_that_rounds_to_2_is_on():
 
 
 @pytest.mark.parametrize("drive", ["square", "rectangular:0.3", "triangle", "sine", "steps:1,-1,2,-2:0.3,0.3,0.2,0.2"])
-@pytest.mark.parametrize("eps, mu", [(1e-10, 10.0), (1e-9, 0.5), (1e-12, 3.0), (1e-7, 0.2)])
+@pytest.mark.parametrize("eps, mu", [(1e-10, 10.0), (1e-9, 0.5), (1e-12, 3.0), (1e-7, 0.2),
+                                     (1e-160, 0.5), (1e-170, 1e10), (1e-300, 3.0), (1e-300, 0.5), (1e-160, 1e149)])
 def test_the_growth_just_past_the_threshold_is_sqrt_32_eps_mu(drive, eps, mu):
     """Where the phase of the period is tiny, tr M / 2 = 1 + 16 eps^2 mu^2 + O(eps^4) for any shape of
     zero mean, and the growth acosh(tr M / 2) is sqrt(32) eps mu to about 1e-14 relative. The double
     trace rounds to 1 there: the triangle's growth came from a long double trace a few ulp of it
-    off (1.4e-3 relative), the sine's was 0."""
+    off (1.4e-3 relative), the sine's was 0. Below eps mu = 1e-154 tr M / 2 - 1 leaves the normal
+    doubles (and below eps = 1e-154 the sine's q): every drive but the square wave's closed forms
+    below 1 gave a growth of 0 there, beside the verdict unstable."""
     g = float(K.floquet(eps, mu, drive=drive).growth)
     assert g == pytest.approx(32.0**0.5 * eps * mu, rel=1e-12)

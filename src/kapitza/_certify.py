@@ -257,6 +257,15 @@ def small_eps_bits(eps, scale):
     return int(max(0.0, -2.0 * (math.log2(scale) + 2.0 * math.log2(eps)))) if eps > 0 else 0
 
 
+def _isqrt_scaled(n, shift):
+    """``sqrt(n) / 2^shift`` for a positive integer ``n``, to a double (its top 64 bits rounded once)."""
+    import math
+
+    r = math.isqrt(n)
+    k = max(r.bit_length() - 64, 0)
+    return math.ldexp(float(r >> k), k - shift)
+
+
 def pieces_mp(eps, mu, zeta, pieces):
     """Verdicts at the exact doubles of a drive linear on each of ``pieces``, decided in extended
     precision (flat arrays; :func:`_pieces_half_trace`): ``[(tau, log|tau|, stable, growth)]``.
@@ -292,6 +301,10 @@ def pieces_mp(eps, mu, zeta, pieces):
                         growth = math.log1p(x + math.sqrt(x * (x + 2.0))) if x > 0.0 else 0.0
                         if not math.isfinite(growth):  # acosh t = log 2t to rounding
                             growth = log_tau + math.log(2.0)
+                        elif 0 < gap and x < 1e-300:
+                            # acosh(1 + x) = sqrt(2x) (1 - x/12 + ...) with x below the normal doubles
+                            # (a period of tiny phase): the square root from the integers
+                            growth = _isqrt_scaled(2 * gap, P)
                         tau = num / one
                     else:  # |tau| beyond 2^1000: its logarithm from the integer
                         log_tau = math.log(abs(num)) - 2 * P * math.log(2.0)

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+SQRT2 = np.sqrt(2.0)
 LOG2 = np.log(2.0)
 PI = np.pi
 
@@ -280,6 +281,9 @@ def floquet_hyperbolic(x, v):
         big = log_tau + np.log1p(np.sqrt(-np.expm1(-2.0 * log_tau)))
         small = acosh_excess(np.where(excess < 1.0, excess, 0.0))
     growth = np.where(excess < 1.0, small, big)
+    # x and v below 1e-150: the excess x^2 + v^2 + O(x^4) leaves the normal doubles, and the growth
+    # sqrt(2 excess) is sqrt(2) hypot(x, v) to far below rounding
+    growth = np.where(np.maximum(x, v) < 1e-150, SQRT2 * np.hypot(x, v), growth)
     # x or v beyond a double (eps mu > 1e308): the growth, about x + v, is too
     growth = np.where(np.isinf(x) | np.isinf(v), np.inf, growth)
     return tau, growth

@@ -416,6 +416,17 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     if near.any():
         x = tau_m1[near]
         growth[near] = np.log1p(x + np.sqrt(x * (x + 2.0)))
+    # where q is negligible (below 1e-30) the half period is cosh(pi sqrt(-a)) to O(q), and the growth
+    # pi sqrt(2 mu^2 q - q^2/2) = sqrt(32) eps sqrt(mu^2 - s^2), s = sqrt(q)/2 = 2 eps/pi; formed from
+    # eps and mu where q is below the normal doubles (eps under 1e-154: q may be subnormal or 0) or
+    # tau - 1 is (eps mu under 1e-154)
+    q_ = 16.0 * e * e / PI**2
+    with np.errstate(invalid="ignore", under="ignore"):
+        tiny = ~stable & (q_ < 1e-30) & ((q_ < 1e-300) | ~(tau_m1 >= 1e-290))
+    if tiny.any():
+        et, mt = e[tiny], m[tiny]
+        s_ = 2.0 * et / PI
+        growth[tiny] = np.sqrt(32.0) * et * np.sqrt(np.maximum(mt - s_, 0.0)) * np.sqrt(mt + s_)
     acos_t = np.arccos(np.clip(tau, -1.0, 1.0))
     z = np.maximum(zone, 0)
     theta = np.where(stable, np.where(z % 2 == 0, z * PI + acos_t, z * PI + PI - acos_t), (count // 2) * PI)

@@ -312,6 +312,9 @@ def floquet_product(eps, mu, levels, durations, certify=True, trace=False, phi=N
             off = ~stable & ((np.abs(tau) > 1.0) | (log_tau > 0.0)) & (rsum <= MAX_PHASE)
             off &= ~growth_good(tau, np.where(np.isnan(known), 0.0, known) + _U * np.abs(tau),
                                 acosh_from_log(log_tau, tau), log_tau=log_tau)
+            # (and where log|tau| itself has underflowed, a period of tiny phase: the growth is
+            # sqrt(2 log|tau|), far above the doubles' least)
+            off |= ~stable & ~(log_tau > 0.0) & ~(np.abs(tau) < 1.0) & (rsum <= MAX_PHASE)
         ill |= off
         if np.any(ill):
             idx = np.flatnonzero(ill)
