@@ -792,3 +792,19 @@ def test_notable_points_refuse_a_half_period_whose_phase_overflows():
 
     with pytest.raises(V.KapitzaValueError, match=r"T must satisfy T sqrt\(\(A \+ g\) / l\) <= 1\.8e308"):
         notable_points(phi0=-0.3, T=1.7155153728201348e+307, A=100.0)
+
+
+def test_safe_tilt_with_arrays_of_l_and_a_subnormal_g_answers_point_by_point():
+    # l = [1, 1], g = 5e-324: l / g overflowed in the damping ratio (a warning), and the points' common
+    # scale (g = 9.81) then put A at infinity; each point now takes the scalar path's own scale
+    from kapitza.safety import safe_tilt
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        both = safe_tilt(T=0.15, A=100.0, l=[1.0, 1.0], g=5e-324, periods=2, tol=0.5)
+        one = safe_tilt(T=0.15, A=100.0, l=1.0, g=5e-324, periods=2, tol=0.5)
+        mixed = safe_tilt(T=0.15, A=100.0, l=[1.0, 2.0], g=[5e-324, 9.81], periods=2, tol=0.5)
+    assert both.shape == (2,) and both[0] == both[1] == one > 0.1
+    assert mixed[0] == one and mixed[1] == safe_tilt(T=0.15, A=100.0, l=2.0, g=9.81, periods=2, tol=0.5)
+    with pytest.raises(V.KapitzaValueError, match="damping c / \\(2 sqrt\\(g/l\\)\\) must be finite"):
+        safe_tilt(T=0.15, A=100.0, l=[1.0, 1.0], g=5e-324, damping=0.1, periods=2, tol=0.5)

@@ -120,11 +120,25 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
         if np.ndim(l) or np.ndim(g):
             # one length and gravity per point: scale to Arnold's parameters (the answer depends on nothing else)
             e, m = to_arnold(Tv, Av, l_, g_)
+            if not np.all((np.asarray(m) > 1e-50) & (np.asarray(m) < 1e50)):
+                # an extreme mu has no common scale with the others (see the scalar case): point by point
+                flat = [np.ravel(v) for v in (Tv, Av, l_, g_)]
+                out = np.array([safe_tilt(T=float(t), A=float(a), l=float(ll), g=float(gg), drive=d, damping=damping,
+                                          periods=periods, tol=tol, accuracy=accuracy, floor=floor,
+                                          linear_check=linear_check) for t, a, ll, gg in zip(*flat)], float)
+                return out.reshape(np.shape(Tv))
             c0 = _v.one("damping", _v.nonnegative("damping", damping))
-            z = 0.5 * c0 * np.sqrt(l_ / g_)
-            if np.ndim(z) and np.ptp(z) > 0:
-                raise _v.KapitzaValueError("damping with arrays of l or g: give the points as eps, mu and zeta")
-            z = float(np.ravel(z)[0]) if np.size(z) else 0.0
+            if c0 > 0:
+                with np.errstate(over="ignore"):   # (l / g beyond a double where g is subnormal)
+                    z = 0.5 * c0 * np.sqrt(l_ / g_)
+                if not np.all(np.isfinite(z)):
+                    raise _v.KapitzaValueError(f"damping c / (2 sqrt(g/l)) must be finite; got damping={c0!r} "
+                                               f"with the smallest g/l {float(np.min(g_ / l_))!r}")
+                if np.ndim(z) and np.ptp(z) > 0:
+                    raise _v.KapitzaValueError("damping with arrays of l or g: give the points as eps, mu and zeta")
+                z = float(np.ravel(z)[0]) if np.size(z) else 0.0
+            else:
+                z = 0.0
             l_, g_ = 1.0, G_EARTH
             Tv, Av = to_physical(e, m, l_, g_)
             c = 2.0 * z * np.sqrt(g_ / l_)
