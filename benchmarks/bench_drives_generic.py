@@ -9,7 +9,10 @@ in the same run:
   (``kapitza.drives.from_samples``, linear between samples) and the triangle with damping
   0.1/s; goal: at most 20x the square wave, the measured drive under 0.5 s;
 * a 512 x 512 chart (eps in (0, 4], mu in (0, 1)) of the measured drive, from its exact edges,
-  against the square wave's chart; goal: under 10 s.
+  against the square wave's chart; goal: under 10 s;
+* with the compiled loop loaded, the same reports at 12 ordinary points at random (and the sine
+  wave's, damped and not), each over the square wave's at that point: the spread the one point
+  above does not show.
 
 The reports are timed twice: as a command runs them (the engine's numpy tree: a report's calls are
 too small to pay numba's start-up) and with the compiled loop loaded
@@ -52,7 +55,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tiny", action="store_true", help="seconds-long smoke run")
     a = ap.parse_args()
-    samples, n_chart, repeats = (50, 16, 2) if a.tiny else (1000, 512, 7)
+    samples, n_chart, repeats, n_points = (50, 16, 2, 2) if a.tiny else (1000, 512, 7, 12)
     header("bench_drives_generic")
     from kapitza.engines import load_compiled
 
@@ -61,6 +64,30 @@ def main():
               ("triangle wave", kapitza.TriangleWave(), {}),
               (f"measured drive, {samples} samples", measured(samples), {}),
               ("triangle wave, damping 0.1/s", kapitza.TriangleWave(), {"damping": 0.1})]
+
+    def spread(n, reps):
+        # the point above is one; ordinary points at random (T log-uniform in [0.03, 0.3] s, A in
+        # [30, 3000] m/s^2, l = 1 m; stable and not), each drive's time over the square wave's there
+        rng = np.random.default_rng(3)
+        pts = [(float(np.exp(rng.uniform(np.log(0.03), np.log(0.3)))), float(np.exp(rng.uniform(np.log(30.0),
+                np.log(3000.0))))) for _ in range(n)]
+        all_drives = drives + [("sine wave", kapitza.SineWave(), {}),
+                               ("sine wave, damping 0.1/s", kapitza.SineWave(), {"damping": 0.1})]
+        times = {name: [] for name, _, _ in all_drives}
+        for T, A in pts:
+            for name, drive, kw in all_drives:
+                kapitza.analyze(drive=drive, T=T, A=A, l=1.0, **kw)
+                t0 = time.perf_counter()
+                for _ in range(reps):
+                    kapitza.analyze(drive=drive, T=T, A=A, l=1.0, **kw)
+                times[name].append((time.perf_counter() - t0) / reps)
+        base = np.array(times[all_drives[0][0]])
+        print(f"\n  at {n} ordinary points at random (T in [0.03, 0.3] s, A in [30, 3000] m/s^2, log-uniform), "
+              f"the ratio to the square wave at each:")
+        for name, _, _ in all_drives[1:]:
+            r = np.array(times[name]) / base
+            print(f"  {name:34s} median {np.median(times[name]) * 1e3:7.2f} ms   ratio median {np.median(r):6.1f}x, "
+                  f"quartiles {np.percentile(r, 25):.1f}x-{np.percentile(r, 75):.1f}x, largest {r.max():.1f}x")
 
     def table(first_calls):
         base = cbase = None
@@ -88,6 +115,7 @@ def main():
         print("\n... with the compiled loop loaded (kapitza.engines.load_compiled(): a server, a notebook, "
               "a sweep):")
         table(False)
+        spread(n_points, max(2, repeats // 2))
     else:
         print("\n(numba is not installed: no compiled loop)")
     print(f"\n{n_chart} x {n_chart} chart (eps in (0, 4], mu in (0, 1)) from exact edges:")

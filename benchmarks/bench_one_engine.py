@@ -7,7 +7,8 @@ baseline each other drive is divided by:
 * ``analyze(T=0.15, A=100)`` with ``SquareWave()`` (the baseline), ``RectangularWave(0.5)``,
   ``StepDrive([1, -1], [.5, .5])`` and the square wave with ``damping=1e-9`` -- four drives with
   the same physics (their reports agree to an ulp or two) -- and the damped sine rig
-  ``Rig(Pendulum.uniform_rod(0.25, damping=0.1), SineWave()).analyze(frequency=50, amplitude=0.003)``;
+  ``Rig(Pendulum.uniform_rod(0.25, damping=0.1), SineWave()).analyze(frequency=50, amplitude=0.003)``,
+  as a command runs it and with the compiled engine loaded (its sine kernels);
 * ``is_stable(eps, mu)`` of one point (Python floats), square wave and the others;
 * ``stability_grid`` of the square wave, 4096 x 4096 (``--tiny``: 256 x 256).
 """
@@ -87,6 +88,13 @@ def main(argv=None):
         cpu = median_cpu_time(lambda: rig.analyze(frequency=50.0, amplitude=0.003), 3)
         print(f"  {'damped sine rig (50 Hz, 3 mm)':32s} {1e3 * t:10.3f} ms   ratio {t / base:8.1f}x the square wave   "
               f"(CPU {1e3 * cpu:9.3f} ms, ratio {cpu / cpu_base:8.1f}x)")
+        from kapitza.engines import load_compiled
+
+        if load_compiled():   # (the sine's compiled kernels: a server, a notebook, a sweep)
+            t, _, _ = median_time(lambda: rig.analyze(frequency=50.0, amplitude=0.003), 5)
+            cpu = median_cpu_time(lambda: rig.analyze(frequency=50.0, amplitude=0.003), 5)
+            print(f"  {'  the same, compiled loaded':32s} {1e3 * t:10.3f} ms   ratio {t / base:8.1f}x the square wave   "
+                  f"(CPU {1e3 * cpu:9.3f} ms, ratio {cpu / cpu_base:8.1f}x)")
 
     print("\nis_stable of one point (Python floats): median of", 20 * reps, "calls")
     eps, mu = float(reports["square wave"].eps), float(reports["square wave"].mu)
