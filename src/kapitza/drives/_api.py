@@ -840,9 +840,61 @@ class _Rows:
     found mean (``ends``: the certified predicate at them, where ``checked``). ``zone``: the zone the
     point is in, if known."""
 
-    def __init__(self, lo, hi, where, test, answer, zone=None, checked=False):
+    def __init__(self, lo, hi, where, test, answer, zone=None, checked=False, spec=None):
         self.lo, self.hi, self.where, self.test, self.answer = lo, hi, where, test, answer
         self.zone, self.checked = zone, checked
+        # the rows as the compiled engine narrows them (_narrowed_compiled): per row its line
+        # (kind, c0, c1) and its predicate (n, op, fm, fu); see kapitza.engines._compiled._rows
+        self.spec = spec
+
+
+#: One point's searches narrow their brackets to this many bit patterns on the compiled engine's own
+#: verdicts (one call a row, no numpy between the points), then go on as :func:`search_bits` does
+#: (certified steps from there, where the drive's certified verdicts are cheap)
+_COMPILED_WIDTH = 1 << 36
+#: ... or to this many either side of the engine's own change, once its secant has found it (the exact
+#: change lies within a thousand patterns of it where the trace is flat)
+_COMPILED_ABOUT = 1 << 16
+
+
+def _narrowed_compiled(drive, zeta, sets, lo, hi):
+    """``(lo, hi, f_ends)``: the brackets of the row sets ``sets`` narrowed on the compiled engine
+    (:func:`kapitza.engines._compiled.narrow_rows`), or None where that does not apply: the compiled
+    engine not loaded, damping, a drive whose undamped verdicts are not the generic engine's, a set
+    without its rows' description, a bracket beyond the engine's reach."""
+    from ..engines.magnus import compiled_loop
+
+    fast = compiled_loop()
+    if fast is None or zeta > 0 or not drive._engine_verdicts or any(r.spec is None for r in sets):
+        return None
+    spec = [np.concatenate([np.asarray(r.spec[k], float) for r in sets]) for k in range(7)]
+    kind, c0, c1 = spec[0], spec[1], spec[2]
+    todo = np.flatnonzero(hi.view(np.int64) - lo.view(np.int64) > _COMPILED_WIDTH)
+    lo, hi = lo.copy(), hi.copy()
+    fa, fb = np.full(lo.size, np.nan), np.full(lo.size, np.nan)
+    if not todo.size:
+        return lo, hi, (fa, fb)
+
+    def point(x, i):
+        with np.errstate(divide="ignore"):
+            return ((x, c0[i]) if kind[i] == 0 else (c0[i] * np.sqrt(x), np.sqrt(c1[i] / x)) if kind[i] == 1
+                    else (c0[i], x))
+
+    # each row on the grid of the larger step count of its bracket's ends (the engine's steps grow
+    # along each line; a finer grid only makes the verdicts more accurate)
+    steps = np.empty(todo.size, np.int64)
+    eng = drive._engine
+    try:
+        for j, i in enumerate(todo.tolist()):
+            ends = [point(float(v), i) for v in (lo[i], hi[i]) if v > 0]
+            steps[j] = max(int(eng.steps_for(np.array([e]), np.array([m]))[0]) for e, m in ends)
+    except ValueError:   # (beyond the engine's reach: the search refuses it by name)
+        return None
+    for nv in np.unique(steps).tolist():
+        rows = todo[steps == nv]
+        lo[rows], hi[rows], fa[rows], fb[rows] = fast.narrow_rows(
+            eng.grid(nv), *(v[rows] for v in spec), lo[rows], hi[rows], _COMPILED_WIDTH, _COMPILED_ABOUT)
+    return lo, hi, (fa, fb)
 
 
 def _searched(drive, zeta, levels, sets):
@@ -869,7 +921,9 @@ def _searched(drive, zeta, levels, sets):
 
     lo = np.concatenate([r.lo for r in sets])
     hi = np.concatenate([r.hi for r in sets])
-    a, b = _search(drive, zeta > 0, pred, lo, hi, levels.ways)
+    narrowed = _narrowed_compiled(drive, zeta, sets, lo, hi)
+    a, b = _search(drive, zeta > 0, pred, lo, hi, levels.ways,
+                   *(() if narrowed is None else (narrowed[:2], narrowed[2])))
     # the certified predicate at the pairs found, for the sets that read it (remembered from the
     # search, where it asked it there)
     want = np.concatenate([np.full(n, r.checked) for r, n in zip(sets, sizes)])
@@ -898,13 +952,13 @@ def _narrowed(lo, hi, xs, ok):
 _CERTIFIED_WAYS = 8
 
 
-def _search(drive, damped, pred, lo, hi, ways):
+def _search(drive, damped, pred, lo, hi, ways, start=None, f_ends=None):
     """:func:`search_bits` (guided) of the one-point searches, ``pred(x, rows, certify)`` returning
     ``(ok, f)``: where the drive's certified verdicts are cheap every step asks them, and the pair
     found is final; elsewhere the steps ask the fast predicate and the final pair is certified."""
     return search_bits(pred, lo, hi, ways=ways, certified=lambda x, rows: pred(x, rows, True),
                        guided=True, certified_steps=drive._certified_cheap(damped),
-                       certified_ways=_CERTIFIED_WAYS if drive._far_cost else ways)
+                       certified_ways=_CERTIFIED_WAYS if drive._far_cost else ways, start=start, f_ends=f_ends)
 
 
 def _parity(n):
@@ -1025,7 +1079,9 @@ def _margin_rows(drive, eps, mu, L0=None):
         n, e_lo, e_hi, d = best
         return stable, int(n), e_lo, e_hi, float(d)
 
-    return _Rows(lo, hi, where, test, answer, zone=k if stable else None, checked=True)
+    spec = (np.zeros(n_of.size), np.full(n_of.size, mu), np.zeros(n_of.size), n_of, np.where(upper, 0, 1),
+            np.where(upper, 1.0, -1.0), np.where(upper, 1, 0))
+    return _Rows(lo, hi, where, test, answer, zone=k if stable else None, checked=True, spec=spec)
 
 
 def along_amplitude(T, n, l, g, drive, c):
@@ -1212,7 +1268,10 @@ def _rig_rows(drive, eps, mu, zone, T, A, l, g):
                        frequency_hi=float("inf") if above else float(f * mu / mu_lo))
         return out
 
-    return _Rows(lo, hi, where, test, answer)
+    # (rows 0, 1 along A: eps = T sqrt(A / 8l), mu = sqrt(g / A); rows 2, 3 along mu at this eps)
+    spec = ([1, 1, 2, 2], [T / math.sqrt(8.0 * l)] * 2 + [eps] * 2, [g] * 4, [n] * 4, [0, 1, 2, 3],
+            [1.0, -1.0, -1.0, 1.0], [1, 0, 1, 0])
+    return _Rows(lo, hi, where, test, answer, spec=spec)
 
 
 # ---------------------------------------------------------------- motion of the linear equation
@@ -1385,7 +1444,7 @@ def _secant_points(m, al, bl, fal, fbl, half):
 
 
 def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_steps=False, f_ends=None,
-                certified_ways=None):
+                certified_ways=None, start=None):
     """Bisection on the bit patterns of non-negative doubles taking ``ways - 1`` points per row at each
     step: the pair of adjacent doubles where a predicate changes (once, False below and True above),
     in about ``64 / log2(ways)`` calls of ``pred`` instead of the 64 of halving. ``pred(x, rows)`` is
@@ -1415,11 +1474,13 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
     remembers its points).
 
     ``certified_steps``' steps take ``certified_ways`` points a row (default ``ways``; fewer where each
-    certified point costs an extended-precision product). ``f_ends``: ``(f(lo), f(hi))``, where known
-    (guided), for the first step's secant.
+    certified point costs an extended-precision product). ``start``: ``(a, b)``, brackets within
+    ``[lo, hi]`` already narrowed on the fast predicate, to start from (the certified check of the
+    final pair may still widen its windows to ``[lo, hi]``); ``f_ends``: ``f`` at the starting
+    brackets' ends, where known (guided), for the first step's secant.
     """
-    a = lo.view(np.int64).copy()
-    b = hi.view(np.int64).copy()
+    a = (lo if start is None else start[0]).view(np.int64).copy()
+    b = (hi if start is None else start[1]).view(np.int64).copy()
     certified_ways = certified_ways or ways
     j = np.arange(1, max(ways, certified_ways), dtype=np.int64)
     # f at the bracket's ends, where evaluated (guided)

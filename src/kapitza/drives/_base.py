@@ -718,6 +718,15 @@ class Drive:
         return self._certified_cheap(False)
 
     @property
+    def _engine_verdicts(self) -> bool:
+        """Whether the undamped verdicts, before certification, are the generic engine's own (a drive
+        given by its shape, that keeps :meth:`_floquet0` and :meth:`_floquet`): one point's searches
+        may then narrow their brackets on the compiled engine directly
+        (:func:`kapitza.drives._api._narrowed_compiled`)."""
+        return (self._from_shape and type(self)._floquet0 is Drive._floquet0
+                and type(self)._floquet is Drive._floquet)
+
+    @property
     def _far_cost(self) -> bool:
         """Whether a verdict costs more the larger ``eps`` (the Taylor steps of the linear pieces and
         the engine's grow with it; an exact segment product's do not): one point's searches then ask

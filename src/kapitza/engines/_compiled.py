@@ -145,24 +145,163 @@ def _loop(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, eps, mu, angle, finish, 
         out[i, 5] = 0.0
 
 
+@jit
+def _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m):
+    """``(level, tau)`` of one point, as :func:`_loop` with ``finish`` reads them: ``zone + 1/2`` on a
+    zone, ``theta / pi`` (a whole number) off the zones."""
+    a, b, c, d, L, turn = _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, 8.0 * e * e, m * m, True)
+    trN = a + d
+    if trN == 0.0:
+        tau = 0.0
+    else:
+        log_tau = L + math.log(abs(0.5 * trN))
+        tau = math.copysign(math.exp(log_tau) if log_tau < 709.0 else math.inf, trN)
+    if abs(tau) < 1.0:
+        sig = 1.0 if b >= 0.0 else -1.0
+        kk = np.rint((turn - sig * math.acos(tau)) / (2.0 * PI))
+        zone = 2.0 * kk if b >= 0.0 else 2.0 * kk - 1.0
+        return zone + 0.5, tau
+    k0 = math.floor(turn / PI)
+    odd = k0 - 2.0 * math.floor(0.5 * k0)
+    k = k0 if (odd == 0.0) == (tau > 0.0) else k0 + 1.0
+    return k, tau
+
+
+@jit
+def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, par, x):
+    """``(ok, f)`` of one row of :func:`_rows` at the value ``x``."""
+    if kind == 0:
+        e, m = x, c0
+    elif kind == 1:
+        e, m = c0 * math.sqrt(x), math.sqrt(c1 / x)
+    else:
+        e, m = c0, x
+    lv, tau = _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m)
+    if op == 0:
+        ok = lv >= n + 1.0
+    elif op == 1:
+        ok = lv > n
+    elif op == 2:
+        ok = lv < n + 1.0
+    else:
+        ok = lv <= n
+    return ok, fm * (tau * par - 1.0)
+
+
+@jit
+def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, fu, a, b, fa, fb, width, about):
+    """Narrow each row's bracket ``[a, b]`` (bit patterns of non-negative doubles; the row's predicate
+    False at ``a``, True at ``b``) on the engine's own verdicts, to at most ``width`` patterns, or to
+    ``about`` patterns either side of the secant's estimate of the change: the point of value ``x``
+    is ``(x, c0)`` (``kind`` 0, a line of ``eps``), ``(c0 sqrt(x), sqrt(c1 / x))`` (1, a line of ``A``:
+    ``c0 = T / sqrt(8 l)``, ``c1 = g``) or ``(c0, x)`` (2, a line of ``mu``); the predicate on its
+    level ``lv`` is ``lv >= n + 1``, ``lv > n``, ``lv < n + 1`` or ``lv <= n`` (``op`` 0 to 3), and
+    ``f = fm (tau (-1)^(n + fu) - 1)`` changes sign with it about the change (NaN where not
+    evaluated). Bisection on the patterns; once a bracket is within 2^-6 of its value and ``|f| < 1``
+    at both ends, the two points ``about`` patterns either side of the secant's estimate of the change
+    (the bracket left for the certified steps: the engine's change may lie a thousand patterns from
+    the exact one where its trace is flat)."""
+    bits = np.empty(1, np.int64)
+    val = bits.view(np.float64)   # (a double and its bit pattern: the same eight bytes)
+    coef = (h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m)
+    for i in range(a.size):
+        lo = a[i]
+        hi = b[i]
+        f_lo = fa[i]
+        f_hi = fb[i]
+        same = 0
+        last = 0
+        par = 1.0 - 2.0 * ((n[i] + fu[i]) % 2)
+        for _ in range(200):
+            if hi - lo <= width:
+                break
+            x_bits = lo + (hi - lo) // 2
+            pair = False
+            if (same < 2 and hi - lo < (1 << 46) and f_lo < 0.0 and f_hi > 0.0
+                    and f_lo > -1.0 and f_hi < 1.0):
+                bits[0] = lo
+                xa = val[0]
+                bits[0] = hi
+                xb = val[0]
+                val[0] = xa + (xb - xa) * (f_lo / (f_lo - f_hi))
+                if lo < bits[0] < hi:
+                    x_bits = bits[0]
+                    pair = hi - lo > 2 * about + 2
+            if pair:
+                for y_bits in (max(x_bits - about, lo + 1), min(x_bits + about, hi - 1)):
+                    if not lo < y_bits < hi:
+                        continue
+                    bits[0] = y_bits
+                    ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0])
+                    if ok:
+                        hi = y_bits
+                        f_hi = f
+                    else:
+                        lo = y_bits
+                        f_lo = f
+                if hi - lo <= 2 * about + 2:
+                    break
+                same = 0
+                last = 0
+                continue
+            bits[0] = x_bits
+            ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0])
+            if ok:
+                hi = x_bits
+                f_hi = f
+                same = same + 1 if last == 1 else 1
+                last = 1
+            else:
+                lo = x_bits
+                f_lo = f
+                same = same + 1 if last == -1 else 1
+                last = -1
+        a[i] = lo
+        b[i] = hi
+        fa[i] = f_lo
+        fb[i] = f_hi
+
+
+def coefficients(grid):
+    """The real steps' coefficient arrays of ``grid``, contiguous (made once per grid)."""
+    coef = grid.__dict__.get("_real")
+    if coef is None:
+        m = grid.m
+        coef = grid._real = tuple(np.ascontiguousarray(getattr(grid, k)[:m])
+                                  for k in ("h", "p1", "p2", "p2m", "q1", "q2", "r1", "r2", "r2m", "r3", "r3m"))
+    return coef
+
+
+def narrow_rows(grid, kind, c0, c1, n, op, fm, fu, lo, hi, width, about):
+    """:func:`_rows` on ``grid``: ``(lo, hi, f_lo, f_hi)``, the brackets (doubles) within ``width``
+    patterns or ``about`` either side of the secant's estimate, and ``f`` at their ends (NaN where
+    not evaluated)."""
+    a, b = np.array(lo, float).view(np.int64), np.array(hi, float).view(np.int64)
+    fa, fb = np.full(a.size, np.nan), np.full(a.size, np.nan)
+    f64 = np.ascontiguousarray
+    _rows(*coefficients(grid), f64(kind, np.int64), f64(c0, float), f64(c1, float), f64(n, float),
+          f64(op, np.int64), f64(fm, float), f64(fu, float), a, b, fa, fb, np.int64(width), np.int64(about))
+    return a.view(np.float64), b.view(np.float64), fa, fb
+
+
 def available() -> bool:
     """Whether the compiled loop runs (numba installed)."""
     return numba is not None
 
 
 def warm() -> None:
-    """Load the loop's compiled code (from numba's cache, compiled there the first time)."""
+    """Load the loop's and the rows' compiled code (from numba's cache, compiled there the first time)."""
     z = np.zeros(1)
     _loop(z, z, z, z, z, z, z, z, z, z, z, z + 0.5, z + 0.3, True, True, np.empty((1, 6)))
+    k = np.zeros(1, np.int64)
+    a, b = np.array([0.5]).view(np.int64), np.array([1.0]).view(np.int64)
+    _rows(z, z, z, z, z, z, z, z, z, z, z, k, z + 0.3, z, z, k, z + 1.0, z, a, b, z + np.nan, z + np.nan,
+          np.int64(1 << 36), np.int64(1 << 16))
 
 
 def run(grid, eps, mu, angle=True, finish=False):
     """``out`` of :func:`_loop` at flat ``eps, mu`` on ``grid``, shape ``(P, 6)``."""
-    coef = grid.__dict__.get("_real")
-    if coef is None:  # the real steps' coefficients, contiguous, once per grid
-        m = grid.m
-        coef = grid._real = tuple(np.ascontiguousarray(getattr(grid, k)[:m])
-                                  for k in ("h", "p1", "p2", "p2m", "q1", "q2", "r1", "r2", "r2m", "r3", "r3m"))
+    coef = coefficients(grid)
     out = np.empty((eps.size, 6))
     _loop(*coef, np.ascontiguousarray(eps, float), np.ascontiguousarray(mu, float), bool(angle), bool(finish), out)
     return out

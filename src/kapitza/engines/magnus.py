@@ -164,6 +164,13 @@ def compiled_pieces_tier():
     return pieces_dd
 
 
+def compiled_loop():
+    """:mod:`kapitza.engines._compiled`, the compiled period (and the one-point searches' rows on it),
+    once loaded (:func:`load_compiled`, or a process's first :attr:`Engine.COMPILED_FROM` point-steps);
+    else None."""
+    return _COMPILED or None
+
+
 def compiled_sine():
     """:mod:`kapitza.engines._sine`, the sine drive's compiled kernels (Hill's continuant, the Taylor
     steps of the half period), once the compiled engine is loaded (:func:`load_compiled`); else None
