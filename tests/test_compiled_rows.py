@@ -28,18 +28,19 @@ def compiled():
     assert magnus.load_compiled()
 
 
+@pytest.mark.parametrize("damping", [0.0, 0.2])
 @pytest.mark.parametrize("drive", _drives(), ids=lambda d: d.describe())
-def test_the_reports_are_those_of_the_numpy_search(drive, compiled, monkeypatch):
+def test_the_reports_are_those_of_the_numpy_search(drive, damping, compiled, monkeypatch):
     rng = np.random.default_rng(17)
     pts = [(float(np.exp(rng.uniform(np.log(0.02), np.log(0.5)))), float(np.exp(rng.uniform(np.log(20.0), np.log(5e3)))))
            for _ in range(8)]
     calls = []
     narrow = _compiled.narrow_rows
     monkeypatch.setattr(_compiled, "narrow_rows", lambda *a: calls.append(1) or narrow(*a))
-    fast = [str(kapitza.analyze(drive=drive, T=T, A=A)) for T, A in pts]
+    fast = [str(kapitza.analyze(drive=drive, T=T, A=A, damping=damping)) for T, A in pts]
     assert len(calls) >= len(pts)   # (the compiled rows did run)
     monkeypatch.setattr(_api, "_narrowed_compiled", lambda *a: None)
-    slow = [str(kapitza.analyze(drive=drive, T=T, A=A)) for T, A in pts]
+    slow = [str(kapitza.analyze(drive=drive, T=T, A=A, damping=damping)) for T, A in pts]
     assert fast == slow
 
 

@@ -860,40 +860,40 @@ _COMPILED_ABOUT = 1 << 16
 def _narrowed_compiled(drive, zeta, sets, lo, hi):
     """``(lo, hi, f_ends)``: the brackets of the row sets ``sets`` narrowed on the compiled engine
     (:func:`kapitza.engines._compiled.narrow_rows`), or None where that does not apply: the compiled
-    engine not loaded, damping, a drive whose undamped verdicts are not the generic engine's, a set
-    without its rows' description, a bracket beyond the engine's reach."""
+    engine not loaded, a drive whose verdicts are not the generic engine's (:attr:`Drive._engine_verdicts`),
+    a set without its rows' description, a bracket beyond the engine's reach."""
     from ..engines.magnus import compiled_loop
 
     fast = compiled_loop()
-    if fast is None or zeta > 0 or not drive._engine_verdicts or any(r.spec is None for r in sets):
+    if fast is None or not drive._engine_verdicts or any(r.spec is None for r in sets):
         return None
     spec = [np.concatenate([np.asarray(r.spec[k], float) for r in sets]) for k in range(7)]
     kind, c0, c1 = spec[0], spec[1], spec[2]
-    todo = np.flatnonzero(hi.view(np.int64) - lo.view(np.int64) > _COMPILED_WIDTH)
+    # (a bracket from 0, which the ladders leave only in odd cases, stays with the numpy steps: its
+    # first points would lie far beyond the grid's reach)
+    todo = np.flatnonzero((hi.view(np.int64) - lo.view(np.int64) > _COMPILED_WIDTH) & (lo > 0))
     lo, hi = lo.copy(), hi.copy()
     fa, fb = np.full(lo.size, np.nan), np.full(lo.size, np.nan)
     if not todo.size:
         return lo, hi, (fa, fb)
 
-    def point(x, i):
-        with np.errstate(divide="ignore"):
-            return ((x, c0[i]) if kind[i] == 0 else (c0[i] * np.sqrt(x), np.sqrt(c1[i] / x)) if kind[i] == 1
-                    else (c0[i], x))
-
     # each row on the grid of the larger step count of its bracket's ends (the engine's steps grow
-    # along each line; a finer grid only makes the verdicts more accurate)
-    steps = np.empty(todo.size, np.int64)
-    eng = drive._engine
+    # along each line; a finer grid only makes the verdicts more accurate), at the phi-system's mu
+    x = np.concatenate([lo[todo], hi[todo]])
+    k, a0, a1 = (np.concatenate([v[todo], v[todo]]) for v in (kind, c0, c1))
+    e = np.where(k == 0, x, np.where(k == 1, a0 * np.sqrt(x), a0))
+    with np.errstate(divide="ignore"):
+        m = np.where(k == 0, a0, np.where(k == 1, np.sqrt(a1 / x), x))
     try:
-        for j, i in enumerate(todo.tolist()):
-            ends = [point(float(v), i) for v in (lo[i], hi[i]) if v > 0]
-            steps[j] = max(int(eng.steps_for(np.array([e]), np.array([m]))[0]) for e, m in ends)
+        both = drive._engine.steps_for(e, m * math.sqrt(1.0 + zeta * zeta))
     except ValueError:   # (beyond the engine's reach: the search refuses it by name)
         return None
+    steps = np.maximum(both[:todo.size], both[todo.size:])
+    eng = drive._engine
     for nv in np.unique(steps).tolist():
         rows = todo[steps == nv]
         lo[rows], hi[rows], fa[rows], fb[rows] = fast.narrow_rows(
-            eng.grid(nv), *(v[rows] for v in spec), lo[rows], hi[rows], _COMPILED_WIDTH, _COMPILED_ABOUT)
+            eng.grid(nv), *(v[rows] for v in spec), lo[rows], hi[rows], _COMPILED_WIDTH, _COMPILED_ABOUT, zeta)
     return lo, hi, (fa, fb)
 
 

@@ -719,12 +719,13 @@ class Drive:
 
     @property
     def _engine_verdicts(self) -> bool:
-        """Whether the undamped verdicts, before certification, are the generic engine's own (a drive
-        given by its shape, that keeps :meth:`_floquet0` and :meth:`_floquet`): one point's searches
-        may then narrow their brackets on the compiled engine directly
-        (:func:`kapitza.drives._api._narrowed_compiled`)."""
-        return (self._from_shape and type(self)._floquet0 is Drive._floquet0
-                and type(self)._floquet is Drive._floquet)
+        """Whether the verdicts before certification, damped or not, are the generic engine's own (a
+        drive given by its shape that keeps :meth:`_floquet0`, :meth:`_floquet`, :meth:`_log_tau0`
+        and :meth:`_tau_minus_one0`): one point's searches may then narrow their brackets on the
+        compiled engine directly (:func:`kapitza.drives._api._narrowed_compiled`)."""
+        kind = type(self)
+        return (self._from_shape and kind._floquet0 is Drive._floquet0 and kind._floquet is Drive._floquet
+                and kind._log_tau0 is Drive._log_tau0 and kind._tau_minus_one0 is Drive._tau_minus_one0)
 
     @property
     def _far_cost(self) -> bool:

@@ -25,6 +25,7 @@ except ImportError:  # pragma: no cover - depends on the installation
         return f
 
 LN2 = 0.6931471805599453
+SQRT8 = math.sqrt(8.0)
 PI = math.pi
 
 
@@ -147,12 +148,13 @@ def _loop(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, eps, mu, angle, finish, 
 
 @jit
 def _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m):
-    """``(level, tau)`` of one point, as :func:`_loop` with ``finish`` reads them: ``zone + 1/2`` on a
-    zone, ``theta / pi`` (a whole number) off the zones."""
+    """``(level, tau, log|tau|)`` of one point, as :func:`_loop` with ``finish`` reads them: ``zone +
+    1/2`` on a zone, ``theta / pi`` (a whole number) off the zones."""
     a, b, c, d, L, turn = _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, 8.0 * e * e, m * m, True)
     trN = a + d
     if trN == 0.0:
         tau = 0.0
+        log_tau = -math.inf
     else:
         log_tau = L + math.log(abs(0.5 * trN))
         tau = math.copysign(math.exp(log_tau) if log_tau < 709.0 else math.inf, trN)
@@ -160,15 +162,63 @@ def _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m):
         sig = 1.0 if b >= 0.0 else -1.0
         kk = np.rint((turn - sig * math.acos(tau)) / (2.0 * PI))
         zone = 2.0 * kk if b >= 0.0 else 2.0 * kk - 1.0
-        return zone + 0.5, tau
+        return zone + 0.5, tau, log_tau
     k0 = math.floor(turn / PI)
     odd = k0 - 2.0 * math.floor(0.5 * k0)
     k = k0 if (odd == 0.0) == (tau > 0.0) else k0 + 1.0
-    return k, tau
+    return k, tau, log_tau
 
 
 @jit
-def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, par, x):
+def _log_cosh(k):
+    """:func:`kapitza._exact.log_cosh`."""
+    if k < 1.0:
+        return math.log1p(2.0 * math.sinh(0.5 * k) ** 2)
+    return k + math.log1p(math.exp(-2.0 * k)) - LN2
+
+
+@jit
+def _excess_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m, zeta):
+    """``G = log|tau_phi| - log cosh(kappa)`` at ``(e, m)`` with damping ratio ``zeta`` (the damping
+    layer's ``_excess`` of a drive given by its shape)."""
+    mc = m * math.sqrt(1.0 + zeta * zeta)
+    _, _, _, log_tau = _half(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, mc)
+    return log_tau - _log_cosh(2.0 * SQRT8 * zeta * m * e)
+
+
+@jit
+def _half(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m):
+    a, b, c, d, L, turn = _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, 8.0 * e * e, m * m, False)
+    trN = a + d
+    if trN == 0.0:
+        return 0.0, 0.0, 0.0, -math.inf
+    return 0.0, 0.0, 0.0, L + math.log(abs(0.5 * trN))
+
+
+@jit
+def _damped_level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m, zeta):
+    """``(level, tau / cosh(kappa))`` of one point with damping ratio ``zeta`` (``zeta > 0``), as the
+    damping layer gives them without certification: the ``phi``-system at ``mu sqrt(1 + zeta^2)``;
+    stable on its zones and where ``G = log|tau_phi| - log cosh(kappa) < 0``; a point stable in the
+    gap ``theta = k pi`` in zone ``k - 1`` while ``G`` rises with ``eps`` (at ``eps (1 +- 1e-7)``),
+    in zone ``k`` where it falls, in zone 0 below it."""
+    kappa = 2.0 * SQRT8 * zeta * m * e
+    lv, tau, log_tau = _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m * math.sqrt(1.0 + zeta * zeta))
+    ratio = tau / math.cosh(kappa) if kappa < 700.0 else 0.0 * tau
+    if lv != math.floor(lv):
+        return lv, ratio
+    if not log_tau - _log_cosh(kappa) < 0.0:
+        return lv, ratio
+    if lv <= 0.0:
+        return 0.5, ratio
+    step = 1e-7 * e
+    up = _excess_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e + step, m, zeta)
+    down = _excess_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e - step, m, zeta)
+    return (lv - 1.0 if up > down else lv) + 0.5, ratio
+
+
+@jit
+def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, par, x, zeta):
     """``(ok, f)`` of one row of :func:`_rows` at the value ``x``."""
     if kind == 0:
         e, m = x, c0
@@ -176,7 +226,10 @@ def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op,
         e, m = c0 * math.sqrt(x), math.sqrt(c1 / x)
     else:
         e, m = c0, x
-    lv, tau = _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m)
+    if zeta > 0.0:
+        lv, tau = _damped_level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m, zeta)
+    else:
+        lv, tau, _ = _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m)
     if op == 0:
         ok = lv >= n + 1.0
     elif op == 1:
@@ -189,7 +242,8 @@ def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op,
 
 
 @jit
-def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, fu, a, b, fa, fb, width, about):
+def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, fu, a, b, fa, fb, width, about,
+          zeta):
     """Narrow each row's bracket ``[a, b]`` (bit patterns of non-negative doubles; the row's predicate
     False at ``a``, True at ``b``) on the engine's own verdicts, to at most ``width`` patterns, or to
     ``about`` patterns either side of the secant's estimate of the change: the point of value ``x``
@@ -197,7 +251,8 @@ def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm,
     ``c0 = T / sqrt(8 l)``, ``c1 = g``) or ``(c0, x)`` (2, a line of ``mu``); the predicate on its
     level ``lv`` is ``lv >= n + 1``, ``lv > n``, ``lv < n + 1`` or ``lv <= n`` (``op`` 0 to 3), and
     ``f = fm (tau (-1)^(n + fu) - 1)`` changes sign with it about the change (NaN where not
-    evaluated). Bisection on the patterns; once a bracket is within 2^-6 of its value and ``|f| < 1``
+    evaluated); with damping ratio ``zeta > 0`` the level and ``tau / cosh(kappa)`` of
+    :func:`_damped_level_at`. Bisection on the patterns; once a bracket is within 2^-6 of its value and ``|f| < 1``
     at both ends, the two points ``about`` patterns either side of the secant's estimate of the change
     (the bracket left for the certified steps: the engine's change may lie a thousand patterns from
     the exact one where its trace is flat)."""
@@ -232,7 +287,7 @@ def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm,
                     if not lo < y_bits < hi:
                         continue
                     bits[0] = y_bits
-                    ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0])
+                    ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0], zeta)
                     if ok:
                         hi = y_bits
                         f_hi = f
@@ -245,7 +300,7 @@ def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm,
                 last = 0
                 continue
             bits[0] = x_bits
-            ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0])
+            ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0], zeta)
             if ok:
                 hi = x_bits
                 f_hi = f
@@ -272,7 +327,7 @@ def coefficients(grid):
     return coef
 
 
-def narrow_rows(grid, kind, c0, c1, n, op, fm, fu, lo, hi, width, about):
+def narrow_rows(grid, kind, c0, c1, n, op, fm, fu, lo, hi, width, about, zeta=0.0):
     """:func:`_rows` on ``grid``: ``(lo, hi, f_lo, f_hi)``, the brackets (doubles) within ``width``
     patterns or ``about`` either side of the secant's estimate, and ``f`` at their ends (NaN where
     not evaluated)."""
@@ -280,7 +335,8 @@ def narrow_rows(grid, kind, c0, c1, n, op, fm, fu, lo, hi, width, about):
     fa, fb = np.full(a.size, np.nan), np.full(a.size, np.nan)
     f64 = np.ascontiguousarray
     _rows(*coefficients(grid), f64(kind, np.int64), f64(c0, float), f64(c1, float), f64(n, float),
-          f64(op, np.int64), f64(fm, float), f64(fu, float), a, b, fa, fb, np.int64(width), np.int64(about))
+          f64(op, np.int64), f64(fm, float), f64(fu, float), a, b, fa, fb, np.int64(width), np.int64(about),
+          float(zeta))
     return a.view(np.float64), b.view(np.float64), fa, fb
 
 
@@ -296,7 +352,7 @@ def warm() -> None:
     k = np.zeros(1, np.int64)
     a, b = np.array([0.5]).view(np.int64), np.array([1.0]).view(np.int64)
     _rows(z, z, z, z, z, z, z, z, z, z, z, k, z + 0.3, z, z, k, z + 1.0, z, a, b, z + np.nan, z + np.nan,
-          np.int64(1 << 36), np.int64(1 << 16))
+          np.int64(1 << 36), np.int64(1 << 16), 0.1)
 
 
 def run(grid, eps, mu, angle=True, finish=False):
