@@ -282,35 +282,28 @@ def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm,
                 if lo < bits[0] < hi:
                     x_bits = bits[0]
                     pair = hi - lo > 2 * about + 2
+            for j in range(2 if pair else 1):   # (the secant's pair, or one point)
+                y_bits = x_bits if not pair else (max(x_bits - about, lo + 1) if j == 0 else
+                                                  min(x_bits + about, hi - 1))
+                if not lo < y_bits < hi:
+                    continue
+                bits[0] = y_bits
+                ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0], zeta)
+                if ok:
+                    hi = y_bits
+                    f_hi = f
+                    same = same + 1 if last == 1 else 1
+                    last = 1
+                else:
+                    lo = y_bits
+                    f_lo = f
+                    same = same + 1 if last == -1 else 1
+                    last = -1
             if pair:
-                for y_bits in (max(x_bits - about, lo + 1), min(x_bits + about, hi - 1)):
-                    if not lo < y_bits < hi:
-                        continue
-                    bits[0] = y_bits
-                    ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0], zeta)
-                    if ok:
-                        hi = y_bits
-                        f_hi = f
-                    else:
-                        lo = y_bits
-                        f_lo = f
                 if hi - lo <= 2 * about + 2:
                     break
                 same = 0
                 last = 0
-                continue
-            bits[0] = x_bits
-            ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0], zeta)
-            if ok:
-                hi = x_bits
-                f_hi = f
-                same = same + 1 if last == 1 else 1
-                last = 1
-            else:
-                lo = x_bits
-                f_lo = f
-                same = same + 1 if last == -1 else 1
-                last = -1
         a[i] = lo
         b[i] = hi
         fa[i] = f_lo
