@@ -56,7 +56,7 @@ def test_the_brackets_hold_the_engines_own_change(seed, compiled):
     # the lower and the upper edge of zone n along eps, from brackets a binade wide
     lo = np.array([0.5 * float(lo_e), 0.5 * float(hi_e)])
     hi = np.array([2.0 * float(lo_e), 2.0 * float(hi_e)])
-    spec = ([0, 0], [mu, mu], [0.0, 0.0], [n, n], [1, 0], [-1.0, 1.0], [0, 1])
+    spec = ([0, 0], [mu, mu], [0.0, 0.0], [0.0, 0.0], [n, n], [1, 0], [-1.0, 1.0], [0, 1])
     a, b, fa, fb = _compiled.narrow_rows(grid, *spec, lo, hi, 1 << 36, 1 << 16)
     assert np.all(b.view(np.int64) - a.view(np.int64) <= 1 << 36)
     out = _compiled.run(grid, np.concatenate([a, b]), np.full(4, mu), True, True)

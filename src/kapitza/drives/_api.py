@@ -833,19 +833,59 @@ class _Levels:
         return (lv, tau) if with_tau else lv
 
 
-class _Rows:
-    """Rows of a one-point search: their brackets ``[lo, hi]``; ``where(x, rows)``, the points
-    ``(eps, mu)`` their values ``x`` stand for; ``test(level, tau, rows)``, the predicate ``(ok, f)``
-    of :func:`search_bits` (guided) from the levels there; ``answer(a, b, ends)``, what the pairs
-    found mean (``ends``: the certified predicate at them, where ``checked``). ``zone``: the zone the
-    point is in, if known."""
+#: A line's kinds in :class:`_Rows`: ``eps`` at a fixed ``mu``, ``A`` at a fixed ``T`` (``eps = T sqrt(A /
+#: 8l)``, ``mu = sqrt(g / A)``), ``mu`` at a fixed ``eps``
+LINE_EPS, LINE_A, LINE_MU = 0, 1, 2
+#: A row's predicates on the level ``lv`` at its points: ``lv >= n + 1``, ``lv > n``, ``lv < n + 1``,
+#: ``lv <= n``
+PAST, INTO, BACK, BELOW = 0, 1, 2, 3
 
-    def __init__(self, lo, hi, where, test, answer, zone=None, checked=False, spec=None):
-        self.lo, self.hi, self.where, self.test, self.answer = lo, hi, where, test, answer
+
+def _line_points(kind, c0, c1, c2, x):
+    """The points ``(eps, mu)`` at values ``x`` of lines ``kind`` (broadcast arrays): ``(x, c0)``;
+    ``(c0 sqrt(x / c2), sqrt(c1 / x))`` with ``c0 = T``, ``c1 = g``, ``c2 = 8 l``; ``(c0, x)``."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e = np.where(kind == LINE_EPS, x, np.where(kind == LINE_A, c0 * np.sqrt(x / c2), c0))
+        m = np.where(kind == LINE_EPS, c0, np.where(kind == LINE_A, np.sqrt(c1 / x), x))
+    return e, m
+
+
+class _Rows:
+    """Rows of a one-point search: their brackets ``[lo, hi]``; each row a line of points (``kind``,
+    ``c0, c1, c2``: :func:`_line_points`) and a predicate on the levels there (``op``: :data:`PAST`,
+    ...; about zone ``n``), whose change the search finds, with ``f = fm (tau (-1)^(n + fu) - 1)``
+    (``fm``, ``fu``: the half-trace at the edge sought, ``+-1``) changing sign with it; ``answer(a, b,
+    ends)``, what the pairs found mean (``ends``: the certified predicate at them, where ``checked``).
+    ``zone``: the zone the point is in, if known. The compiled engine narrows the same rows
+    (:func:`_narrowed_compiled`)."""
+
+    FIELDS = ("kind", "c0", "c1", "c2", "n", "op", "fm", "fu")
+
+    def __init__(self, lo, hi, lines, answer, zone=None, checked=False):
+        self.lo, self.hi, self.answer = lo, hi, answer
         self.zone, self.checked = zone, checked
-        # the rows as the compiled engine narrows them (_narrowed_compiled): per row its line
-        # (kind, c0, c1) and its predicate (n, op, fm, fu); see kapitza.engines._compiled._rows
-        self.spec = spec
+        size = len(lo)
+        self.lines = {k: np.broadcast_to(np.asarray(v, float), (size,)) for k, v in zip(self.FIELDS, lines)}
+        n, op, fm, fu = (self.lines[k] for k in ("n", "op", "fm", "fu"))
+        # (the levels are whole or half numbers: lv > n is lv >= n + 1/2, lv <= n is lv < n + 1/2)
+        self._rising = (op == PAST) | (op == INTO)
+        self._threshold = np.where((op == PAST) | (op == BACK), n + 1.0, n + 0.5)
+        self._sign = fm * _parity(n + fu)   # (f = sign tau - fm)
+
+    def where(self, x, rows):
+        """The points ``(eps, mu)`` the values ``x`` (shape ``(len(rows), k)``) of rows ``rows`` stand for."""
+        kind, c0 = self.lines["kind"][rows], self.lines["c0"][rows][:, None]
+        if np.all(kind == LINE_EPS):   # (a margin's rows: no square roots to form and throw away)
+            return x, np.broadcast_to(c0, x.shape)
+        return _line_points(kind[:, None], c0, self.lines["c1"][rows][:, None], self.lines["c2"][rows][:, None], x)
+
+    def test(self, lv, tau, rows):
+        """The predicate ``(ok, f)`` of :func:`search_bits` (guided) from the levels and half-traces there."""
+        rising, thr = self._rising[rows][:, None], self._threshold[rows][:, None]
+        ok = np.where(rising, lv >= thr, lv < thr)
+        with np.errstate(invalid="ignore", over="ignore"):
+            f = self._sign[rows][:, None] * tau - self.lines["fm"][rows][:, None]
+        return ok, f
 
 
 #: One point's searches narrow their brackets to this many bit patterns on the compiled engine's own
@@ -861,14 +901,13 @@ def _narrowed_compiled(drive, zeta, sets, lo, hi):
     """``(lo, hi, f_ends)``: the brackets of the row sets ``sets`` narrowed on the compiled engine
     (:func:`kapitza.engines._compiled.narrow_rows`), or None where that does not apply: the compiled
     engine not loaded, a drive whose verdicts are not the generic engine's (:attr:`Drive._engine_verdicts`),
-    a set without its rows' description, a bracket beyond the engine's reach."""
+    a bracket beyond the engine's reach."""
     from ..engines.magnus import compiled_loop
 
     fast = compiled_loop()
-    if fast is None or not drive._engine_verdicts or any(r.spec is None for r in sets):
+    if fast is None or not drive._engine_verdicts:
         return None
-    spec = [np.concatenate([np.asarray(r.spec[k], float) for r in sets]) for k in range(7)]
-    kind, c0, c1 = spec[0], spec[1], spec[2]
+    lines = {k: np.concatenate([r.lines[k] for r in sets]) for k in _Rows.FIELDS}
     # (a bracket from 0, which the ladders leave only in odd cases, stays with the numpy steps: its
     # first points would lie far beyond the grid's reach)
     todo = np.flatnonzero((hi.view(np.int64) - lo.view(np.int64) > _COMPILED_WIDTH) & (lo > 0))
@@ -876,14 +915,10 @@ def _narrowed_compiled(drive, zeta, sets, lo, hi):
     fa, fb = np.full(lo.size, np.nan), np.full(lo.size, np.nan)
     if not todo.size:
         return lo, hi, (fa, fb)
-
     # each row on the grid of the larger step count of its bracket's ends (the engine's steps grow
     # along each line; a finer grid only makes the verdicts more accurate), at the phi-system's mu
-    x = np.concatenate([lo[todo], hi[todo]])
-    k, a0, a1 = (np.concatenate([v[todo], v[todo]]) for v in (kind, c0, c1))
-    e = np.where(k == 0, x, np.where(k == 1, a0 * np.sqrt(x), a0))
-    with np.errstate(divide="ignore"):
-        m = np.where(k == 0, a0, np.where(k == 1, np.sqrt(a1 / x), x))
+    e, m = _line_points(*(np.concatenate([lines[k][todo]] * 2) for k in ("kind", "c0", "c1", "c2")),
+                        np.concatenate([lo[todo], hi[todo]]))
     try:
         both = drive._engine.steps_for(e, m * math.sqrt(1.0 + zeta * zeta))
     except ValueError:   # (beyond the engine's reach: the search refuses it by name)
@@ -893,7 +928,8 @@ def _narrowed_compiled(drive, zeta, sets, lo, hi):
     for nv in np.unique(steps).tolist():
         rows = todo[steps == nv]
         lo[rows], hi[rows], fa[rows], fb[rows] = fast.narrow_rows(
-            eng.grid(nv), *(v[rows] for v in spec), lo[rows], hi[rows], _COMPILED_WIDTH, _COMPILED_ABOUT, zeta)
+            eng.grid(nv), *(lines[k][rows] for k in _Rows.FIELDS), lo[rows], hi[rows], _COMPILED_WIDTH,
+            _COMPILED_ABOUT, zeta)
     return lo, hi, (fa, fb)
 
 
@@ -1054,18 +1090,6 @@ def _margin_rows(drive, eps, mu, L0=None):
     xs, lvs = np.concatenate(rungs), np.concatenate(rung_levels)
     lo, hi = _narrowed(lo, hi, xs, np.where(upper[:, None], lvs >= n_of[:, None] + 1, lvs > n_of[:, None]))
 
-    def where(x, idx):
-        return x, np.full(x.shape, mu)
-
-    def test(lv, tau, idx):
-        n = n_of[idx][:, None]
-        up = upper[idx][:, None]
-        ok = np.where(up, lv >= n + 1, lv > n)
-        # zone n's edges: theta = n pi below (tau = (-1)^n), (n + 1) pi above
-        with np.errstate(invalid="ignore", over="ignore"):
-            f = np.where(up, tau * _parity(n + 1) - 1.0, 1.0 - tau * _parity(n))
-        return ok, f
-
     def answer(a, b, ends):
         if ends[:, 0].any() or not ends[:, 1].all():
             return None
@@ -1079,9 +1103,10 @@ def _margin_rows(drive, eps, mu, L0=None):
         n, e_lo, e_hi, d = best
         return stable, int(n), e_lo, e_hi, float(d)
 
-    spec = (np.zeros(n_of.size), np.full(n_of.size, mu), np.zeros(n_of.size), n_of, np.where(upper, 0, 1),
-            np.where(upper, 1.0, -1.0), np.where(upper, 1, 0))
-    return _Rows(lo, hi, where, test, answer, zone=k if stable else None, checked=True, spec=spec)
+    # zone n's edges along eps: its lower edge where the level passes n (tau = (-1)^n there), its upper
+    # where it reaches n + 1 (tau = (-1)^(n + 1))
+    lines = (LINE_EPS, mu, 0.0, 0.0, n_of, np.where(upper, PAST, INTO), np.where(upper, 1.0, -1.0), upper)
+    return _Rows(lo, hi, lines, answer, zone=k if stable else None, checked=True)
 
 
 def along_amplitude(T, n, l, g, drive, c):
@@ -1191,7 +1216,7 @@ def _rig_rows(drive, eps, mu, zone, T, A, l, g):
     n = zone
 
     def along_A(A_):
-        return T * np.sqrt(A_ / (8.0 * l)), np.sqrt(g / A_)
+        return _line_points(LINE_A, T, g, 8.0 * l, A_)
 
     # where the searches start: the first 2^k max(g, 1) past zone n + 1 along A (eight rungs a
     # call), and whether the zone is still reached at the ends of the frequency search
@@ -1233,24 +1258,6 @@ def _rig_rows(drive, eps, mu, zone, T, A, l, g):
     above = ends[0] < n + 1     # still in the zone (or below it) at the smallest mu
     capped = not ends[1] <= n   # not yet out of it at the largest
 
-    def where(x, rows):
-        along = (rows < 2)[:, None]        # rows 0, 1 search A; rows 2, 3 search mu
-        with np.errstate(invalid="ignore", divide="ignore"):
-            e_A, m_A = along_A(np.where(along, x, 1.0))
-        return np.where(along, e_A, eps), np.where(along, m_A, x)
-
-    def test(k, tau, rows):
-        r = rows[:, None]
-        ok = np.where(r == 0, k >= n + 1,       # A_hi: first A past the zone
-                      np.where(r == 1, k > n,    # A_lo: first A in it (or beyond)
-                               np.where(r == 2, k < n + 1,   # mu_lo: first mu back in the zone or below
-                                        k <= n)))            # mu_hi: first mu below the zone
-        # the edges: tau = (-1)^(n + 1) at the upper one (rows 0, 2), (-1)^n at the lower one (1, 3)
-        with np.errstate(invalid="ignore", over="ignore"):
-            t_up, t_lo = tau * _parity(n + 1.0), tau * _parity(float(n))
-            f = np.where(r == 0, t_up - 1.0, np.where(r == 1, 1.0 - t_lo, np.where(r == 2, 1.0 - t_up, t_lo - 1.0)))
-        return ok, f
-
     # (a search whose answer is not needed gets an empty bracket)
     lo = np.array([0.0, 0.0, 1e-6, 1e-6])
     hi = np.array([top, top, 1e-6 if above else mu_top, 1e-6 if capped else mu_top])
@@ -1268,10 +1275,12 @@ def _rig_rows(drive, eps, mu, zone, T, A, l, g):
                        frequency_hi=float("inf") if above else float(f * mu / mu_lo))
         return out
 
-    # (rows 0, 1 along A: eps = T sqrt(A / 8l), mu = sqrt(g / A); rows 2, 3 along mu at this eps)
-    spec = ([1, 1, 2, 2], [T / math.sqrt(8.0 * l)] * 2 + [eps] * 2, [g] * 4, [n] * 4, [0, 1, 2, 3],
-            [1.0, -1.0, -1.0, 1.0], [1, 0, 1, 0])
-    return _Rows(lo, hi, where, test, answer, spec=spec)
+    # rows 0, 1 along A: A_hi the first A past the zone (tau = (-1)^(n + 1) there), A_lo the first in it
+    # (or beyond; tau = (-1)^n); rows 2, 3 along mu at this eps: mu_lo the first mu back in the zone or
+    # below (tau = (-1)^(n + 1)), mu_hi the first below it (tau = (-1)^n)
+    lines = ([LINE_A, LINE_A, LINE_MU, LINE_MU], [T, T, eps, eps], g, 8.0 * l, n, [PAST, INTO, BACK, BELOW],
+             [1.0, -1.0, -1.0, 1.0], [1, 0, 1, 0])
+    return _Rows(lo, hi, lines, answer)
 
 
 # ---------------------------------------------------------------- motion of the linear equation

@@ -218,12 +218,12 @@ def _damped_level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m, zeta):
 
 
 @jit
-def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, par, x, zeta):
+def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, c2, n, op, fm, par, x, zeta):
     """``(ok, f)`` of one row of :func:`_rows` at the value ``x``."""
     if kind == 0:
         e, m = x, c0
     elif kind == 1:
-        e, m = c0 * math.sqrt(x), math.sqrt(c1 / x)
+        e, m = c0 * math.sqrt(x / c2), math.sqrt(c1 / x)
     else:
         e, m = c0, x
     if zeta > 0.0:
@@ -242,13 +242,14 @@ def _row_test(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op,
 
 
 @jit
-def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm, fu, a, b, fa, fb, width, about,
-          zeta):
+def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, c2, n, op, fm, fu, a, b, fa, fb, width,
+          about, zeta):
     """Narrow each row's bracket ``[a, b]`` (bit patterns of non-negative doubles; the row's predicate
     False at ``a``, True at ``b``) on the engine's own verdicts, to at most ``width`` patterns, or to
     ``about`` patterns either side of the secant's estimate of the change: the point of value ``x``
-    is ``(x, c0)`` (``kind`` 0, a line of ``eps``), ``(c0 sqrt(x), sqrt(c1 / x))`` (1, a line of ``A``:
-    ``c0 = T / sqrt(8 l)``, ``c1 = g``) or ``(c0, x)`` (2, a line of ``mu``); the predicate on its
+    is ``(x, c0)`` (``kind`` 0, a line of ``eps``), ``(c0 sqrt(x / c2), sqrt(c1 / x))`` (1, a line of
+    ``A``: ``c0 = T``, ``c1 = g``, ``c2 = 8 l``) or ``(c0, x)`` (2, a line of ``mu``), as
+    :func:`kapitza.drives._api._line_points` gives them; the predicate on its
     level ``lv`` is ``lv >= n + 1``, ``lv > n``, ``lv < n + 1`` or ``lv <= n`` (``op`` 0 to 3), and
     ``f = fm (tau (-1)^(n + fu) - 1)`` changes sign with it about the change (NaN where not
     evaluated); with damping ratio ``zeta > 0`` the level and ``tau / cosh(kappa)`` of
@@ -288,7 +289,7 @@ def _rows(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, kind, c0, c1, n, op, fm,
                 if not lo < y_bits < hi:
                     continue
                 bits[0] = y_bits
-                ok, f = _row_test(*coef, kind[i], c0[i], c1[i], n[i], op[i], fm[i], par, val[0], zeta)
+                ok, f = _row_test(*coef, kind[i], c0[i], c1[i], c2[i], n[i], op[i], fm[i], par, val[0], zeta)
                 if ok:
                     hi = y_bits
                     f_hi = f
@@ -320,14 +321,14 @@ def coefficients(grid):
     return coef
 
 
-def narrow_rows(grid, kind, c0, c1, n, op, fm, fu, lo, hi, width, about, zeta=0.0):
+def narrow_rows(grid, kind, c0, c1, c2, n, op, fm, fu, lo, hi, width, about, zeta=0.0):
     """:func:`_rows` on ``grid``: ``(lo, hi, f_lo, f_hi)``, the brackets (doubles) within ``width``
     patterns or ``about`` either side of the secant's estimate, and ``f`` at their ends (NaN where
     not evaluated)."""
     a, b = np.array(lo, float).view(np.int64), np.array(hi, float).view(np.int64)
     fa, fb = np.full(a.size, np.nan), np.full(a.size, np.nan)
     f64 = np.ascontiguousarray
-    _rows(*coefficients(grid), f64(kind, np.int64), f64(c0, float), f64(c1, float), f64(n, float),
+    _rows(*coefficients(grid), f64(kind, np.int64), f64(c0, float), f64(c1, float), f64(c2, float), f64(n, float),
           f64(op, np.int64), f64(fm, float), f64(fu, float), a, b, fa, fb, np.int64(width), np.int64(about),
           float(zeta))
     return a.view(np.float64), b.view(np.float64), fa, fb
@@ -344,7 +345,7 @@ def warm() -> None:
     _loop(z, z, z, z, z, z, z, z, z, z, z, z + 0.5, z + 0.3, True, True, np.empty((1, 6)))
     k = np.zeros(1, np.int64)
     a, b = np.array([0.5]).view(np.int64), np.array([1.0]).view(np.int64)
-    _rows(z, z, z, z, z, z, z, z, z, z, z, k, z + 0.3, z, z, k, z + 1.0, z, a, b, z + np.nan, z + np.nan,
+    _rows(z, z, z, z, z, z, z, z, z, z, z, k, z + 0.3, z, z, z, k, z + 1.0, z, a, b, z + np.nan, z + np.nan,
           np.int64(1 << 36), np.int64(1 << 16), 0.1)
 
 
