@@ -97,6 +97,30 @@ def _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, E, m2, angle):
 
 
 @jit
+def _half_trace(a, d, L):
+    """``(tau, log|tau|)`` of ``M = e^L [[a, b], [c, d]]`` (:func:`~kapitza.engines.magnus.half_trace`)."""
+    trN = a + d
+    if trN == 0.0:
+        return 0.0, -math.inf
+    log_tau = L + math.log(abs(0.5 * trN))
+    return math.copysign(math.exp(log_tau) if log_tau < 709.0 else math.inf, trN), log_tau
+
+
+@jit
+def _rotation(tau, b, turn):
+    """``(theta, zone)`` from the half-trace, the monodromy's ``b`` and the turn of ``(1, 0)``
+    (:func:`~kapitza.engines.magnus.rotation`; ``zone`` -1 off the zones)."""
+    if abs(tau) < 1.0:
+        sig = 1.0 if b >= 0.0 else -1.0
+        base = sig * math.acos(tau)
+        kk = np.rint((turn - base) / (2.0 * PI))
+        return 2.0 * PI * kk + base, (2.0 * kk if b >= 0.0 else 2.0 * kk - 1.0)
+    k0 = math.floor(turn / PI)
+    odd = k0 - 2.0 * math.floor(0.5 * k0)
+    return PI * (k0 if (odd == 0.0) == (tau > 0.0) else k0 + 1.0), -1.0
+
+
+@jit
 def _loop(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, eps, mu, angle, finish, out):
     """Row ``i`` of ``out``: ``(a, b, c, d, L, turn)``, or with ``finish``
     ``(tau, log_tau, theta, zone, growth, 0)`` (:func:`~kapitza.engines.magnus.rotation`)."""
@@ -111,25 +135,8 @@ def _loop(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, eps, mu, angle, finish, 
             out[i, 4] = L
             out[i, 5] = turn
             continue
-        trN = a + d
-        if trN == 0.0:
-            log_tau = -math.inf
-            tau = 0.0
-        else:
-            log_tau = L + math.log(abs(0.5 * trN))
-            tau = math.copysign(math.exp(log_tau) if log_tau < 709.0 else math.inf, trN)
-        if abs(tau) < 1.0:
-            sig = 1.0 if b >= 0.0 else -1.0
-            base = sig * math.acos(tau)
-            kk = np.rint((turn - base) / (2.0 * PI))
-            theta = 2.0 * PI * kk + base
-            zone = 2.0 * kk if b >= 0.0 else 2.0 * kk - 1.0
-        else:
-            k0 = math.floor(turn / PI)
-            odd = k0 - 2.0 * math.floor(0.5 * k0)
-            k = k0 if (odd == 0.0) == (tau > 0.0) else k0 + 1.0
-            theta = PI * k
-            zone = -1.0
+        tau, log_tau = _half_trace(a, d, L)
+        theta, zone = _rotation(tau, b, turn)
         # growth acosh|tau| off the zones (from log|tau| where tau is large), 0 on them
         growth = 0.0
         if zone < 0.0:
@@ -151,22 +158,9 @@ def _level_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m):
     """``(level, tau, log|tau|)`` of one point, as :func:`_loop` with ``finish`` reads them: ``zone +
     1/2`` on a zone, ``theta / pi`` (a whole number) off the zones."""
     a, b, c, d, L, turn = _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, 8.0 * e * e, m * m, True)
-    trN = a + d
-    if trN == 0.0:
-        tau = 0.0
-        log_tau = -math.inf
-    else:
-        log_tau = L + math.log(abs(0.5 * trN))
-        tau = math.copysign(math.exp(log_tau) if log_tau < 709.0 else math.inf, trN)
-    if abs(tau) < 1.0:
-        sig = 1.0 if b >= 0.0 else -1.0
-        kk = np.rint((turn - sig * math.acos(tau)) / (2.0 * PI))
-        zone = 2.0 * kk if b >= 0.0 else 2.0 * kk - 1.0
-        return zone + 0.5, tau, log_tau
-    k0 = math.floor(turn / PI)
-    odd = k0 - 2.0 * math.floor(0.5 * k0)
-    k = k0 if (odd == 0.0) == (tau > 0.0) else k0 + 1.0
-    return k, tau, log_tau
+    tau, log_tau = _half_trace(a, d, L)
+    theta, zone = _rotation(tau, b, turn)
+    return (zone + 0.5 if zone >= 0.0 else np.rint(theta / PI)), tau, log_tau
 
 
 @jit
@@ -182,17 +176,8 @@ def _excess_at(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m, zeta):
     """``G = log|tau_phi| - log cosh(kappa)`` at ``(e, m)`` with damping ratio ``zeta`` (the damping
     layer's ``_excess`` of a drive given by its shape)."""
     mc = m * math.sqrt(1.0 + zeta * zeta)
-    _, _, _, log_tau = _half(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, mc)
-    return log_tau - _log_cosh(2.0 * SQRT8 * zeta * m * e)
-
-
-@jit
-def _half(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, e, m):
-    a, b, c, d, L, turn = _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, 8.0 * e * e, m * m, False)
-    trN = a + d
-    if trN == 0.0:
-        return 0.0, 0.0, 0.0, -math.inf
-    return 0.0, 0.0, 0.0, L + math.log(abs(0.5 * trN))
+    a, _, _, d, L, _ = _one(h, p1, p2, p2m, q1, q2, r1, r2, r2m, r3, r3m, 8.0 * e * e, mc * mc, False)
+    return _half_trace(a, d, L)[1] - _log_cosh(2.0 * SQRT8 * zeta * m * e)
 
 
 @jit
