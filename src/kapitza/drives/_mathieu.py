@@ -362,7 +362,7 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     ``certify=False`` (the steps of a search, whose final bracket is certified) keeps the count
     of one side of the band instead.
     """
-    from .._exact import acosh_from_log
+    from .._exact import acosh_excess, acosh_from_log
 
     eps, mu = np.broadcast_arrays(np.asarray(eps, float), np.asarray(mu, float))
     shape = eps.shape
@@ -414,15 +414,14 @@ def sine_floquet0(eps, mu, certify=True, errors=False, loose=False, exact=True):
     with np.errstate(invalid="ignore"):
         near = fresh & ~stable & (tau_m1 > 0.0) & (tau_m1 < 0.5)
     if near.any():
-        x = tau_m1[near]
-        growth[near] = np.log1p(x + np.sqrt(x * (x + 2.0)))
+        growth[near] = acosh_excess(tau_m1[near])
     # where q is negligible (below 1e-30) the half period is cosh(pi sqrt(-a)) to O(q), and the growth
     # pi sqrt(2 mu^2 q - q^2/2) = sqrt(32) eps sqrt(mu^2 - s^2), s = sqrt(q)/2 = 2 eps/pi; formed from
     # eps and mu where q is below the normal doubles (eps under 1e-154: q may be subnormal or 0) or
     # tau - 1 is (eps mu under 1e-154)
-    q_ = 16.0 * e * e / PI**2
     with np.errstate(invalid="ignore", under="ignore"):
-        tiny = ~stable & (q_ < 1e-30) & ((q_ < 1e-300) | ~(tau_m1 >= 1e-290))
+        q = _qa(e, m)[0]
+        tiny = ~stable & (q < 1e-30) & ((q < 1e-300) | ~(tau_m1 >= 1e-290))
     if tiny.any():
         et, mt = e[tiny], m[tiny]
         s_ = 2.0 * et / PI
