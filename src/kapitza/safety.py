@@ -36,6 +36,14 @@ SAFE_TILT_PERIODS = 50
 SAFE_TILT_TOL = float(np.pi / 2)
 
 
+def _extreme_mu(mu):
+    """Whether some ``mu`` lies beyond ``1e+-50``, where the pivot's acceleration and the rod's rate at
+    ``g = 9.81``, ``l = 1`` would differ by a hundred orders of magnitude (beyond DOP853's error norm):
+    such a point's motion is integrated on a scale of its own."""
+    mu = np.asarray(mu, float)
+    return not np.all((mu > 1e-50) & (mu < 1e50))
+
+
 def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None, damping=0.0, zeta=None,
               periods=SAFE_TILT_PERIODS, tol=SAFE_TILT_TOL, accuracy=0.01, floor=1e-9, linear_check=True):
     """Largest starting tilt from rest [rad] that stays within ``tol`` for ``periods`` periods.
@@ -103,11 +111,10 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
         z = _v.one("zeta", _v.nonnegative("zeta", 0.0 if zeta is None else zeta))
         l_, g_ = 1.0, G_EARTH
         mc = m
-        if np.size(m) == 1 and not 1e-50 < float(np.ravel(m)[0]) < 1e50 and 1e-100 < float(np.ravel(e)[0]) < 1e100:
-            # an extreme mu: with g = 9.81 and l = 1 the pivot's acceleration and the rod's rate would
-            # differ by a hundred orders of magnitude, beyond DOP853's error norm; g = mu and l = 1 / mu
-            # (A = l) keep them together. The motion is integrated at mu clamped to 1e+-150 (mu^2 is
-            # lost beside the shape already at 1e-9); the verdict below is the point's own
+        if np.size(m) == 1 and _extreme_mu(m) and 1e-100 < float(np.ravel(e)[0]) < 1e100:
+            # an extreme mu: g = mu and l = 1 / mu (A = l) keep the scales together. The motion is
+            # integrated at mu clamped to 1e+-150 (mu^2 is lost beside the shape already at 1e-9); the
+            # verdict below is the point's own
             mc = np.full(np.shape(m), min(max(float(np.ravel(m)[0]), 1e-150), 1e150))
             l_, g_ = 1.0 / float(np.ravel(mc)[0]), float(np.ravel(mc)[0])
         Tv, Av = to_physical(e, mc, l_, g_)
@@ -120,7 +127,7 @@ def safe_tilt(eps=None, mu=None, *, T=None, A=None, l=1.0, g=G_EARTH, drive=None
         if np.ndim(l) or np.ndim(g):
             # one length and gravity per point: scale to Arnold's parameters (the answer depends on nothing else)
             e, m = to_arnold(Tv, Av, l_, g_)
-            if not np.all((np.asarray(m) > 1e-50) & (np.asarray(m) < 1e50)):
+            if _extreme_mu(m):
                 # an extreme mu has no common scale with the others (see the scalar case): point by point
                 flat = [np.ravel(v) for v in (Tv, Av, l_, g_)]
                 out = np.array([safe_tilt(T=float(t), A=float(a), l=float(ll), g=float(gg), drive=d, damping=damping,
