@@ -56,8 +56,8 @@ _COMPILED: Any = None  # the compiled module once looked up (False: numba not in
 _TREE_WORK = 0  # point-steps asked of the engine before it was looked up (Engine.COMPILED_FROM)
 
 
-#: the bytes of a :class:`Grid` a step (sixteen arrays of doubles)
-_GRID_STEP_BYTES = 128
+#: the bytes of a :class:`Grid` a step (fifteen doubles: h, x, the shape at three nodes, ten coefficients)
+_GRID_STEP_BYTES = 120
 #: the steps of a :class:`Grid` formed at once
 _GRID_BLOCK = 1 << 16
 
@@ -367,8 +367,8 @@ class Engine:
         self.s_min = min(float(vals.min()), _polish(shape, xs[np.argmin(flat)], 2.0 / g.m, 1.0))
         self.s_max = max(float(vals.max()), _polish(shape, xs[np.argmax(flat)], 2.0 / g.m, -1.0))
 
-    #: the grids kept for reuse, at most about this many bytes (a grid takes 128 bytes a step: one of
-    #: 2^21 steps, 270 MB); the least recently used go first, before a new one is built
+    #: the grids kept for reuse, at most about this many bytes (a grid takes 120 bytes a step: one of
+    #: 2^21 steps, 250 MB); the least recently used go first, before a new one is built
     GRID_BYTES = 1 << 28
 
     def grid(self, n):
