@@ -11,13 +11,19 @@ from kapitza.engines import _sine  # noqa: E402
 
 
 def both(f, monkeypatch):
-    """``f()`` with the numpy kernels, then with the compiled ones."""
+    """``f()`` with the numpy kernels, then with the compiled ones (which must have run: each kernel
+    called is counted)."""
     with monkeypatch.context() as m:
         m.setattr(magnus, "compiled_sine", lambda: None)
         ref = f()
+    calls = []
     with monkeypatch.context() as m:
         m.setattr(magnus, "compiled_sine", lambda: _sine)
+        for name in ("continuant", "half_period_steps", "count"):
+            kernel = getattr(_sine, name)
+            m.setattr(_sine, name, lambda *a, _k=kernel: calls.append(1) or _k(*a))
         got = f()
+    assert calls, "the compiled kernels did not run"
     return ref, got
 
 
