@@ -1480,10 +1480,10 @@ def search_bits(pred, lo, hi, ways=64, certified=None, guided=False, certified_s
     product): once a row's bracket is within 2^36 ulp (2^-16 of its value; the fast steps'
     secant points have then come within a few thousand ulp) the steps ask it instead for every row,
     so the final pair is certified as found (the check above then costs nothing where ``certified``
-    remembers its points).
+    remembers its points); those steps take ``certified_ways`` points a row (default ``ways``; fewer
+    where each certified point costs an extended-precision product).
 
-    ``certified_steps``' steps take ``certified_ways`` points a row (default ``ways``; fewer where each
-    certified point costs an extended-precision product). ``start``: ``(a, b)``, brackets within
+    ``start``: ``(a, b)``, brackets within
     ``[lo, hi]`` already narrowed on the fast predicate, to start from (the certified check of the
     final pair may still widen its windows to ``[lo, hi]``); ``f_ends``: ``f`` at the starting
     brackets' ends, where known (guided), for the first step's secant.
