@@ -222,6 +222,29 @@ def test_physical_export_applies_the_eps_cap(served):
     assert r.status_code == 422 and "samples <= 1000" in r.json()["detail"]
 
 
+def test_point_reports_of_other_drives_are_bounded_in_eps(served):
+    # a triangle-wave report at eps = 5,000 took 15 s (its margins are searches of integrated periods
+    # of about eps steps each), at 50,000 minutes: a few such requests held every worker
+    base, _ = served
+    cap = web_app.LIMITS["general_point_eps"]
+    for path, extra in (("api/point", {}), ("api/point", {"zeta": 0.05}), ("api/safe_tilt", {})):
+        r = httpx.get(base + path, params=dict(eps=50 * cap, mu=0.1, drive="triangle", **extra), timeout=60)
+        assert r.status_code == 422, (path, r.text)
+        assert r.json()["detail"] == f"eps must satisfy eps <= {cap:g} in the explorer; got {50 * cap!r}"
+    # given as T and A, the message names what it bounds
+    r = httpx.get(base + "api/point", params=dict(T=15.0, A=1e6, l=1.0, drive="sine"), timeout=60)
+    assert r.status_code == 422 and "T sqrt(A / (8 l)) (the point's eps) must satisfy" in r.json()["detail"]
+    # exact segment products (the square wave, damped or not, a step drive) answer at any eps; a verdict
+    # alone at once
+    for extra in ({}, {"zeta": 0.05}, {"drive": "rectangular:0.3"}):
+        assert httpx.get(base + "api/point", params=dict(eps=50 * cap, mu=0.1, **extra), timeout=60).status_code == 200
+    assert httpx.get(base + "api/verdict", params=dict(eps=50 * cap, mu=0.1, drive="triangle"),
+                     timeout=60).status_code == 200
+    # within the bound a report of another drive is answered
+    r = httpx.get(base + "api/point", params=dict(eps=2.5, mu=0.1, drive="triangle"), timeout=120)
+    assert r.status_code == 200 and r.json()["eps"] == 2.5
+
+
 def test_view_cache_is_bounded_in_bytes(monkeypatch):
     monkeypatch.setitem(web_app.LIMITS, "cache_bytes", 10_000)
     cache = web_app._ViewCache()

@@ -56,6 +56,8 @@ LIMITS: dict[str, Any] = dict(
     cache_bytes=64 << 20,  # the JSON of recent views kept
     eps_max=60.0,          # the largest eps a view of Arnold's plane may reach
     general_eps_max=12.0,  # ... with another drive or damping (each edge a Floquet eigenproblem)
+    general_point_eps=1000.0,  # the largest eps of a point's report or safe tilt with a drive whose periods are
+                               # integrated (about eps steps each: the sine, the triangle, linear samples)
     periods=200.0,         # drive periods 2T of a motion
     points_per_period=200,
     motion_samples=20000,  # periods * points_per_period
@@ -314,6 +316,7 @@ def safe_tilt_answer(eps=None, mu=None, T=None, A=None, l=1.0, g=G_EARTH, drive=
     from ..zones import is_stable
 
     P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+    _point_reach(P)
     n = _safe_periods(periods, exact_path(P["drive"], P["zeta"]))
     d = P["drive"]
     stable = bool(is_stable(P["eps"], P["mu"], drive=d, zeta=P["zeta"]))
@@ -895,6 +898,7 @@ def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
     from dataclasses import replace
 
     P = _point_of(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod, damping)
+    _point_reach(P)
     if P["T"] is not None:
         rep = analyze(T=P["T"], A=P["A"], l=P["l"], g=P["g"], drive=P["drive"], damping=P["c"])
     else:
@@ -902,6 +906,15 @@ def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
     if P["given"] or P["pendulum"]:
         rep = replace(rep, given=P["given"], pendulum=P["pendulum"] or rep.pendulum)
     return rep, P["drive"]
+
+
+def _point_reach(P):
+    """A point within ``LIMITS['general_point_eps']`` where a verdict costs more the larger ``eps`` (its
+    periods integrated in about ``eps`` steps, not exact segment products): a report's searches take
+    seconds at eps 1,000 and minutes beyond 10,000."""
+    if P["drive"]._far_cost:
+        name = "eps" if P["T"] is None else "T sqrt(A / (8 l)) (the point's eps)"
+        _bounded(name, P["eps"], LIMITS["general_point_eps"])
 
 
 def _safe_periods(periods, exact):
