@@ -50,3 +50,22 @@ def test_an_end_of_the_bracket_keeps_no_claim():
     a, b = search_bits(lambda x, r: fast(x, r)[0], lo, np.array([3.0, 3.0]),
                        certified=lambda x, r: certified(x, r)[0])
     assert np.array_equal(a, lo) and np.array_equal(b.view(np.int64), lo.view(np.int64) + 1)
+
+
+def test_the_secant_takes_an_end_where_f_rounds_to_zero():
+    # f is 0 on the first 1e-13 relative above each change (a flat trace's last bits): an end of the
+    # bracket there still guides the certified steps (even steps took 8 calls, the secant takes 3)
+    rng = np.random.default_rng(5)
+    roots = 10 ** rng.uniform(-2, 2, 16)
+    calls = [0]
+
+    def pred(x, rows):
+        calls[0] += 1
+        r = roots[rows][:, None]
+        f = (x - r) / r
+        return x >= r, np.where((f >= 0) & (f < 1e-13), 0.0, f)
+
+    a, b = search_bits(pred, roots * (1 - 1e-11), roots * (1 + 1e-11), ways=8, certified=pred, guided=True,
+                       certified_steps=True)
+    assert np.array_equal(b, roots) and np.array_equal(a.view(np.int64) + 1, roots.view(np.int64))
+    assert calls[0] <= 4

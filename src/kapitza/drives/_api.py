@@ -1438,7 +1438,9 @@ def _secant_points(m, al, bl, fal, fbl, half):
     """For :func:`search_bits` (guided): replace in place the even points ``m`` of the rows whose
     bracket ``[al, bl]`` (bit patterns) is narrow with points about the secant's root of ``f``."""
     width = bl - al
-    use = (width < (1 << 46)) & (width > 2 * m.shape[1]) & (fal < 0) & (fbl > 0) & (fal > -1) & (fbl < 1)
+    # (an end where f rounds to 0 counts: the secant's root is then that end)
+    use = ((width < (1 << 46)) & (width > 2 * m.shape[1]) & (fal <= 0) & (fbl >= 0) & (fal < fbl) & (fal > -1)
+           & (fbl < 1))
     if not use.any():
         return
     xa, xb = al[use].view(np.float64), bl[use].view(np.float64)
