@@ -990,10 +990,11 @@ _CERTIFIED_WAYS = 8
 
 def _search(drive, damped, pred, lo, hi, ways, start=None, f_ends=None):
     """:func:`search_bits` (guided) of the one-point searches, ``pred(x, rows, certify)`` returning
-    ``(ok, f)``: where the drive's certified verdicts are cheap every step asks them, and the pair
-    found is final; elsewhere the steps ask the fast predicate and the final pair is certified."""
+    ``(ok, f)``: where the drive's certified verdicts serve the last steps (:meth:`Drive._certified_steps`)
+    those steps ask them, and the pair found is final; elsewhere the steps ask the fast predicate and the
+    final pair is certified."""
     return search_bits(pred, lo, hi, ways=ways, certified=lambda x, rows: pred(x, rows, True),
-                       guided=True, certified_steps=drive._certified_cheap(damped),
+                       guided=True, certified_steps=drive._certified_steps(damped),
                        certified_ways=_CERTIFIED_WAYS if drive._far_cost else ways, start=start, f_ends=f_ends)
 
 

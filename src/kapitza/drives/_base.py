@@ -115,8 +115,8 @@ class Drive:
       ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``, ``_verdict0(eps, mu)``,
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
       (see each);
-    - exact verdicts: ``_damped_exact(eps, mu, zeta, growth=True)`` and ``_certified_cheap(damped)``
-      (see each), and :attr:`Floquet0.unsure` from ``_floquet0`` without ``certify``;
+    - exact verdicts: ``_damped_exact(eps, mu, zeta, growth=True)``, ``_certified_cheap(damped)`` and
+      ``_certified_steps(damped)`` (see each), and :attr:`Floquet0.unsure` from ``_floquet0`` without ``certify``;
     - its own ``T`` and ``A`` (:attr:`own_scale`), as a measured drive has them.
 
     Conventions: in ``tau`` the undamped linearisation is
@@ -781,6 +781,14 @@ class Drive:
         from ..engines.magnus import compiled_pieces_tier
 
         return (HAS_LONG_DOUBLE or compiled_pieces_tier() is not None) and self._certified_pieces() is not None
+
+    def _certified_steps(self, damped: bool) -> bool:
+        """Whether a one-point search asks the certified verdicts at its last steps, once a bracket is
+        within 2^36 ulp (:func:`kapitza.drives._api.search_bits`' ``certified_steps``), rather than the
+        fast ones to the last bit, then the certified check of the pair and, where it fails, a search of
+        the windows about it: where :meth:`_certified_cheap`, or where certified verdicts cost more only
+        near the edge itself (the sine's Sturm counts)."""
+        return self._certified_cheap(damped)
 
     def _damped_exact(self, eps, mu, zeta, growth=True):
         """``[(stable, growth)]`` of the damped system at the exact doubles (flat arrays, points
