@@ -27,6 +27,24 @@ def test_stability_table_for_the_readme_example(capsys):
     assert "0.109100185651" in out and "0.200866326585" in out  # T_1 < T < T~_1 at this A
 
 
+def test_stability_says_beforehand_when_its_report_takes_long(capsys, monkeypatch):
+    from kapitza.cli import engine
+
+    # the triangle at T = 0.15 s, A = 1e10 m/s^2 (eps 5,300) integrates 2^20 steps a period: 20-30 s
+    note = engine.long_report_note(dict(T=0.15, A=1e10, l=1.0, g=9.81, drive=K.TriangleWave()))
+    assert note.startswith("eps = 5303.3 with the triangle wave") and "1,048,576 steps" in note
+    # exact products and ordinary points say nothing; a point beyond reach is left to the report's own error
+    assert engine.long_report_note(dict(eps=3e4, mu=0.1)) is None
+    assert engine.long_report_note(dict(eps=3e4, mu=0.1, drive=K.RectangularWave(0.3))) is None
+    assert engine.long_report_note(dict(T=0.15, A=100.0, l=1.0, g=9.81, drive=K.TriangleWave())) is None
+    assert engine.long_report_note(dict(eps=3e9, mu=0.1, drive=K.TriangleWave())) is None
+    assert engine.long_report_note(dict(T=0.15, A=1e10, l=1.0, g=0.0, drive=K.TriangleWave())) is None
+    # the command prints it to standard error before the report (here at an ordinary point, the bar lowered)
+    monkeypatch.setattr(engine, "LONG_REPORT_STEPS", 1)
+    code, out, err = run(["stability", "--drive", "triangle", "--T", "0.15", "--A", "100"], capsys)
+    assert code == 0 and err.startswith("kapitza: note: eps = 0.53033 with the triangle wave") and "zone" in out
+
+
 def test_stability_json_matches_the_library(capsys):
     code, out, _ = run(["stability", "--eps", "0.5", "--mu", "0.3", "--json"], capsys)
     assert code == 0

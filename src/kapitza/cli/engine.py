@@ -155,10 +155,39 @@ def register(sub):
 
 
 # ------------------------------------------------------------------ stability
+#: From this many integration steps a period at the point, ``kapitza stability`` says beforehand that its
+#: report takes long (a triangle-wave report: 8 s at 2^18 steps, 20-30 s at 2^20, minutes at 2^22)
+LONG_REPORT_STEPS = 1 << 19
+
+
+def long_report_note(kw):
+    """One line before a report whose drive integrates each period in at least :data:`LONG_REPORT_STEPS`
+    steps at the point (``kw``: :func:`kapitza.analyze`'s keywords), else None."""
+    from ..parameters import to_arnold
+
+    drive = kw.get("drive")
+    given = [kw[k] for k in ("T", "A", "l", "g", "eps", "mu") if k in kw]
+    if drive is None or not drive._from_shape or not all(np.isfinite(v) and v > 0 for v in given):
+        return None   # (a value out of range is refused by name in the report itself, in one line)
+    try:
+        eps, mu = (kw["eps"], kw["mu"]) if "eps" in kw else to_arnold(kw["T"], kw["A"], kw["l"], kw["g"])
+        steps = int(drive._engine.steps_for(np.array([float(eps)]), np.array([float(mu)]))[0])
+    except (ValueError, ArithmeticError):   # (beyond the drive's reach: refused by name there too)
+        return None
+    if steps < LONG_REPORT_STEPS:
+        return None
+    return (f"eps = {float(eps):.6g} with the {drive.label}: each period is integrated in {steps:,} steps, and the "
+            "report's searches ask hundreds of them: it may take tens of seconds to minutes")
+
+
 def cmd_stability(args):
     from dataclasses import replace
 
-    rep = analyze(**(kw := parameters_from(args)))
+    kw = parameters_from(args)
+    note = long_report_note(kw)
+    if note:
+        print(f"kapitza: note: {note}", file=sys.stderr, flush=True)
+    rep = analyze(**kw)
     if getattr(args, "pendulum", None):
         rep = replace(rep, pendulum=args.pendulum)
     if args.given:
