@@ -932,7 +932,7 @@ class Drive:
         the one-point searches answer, a point inside a zone has its edges in ``eps`` and along the rig's
         knobs searched together (:func:`kapitza.drives._api.point_edges`); ``level0``: the point's
         certified level there (``zone + 1/2`` on a zone, ``theta / pi`` off them), when known."""
-        if phys is not None and pointwise and self._batched_points and self._joint_edges(zeta):
+        if phys is not None and pointwise and self._joint_search(zeta, level0):
             found = _api.point_edges(self, eps, mu, zeta, *phys[:4], level0=level0)
             if found is not None:
                 margin, rig = found
@@ -943,6 +943,12 @@ class Drive:
         if phys is None or margin[1] < 0:
             return margin, None
         return margin, self.point_intervals(eps, mu, margin[1], zeta, *phys, pointwise, (margin[2], margin[3]))
+
+    def _joint_search(self, zeta, level0) -> bool:
+        """Whether :meth:`point_edges` asks the one-point searches for the margin's and the rig's edges
+        (:func:`kapitza.drives._api.point_edges`) at a point of certified level ``level0`` (None where
+        unknown): where :attr:`_batched_points` and :meth:`_joint_edges`."""
+        return self._batched_points and self._joint_edges(zeta)
 
     def _joint_edges(self, zeta) -> bool:
         """Whether :meth:`point_edges` may search the margin's and the rig's edges together (a drive
