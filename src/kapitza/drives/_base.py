@@ -115,8 +115,9 @@ class Drive:
       ``_edges0(mu, n)``, ``_log_tau0(eps, mu)``, ``_verdict0(eps, mu)``,
       ``_tau_minus_one0(eps, mu)``, ``_zone_rate(mu)`` and ``_candidate_zones(mu, e0, e1)``
       (see each);
-    - exact verdicts: ``_damped_exact(eps, mu, zeta, growth=True)``, ``_certified_cheap(damped)`` and
-      ``_certified_steps(damped)`` (see each), and :attr:`Floquet0.unsure` from ``_floquet0`` without ``certify``;
+    - exact verdicts: ``_damped_exact(eps, mu, zeta, growth=True)`` and ``_certified_cheap(damped)``
+      (see each), and :attr:`Floquet0.unsure` from ``_floquet0`` without ``certify``;
+    - a report's searches: ``_certified_steps(damped)`` and ``_joint_search(zeta, level0)`` (see each);
     - its own ``T`` and ``A`` (:attr:`own_scale`), as a measured drive has them.
 
     Conventions: in ``tau`` the undamped linearisation is
