@@ -68,3 +68,24 @@ def test_a_report_beside_a_zone_thinner_than_a_double_says_nothing_holds_it():
     rows = dict(r.lines())
     assert "thinner than the spacing" in rows["to hold it"]
     assert "raise" not in str(r)
+
+
+def test_a_zone_with_no_eps_inside_at_this_mu_may_still_be_reached_by_the_rig():
+    # no double of eps lies inside the zone at the point's mu, but along the stroke (or the frequency)
+    # the zone is wide, reached where mu is lower: the report names those knobs, not "nothing"
+    from dataclasses import replace
+
+    r = K.analyze(T=0.3, A=40.0, l=1.0, drive="sine")
+    assert not r.stable and r.nearest_zone >= 0 and r.stroke_lo < r.stroke_hi
+    e = float(np.nextafter(r.eps_lo, np.inf))
+    thin = replace(r, eps_hi=e, T_hi=float(np.nextafter(r.T_lo, np.inf)))
+    rows = thin.lines()
+    held = [text for label, text in rows if label in ("to hold it", "")][-2:]
+    assert "thinner than the spacing" not in str(thin)
+    assert any("stroke" in t for t in held) and not any("lengthen" in t or "shorten" in t for t in held)
+    # with every knob's range a single double, nothing holds it
+    def next_up(v):
+        return float(np.nextafter(v, np.inf))
+
+    none = replace(thin, A_hi=next_up(r.A_lo), frequency_hi=next_up(r.frequency_lo), stroke_hi=next_up(r.stroke_lo))
+    assert "thinner than the spacing" in dict(none.lines())["to hold it"]

@@ -221,12 +221,17 @@ class StabilityReport(Summary):
                              f"{_fmt(1e3 * k * self.stroke_lo, 6)} < {word} < {_fmt(1e3 * k * self.stroke_hi, 6)} mm "
                                  f"at this frequency ({percent_change(self.stroke_lo, st)} / "
                                  f"{percent_change(self.stroke_hi, st)})"))
-            if not self.stable and np.nextafter(self.eps_lo, np.inf) >= self.eps_hi:
-                # (no double lies inside: the knobs' ranges would name one value twice)
-                rows.append(("to hold it", f"nothing: zone {self.nearest_zone} is thinner than the spacing of the "
-                                           "doubles about it (no eps inside it)"))
-                return rows
-            for i, d in enumerate(self.directions):
+            ways = self.directions
+            if not self.stable:
+                # (a knob whose range holds no double would be named one value twice: left out; the zone
+                # may have no eps inside at this mu and still a wide range of A or of the stroke, which
+                # reaches it where mu is lower)
+                ways = [d for d in ways if d["hi"] is None or np.nextafter(d["lo"], np.inf) < d["hi"]]
+                if not ways and np.nextafter(self.eps_lo, np.inf) >= self.eps_hi:
+                    rows.append(("to hold it", f"nothing: zone {self.nearest_zone} is thinner than the spacing of "
+                                               "the doubles about it (no eps inside it)"))
+                    return rows
+            for i, d in enumerate(ways):
                 rows.append(("" if i else "to hold it" if not self.stable else "room", d["text"]))
         return rows
 
