@@ -808,3 +808,17 @@ def test_safe_tilt_with_arrays_of_l_and_a_subnormal_g_answers_point_by_point():
     assert mixed[0] == one and mixed[1] == safe_tilt(T=0.15, A=100.0, l=2.0, g=9.81, periods=2, tol=0.5)
     with pytest.raises(V.KapitzaValueError, match="damping c / \\(2 sqrt\\(g/l\\)\\) must be finite"):
         safe_tilt(T=0.15, A=100.0, l=[1.0, 1.0], g=5e-324, damping=0.1, periods=2, tol=0.5)
+
+
+@pytest.mark.parametrize("drive", ["triangle", "sine"])
+def test_a_damped_report_where_the_phi_system_has_no_zone_is_always_unstable(drive):
+    # mu = 0.9 with zeta = 1.5: the damped phi-system's mu sqrt(1 + zeta^2) = 1.62 has no attracting
+    # phase. The report's ladders climbed to the drive's reach at mu, not at 1.62, and the search
+    # raised "put an edge beyond this drive's reach" instead of the verdict
+    from kapitza.drives._api import damping_of
+
+    mu, zeta, eps, g = 0.9, 1.5, 12.0, 9.81
+    A = g / mu**2
+    T = eps * np.sqrt(8.0 / A)
+    r = K.analyze(T=T, A=A, l=1.0, g=g, drive=drive, damping=float(damping_of(zeta, 1.0, g)))
+    assert not r.stable and r.verdict.startswith("always unstable") and r.nearest_zone == -1

@@ -1015,7 +1015,7 @@ def point_margin(drive, eps, mu, zeta, levels=None):
     first with level ``>= n + 1``; each is reported on its unstable side, as :func:`margin`'s.
     """
     levels = levels or _Levels(drive, zeta, (eps, mu))
-    rows, = _prepared(levels, [_margin_rows(drive, eps, mu)])
+    rows, = _prepared(levels, [_margin_rows(drive, eps, mu, zeta=zeta)])
     return None if rows is None else _searched(drive, zeta, levels, [rows])[0]
 
 
@@ -1043,11 +1043,12 @@ def _prepared(levels, builders):
     return out
 
 
-def _margin_rows(drive, eps, mu, L0=None):
+def _margin_rows(drive, eps, mu, L0=None, zeta=0.0):
     """The rows of :func:`point_margin`'s search (a :class:`_Rows`), or None where it cannot answer: a
     builder for :func:`_prepared`. ``L0``: the level at ``(eps, mu)``, when known. The ladder climbs
-    to the drive's reach at ``mu`` (:meth:`Drive._eps_reach`), fewer rungs a call where the drive's
-    verdicts cost more the larger ``eps`` (:attr:`Drive._far_cost`)."""
+    to the drive's reach (:meth:`Drive._eps_reach`) at ``mu``, damped at the ``phi``-system's ``mu sqrt(1 +
+    zeta^2)`` the levels are taken at, fewer rungs a call where the drive's verdicts cost more the larger
+    ``eps`` (:attr:`Drive._far_cost`)."""
     if L0 is None:
         L0 = float((yield np.array([eps]), np.array([mu]))[0])
     if not abs(L0) < 2.0**50 or mu >= drive.mu_max:
@@ -1070,7 +1071,7 @@ def _margin_rows(drive, eps, mu, L0=None):
     climb = iter((2, 3) if drive._far_cost else ())
     ladder = eps * 2.0 ** np.arange(1.0, 1.0 + next(climb, 8))
     rungs, rung_levels = [np.array([eps]), eps * 2.0 ** -np.arange(1.0, 9.0)], [np.array([L0])]
-    limit = min(_LADDER_TOP, float(drive._eps_reach(mu)))
+    limit = min(_LADDER_TOP, float(drive._eps_reach(mu * math.sqrt(1.0 + zeta * zeta))))
     while ladder[0] <= limit:
         ladder = ladder[ladder <= limit]
         rungs.append(ladder)
@@ -1134,7 +1135,8 @@ def along_amplitude(T, n, l, g, drive, c):
     hi = ladder[:1]
     for _ in range(138):
         e_l, m_l = arnold(ladder)
-        ladder = ladder[:int(np.argmin(np.append(e_l <= drive._eps_reach(m_l), False)))]
+        ladder = ladder[:int(np.argmin(np.append(e_l <= drive._eps_reach(m_l * math.sqrt(1.0 + zeta * zeta)),
+                                                  False)))]
         if not ladder.size:   # (as far as the drive reaches)
             break
         up = np.flatnonzero(reached(ladder, n + 1, False))
@@ -1162,7 +1164,7 @@ def rig_intervals(eps, mu, zone, drive, zeta, T, A, l, g, levels=None):
     ``levels`` as in :func:`point_margin`.
     """
     levels = levels or _Levels(drive, zeta, (eps, mu))
-    rows, = _prepared(levels, [_rig_rows(drive, eps, mu, zone, T, A, l, g)])
+    rows, = _prepared(levels, [_rig_rows(drive, eps, mu, zone, T, A, l, g, zeta)])
     return _searched(drive, zeta, levels, [rows])[0]
 
 
@@ -1179,41 +1181,44 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     known = None if level0 is None else (int(np.floor(level0)) if level0 != np.rint(level0) else
                                          (0 if level0 == 0 else None))
     if known is not None:
-        m_rows, r_rows = _prepared(levels, [_margin_rows(drive, eps, mu, level0),
-                                            _rig_rows(drive, eps, mu, known, T, A, l, g)])
+        m_rows, r_rows = _prepared(levels, [_margin_rows(drive, eps, mu, level0, zeta),
+                                            _rig_rows(drive, eps, mu, known, T, A, l, g, zeta)])
         if m_rows is None:
             return None
         margin, rig = _searched(drive, zeta, levels, [m_rows, r_rows])
         return None if margin is None else (margin, rig if margin[1] == known else None)
-    m_rows, = _prepared(levels, [_margin_rows(drive, eps, mu, level0)])
+    m_rows, = _prepared(levels, [_margin_rows(drive, eps, mu, level0, zeta)])
     margin = None if m_rows is None else _searched(drive, zeta, levels, [m_rows])[0]
     if margin is None:
         return None
     if margin[1] < 0:
         return margin, None
-    r_rows, = _prepared(levels, [_rig_rows(drive, eps, mu, margin[1], T, A, l, g)])
+    r_rows, = _prepared(levels, [_rig_rows(drive, eps, mu, margin[1], T, A, l, g, zeta)])
     return margin, _searched(drive, zeta, levels, [r_rows])[0]
 
 
-def _mu_reach(drive, eps, mu, cap):
+def _mu_reach(drive, eps, mu, cap, zeta=0.0):
     """The largest ``mu`` up to ``cap`` at which ``eps`` is within the drive's reach
-    (:meth:`Drive._eps_reach`), ``mu`` itself being within it (bisected on its logarithm)."""
-    if eps <= drive._eps_reach(cap):
+    (:meth:`Drive._eps_reach`, at ``mu sqrt(1 + zeta^2)`` with damping), ``mu`` itself being within it
+    (bisected on its logarithm)."""
+    c = math.sqrt(1.0 + zeta * zeta)
+    if eps <= drive._eps_reach(cap * c):
         return cap
     lo, hi = math.log(mu), math.log(cap)
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        if eps <= drive._eps_reach(math.exp(mid)):
+        if eps <= drive._eps_reach(math.exp(mid) * c):
             lo = mid
         else:
             hi = mid
     return math.exp(lo)
 
 
-def _rig_rows(drive, eps, mu, zone, T, A, l, g):
+def _rig_rows(drive, eps, mu, zone, T, A, l, g, zeta=0.0):
     """The rows of :func:`rig_intervals`' search (a :class:`_Rows`): a builder for :func:`_prepared`.
-    Its rungs stay within the drive's reach (:meth:`Drive._eps_reach`): the largest ``mu`` searched
-    at this ``eps`` is 4, or less where the drive's reach ends below ``eps`` there."""
+    Its rungs stay within the drive's reach (:meth:`Drive._eps_reach`, damped at the ``phi``-system's
+    ``mu sqrt(1 + zeta^2)``): the largest ``mu`` searched at this ``eps`` is 4, or less where the drive's
+    reach ends below ``eps`` there."""
     n = zone
 
     def along_A(A_):
@@ -1223,14 +1228,14 @@ def _rig_rows(drive, eps, mu, zone, T, A, l, g):
     # call), and whether the zone is still reached at the ends of the frequency search
     # (the first call also asks the point itself and eight halvings and doublings of mu at this eps:
     # these rungs then narrow each search's bracket to about a binade)
-    mu_top = _mu_reach(drive, eps, mu, 4.0)
+    mu_top = _mu_reach(drive, eps, mu, 4.0, zeta)
     mu_rungs = mu * 2.0 ** np.concatenate([-np.arange(1.0, 9.0), np.arange(1.0, 9.0)])
     mu_rungs = np.concatenate([[1e-6, mu_top, mu], mu_rungs[(mu_rungs > 1e-6) & (mu_rungs < mu_top)]])
     A_rungs, A_levels = [np.array([A])], []
     ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
     for _ in range(138):
         e_l, m_l = along_A(ladder)
-        within = (ladder <= _LADDER_TOP) & (e_l <= drive._eps_reach(m_l))
+        within = (ladder <= _LADDER_TOP) & (e_l <= drive._eps_reach(m_l * math.sqrt(1.0 + zeta * zeta)))
         if not within.all():  # (as far as along_amplitude goes: the last rung within reach is the top)
             keep = int(np.argmin(within))
             if keep == 0 and A_levels:
