@@ -89,3 +89,25 @@ def test_a_zone_with_no_eps_inside_at_this_mu_may_still_be_reached_by_the_rig():
 
     none = replace(thin, A_hi=next_up(r.A_lo), frequency_hi=next_up(r.frequency_lo), stroke_hi=next_up(r.stroke_lo))
     assert "thinner than the spacing" in dict(none.lines())["to hold it"]
+
+
+def test_a_range_a_few_doubles_wide_is_written_with_the_digits_that_tell_its_ends_apart():
+    from dataclasses import replace
+
+    r = K.analyze(T=0.3, A=40.0, l=1.0, drive="sine")
+    lo = r.stroke_lo
+    hi = lo
+    for _ in range(4):
+        hi = float(np.nextafter(hi, np.inf))
+    thin = replace(r, eps_hi=float(np.nextafter(r.eps_lo, np.inf)), stroke_hi=hi,
+                   frequency_hi=float(np.nextafter(r.frequency_lo, np.inf)))
+    text = [d["text"] for d in thin.directions if d["knob"] == "stroke"][0]
+    a, b = text.split(" to ", 1)[1].split(" mm")[0].split("-")
+    assert a != b and float(a.replace(",", "")) < float(b.replace(",", ""))
+    # the frequency's range is one double: left out; with the stroke's one double too, nothing holds it,
+    # and the report says which (eps has no double inside the zone either)
+    assert not any("the frequency to" in t for _, t in thin.lines())
+    none = replace(thin, stroke_hi=float(np.nextafter(lo, np.inf)), A_hi=float(np.nextafter(r.A_lo, np.inf)))
+    assert dict(none.lines())["to hold it"].endswith("(no eps inside it)")
+    wide_eps = replace(none, eps_hi=r.eps_hi)
+    assert dict(wide_eps.lines())["to hold it"].endswith("(no setting of the knobs inside it)")

@@ -39,12 +39,13 @@ def percent_change(edge, value):
 
 
 def _digits(*values):
-    """Significant digits that tell ``values`` apart (3 at least, 12 at most)."""
+    """Significant digits that tell ``values`` apart (3 at least, 17 at most: the ends of a zone a few
+    doubles wide are not written as one number twice)."""
     vals = [v for v in values if v is not None and math.isfinite(v)]
-    for d in range(3, 13):
+    for d in range(3, 18):
         if len({f"{v:.{d}g}" for v in vals}) == len(set(vals)):
             return d
-    return 12
+    return 17
 
 
 def _plain(x, digits):

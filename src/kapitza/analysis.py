@@ -223,13 +223,15 @@ class StabilityReport(Summary):
                                  f"{percent_change(self.stroke_hi, st)})"))
             ways = self.directions
             if not self.stable:
-                # (a knob whose range holds no double would be named one value twice: left out; the zone
-                # may have no eps inside at this mu and still a wide range of A or of the stroke, which
-                # reaches it where mu is lower)
-                ways = [d for d in ways if d["hi"] is None or np.nextafter(d["lo"], np.inf) < d["hi"]]
-                if not ways and np.nextafter(self.eps_lo, np.inf) >= self.eps_hi:
+                # (a knob whose range holds no double, its ends adjacent in SI units and so within two
+                # spacings in the record's, would be named one value twice: left out; the zone may have
+                # no eps inside at this mu and still a wide range of A or of the stroke, which reaches it
+                # where mu is lower)
+                ways = [d for d in ways if d["hi"] is None or d["hi"] - d["lo"] > 2.0 * np.spacing(d["hi"])]
+                if not ways:
+                    inside = "eps" if np.nextafter(self.eps_lo, np.inf) >= self.eps_hi else "setting of the knobs"
                     rows.append(("to hold it", f"nothing: zone {self.nearest_zone} is thinner than the spacing of "
-                                               "the doubles about it (no eps inside it)"))
+                                               f"the doubles about it (no {inside} inside it)"))
                     return rows
             for i, d in enumerate(ways):
                 rows.append(("" if i else "to hold it" if not self.stable else "room", d["text"]))
