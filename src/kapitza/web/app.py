@@ -57,7 +57,9 @@ LIMITS: dict[str, Any] = dict(
     eps_max=60.0,          # the largest eps a view of Arnold's plane may reach
     general_eps_max=12.0,  # ... with another drive or damping (each edge a Floquet eigenproblem)
     general_point_eps=1000.0,  # the largest eps of a point's report or safe tilt with a drive whose periods are
-                               # integrated (about eps steps each: the sine, the triangle, linear samples)
+                               # integrated (about eps steps each: the triangle, linear samples, a user's shape)
+    own_point_eps=20.0,    # ... with a drive of its own Floquet data whose cost grows with eps (the sine: a
+                           # report's certified steps form exact traces beside its thin zones, 3 s at eps 20)
     periods=200.0,         # drive periods 2T of a motion
     points_per_period=200,
     motion_samples=20000,  # periods * points_per_period
@@ -910,11 +912,13 @@ def _report(eps, mu, T, A, l, g, drive, zeta, frequency, stroke, amplitude, rod,
 
 def _point_reach(P):
     """A point within ``LIMITS['general_point_eps']`` where a verdict costs more the larger ``eps`` (its
-    periods integrated in about ``eps`` steps, not exact segment products): a report's searches take
-    seconds at eps 1,000 and minutes beyond 10,000."""
-    if P["drive"]._far_cost:
+    periods integrated in about ``eps`` steps, not exact segment products: a report's searches take
+    seconds at eps 1,000 and minutes beyond 10,000), within ``LIMITS['own_point_eps']`` for a drive of
+    its own Floquet data (the sine: 3 s at eps 20, a minute at 60, its exact traces growing with q)."""
+    d = P["drive"]
+    if d._far_cost:
         name = "eps" if P["T"] is None else "T sqrt(A / (8 l)) (the point's eps)"
-        _bounded(name, P["eps"], LIMITS["general_point_eps"])
+        _bounded(name, P["eps"], LIMITS["general_point_eps" if d._from_shape else "own_point_eps"])
 
 
 def _safe_periods(periods, exact):
