@@ -101,6 +101,10 @@ def test_a_range_a_few_doubles_wide_is_written_with_the_digits_that_tell_its_end
         hi = float(np.nextafter(hi, np.inf))
     thin = replace(r, eps_hi=float(np.nextafter(r.eps_lo, np.inf)), stroke_hi=hi,
                    frequency_hi=float(np.nextafter(r.frequency_lo, np.inf)))
+    # the zone's own lines too: eps (here one double apart) and the frequency with the digits that differ
+    zone_line = dict(thin.lines())["zone (nearest)"]
+    lo_s, hi_s = zone_line.split(": ", 1)[1].split(" < eps < ")
+    assert lo_s != hi_s and float(lo_s) == thin.eps_lo and float(hi_s) == thin.eps_hi
     text = [d["text"] for d in thin.directions if d["knob"] == "stroke"][0]
     a, b = text.split(" to ", 1)[1].split(" mm")[0].split("-")
     assert a != b and float(a.replace(",", "")) < float(b.replace(",", ""))

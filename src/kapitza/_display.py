@@ -40,6 +40,16 @@ def num(v, digits=6) -> str:
     return f"{float(v):.{digits}g}"
 
 
+def digits_apart(*values, least=3) -> int:
+    """Significant digits that tell ``values`` apart (``least`` at least, 17 at most: the ends of a
+    range a few doubles wide are not written as one number twice; None and non-finite values aside)."""
+    vals = [float(v) for v in values if v is not None and np.isfinite(v)]
+    for d in range(least, 18):
+        if len({f"{v:.{d}g}" for v in vals}) == len(set(vals)):
+            return d
+    return 17
+
+
 def span(values, digits=6) -> str:
     """``min .. max`` of an array (one number if they agree; NaN ignored)."""
     a = np.asarray(values, dtype=float)

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import math
 
+from ._display import digits_apart
+
 __all__ = ["directions", "KNOBS"]
 
 #: ``knob -> (unit, scale from SI to that unit, what is held)``.
@@ -38,16 +40,6 @@ def percent_change(edge, value):
     return f"{x:+,.0f} %" if abs(x) >= 100 else f"{x:+.3g} %"
 
 
-def _digits(*values):
-    """Significant digits that tell ``values`` apart (3 at least, 17 at most: the ends of a zone a few
-    doubles wide are not written as one number twice)."""
-    vals = [v for v in values if v is not None and math.isfinite(v)]
-    for d in range(3, 18):
-        if len({f"{v:.{d}g}" for v in vals}) == len(set(vals)):
-            return d
-    return 17
-
-
 def _plain(x, digits):
     """``x`` to ``digits`` significant digits, written out (``1,130``, ``0.0192``) between 1e-3 and 1e9;
     in powers of ten beyond (a user reads ``1.13e+03 mm`` badly)."""
@@ -64,7 +56,7 @@ def _record(knob, value, lo, hi, stable, held, zone, words=("raise", "lower")):
     name = {"T": "the half-period T", "A": "the acceleration A", "eps": "eps"}.get(knob, f"the {knob}")
     u = f" {unit}" if unit else ""
     v, a, b = value * scale, lo * scale, hi * scale
-    dg = _digits(v, a, b)
+    dg = digits_apart(v, a, b)
 
     def _num(x):
         return _plain(x, dg)

@@ -12,7 +12,7 @@ from dataclasses import dataclass, asdict
 import numpy as np
 
 from . import _validate as _v
-from ._display import Summary, multipliers
+from ._display import Summary, digits_apart, multipliers
 from .advice import directions, percent_change
 from .drives import as_drive
 from .parameters import G_EARTH, to_arnold
@@ -198,16 +198,22 @@ class StabilityReport(Summary):
             rows.append(("nonlinear", self.nonlinear))
         if self.nearest_zone >= 0:
             where = "in" if self.stable else "nearest"
+            # (each range with the digits that tell its ends apart: a zone a few doubles wide is not
+            # written as one number twice)
+            d = digits_apart(self.eps_lo, self.eps_hi, least=12)
             rows.append((f"zone ({where})",
-                         f"n = {self.nearest_zone}: {_fmt(self.eps_lo)} < eps < {_fmt(self.eps_hi)}"))
+                         f"n = {self.nearest_zone}: {_fmt(self.eps_lo, d)} < eps < {_fmt(self.eps_hi, d)}"))
             if self.T_lo is not None:
-                rows.append(("", f"{_fmt(self.T_lo)} < T < {_fmt(self.T_hi)} s at this A"))
-                rows.append(("", f"{_fmt(self.A_lo)} < A < {_fmt(self.A_hi)} m/s^2 at this T"))
+                d = digits_apart(self.T_lo, self.T_hi, least=12)
+                rows.append(("", f"{_fmt(self.T_lo, d)} < T < {_fmt(self.T_hi, d)} s at this A"))
+                d = digits_apart(self.A_lo, self.A_hi, least=12)
+                rows.append(("", f"{_fmt(self.A_lo, d)} < A < {_fmt(self.A_hi, d)} m/s^2 at this T"))
             if self.frequency_lo is not None:
                 f = self.frequency
                 kept = "amplitude" if self.given == "amplitude" else "stroke"
                 if self.frequency_hi is not None and np.isfinite(self.frequency_hi):
-                    rows.append(("", f"{_fmt(self.frequency_lo, 6)} < frequency < {_fmt(self.frequency_hi, 6)} Hz at "
+                    d = digits_apart(self.frequency_lo, self.frequency_hi, least=6)
+                    rows.append(("", f"{_fmt(self.frequency_lo, d)} < frequency < {_fmt(self.frequency_hi, d)} Hz at "
                                      f"this {kept} ({percent_change(self.frequency_lo, f)} / "
                                      f"{percent_change(self.frequency_hi, f)})"))
                 else:
@@ -217,8 +223,9 @@ class StabilityReport(Summary):
                 st, k, word = self.stroke, 1.0, "stroke"
                 if self.given == "amplitude":
                     k, word = 0.5, "amplitude"
+                d = digits_apart(1e3 * k * self.stroke_lo, 1e3 * k * self.stroke_hi, least=6)
                 rows.append(("",
-                             f"{_fmt(1e3 * k * self.stroke_lo, 6)} < {word} < {_fmt(1e3 * k * self.stroke_hi, 6)} mm "
+                             f"{_fmt(1e3 * k * self.stroke_lo, d)} < {word} < {_fmt(1e3 * k * self.stroke_hi, d)} mm "
                                  f"at this frequency ({percent_change(self.stroke_lo, st)} / "
                                  f"{percent_change(self.stroke_hi, st)})"))
             ways = self.directions
