@@ -184,7 +184,10 @@ def slow(self, data):
     with open(self, "wb") as f:
         f.write(data[: len(data) // 2])
     print("writing", flush=True)
-    time.sleep(600)
+    # short sleeps, not one long one: a signal the kernel hands to another of the process's threads
+    # (numpy's) runs its handler only when the main thread next checks, after the sleep it is in
+    for _ in range(6000):
+        time.sleep(0.1)
 
 pathlib.Path.write_bytes = slow
 sys.exit(main(sys.argv[1:]))
