@@ -39,6 +39,14 @@ def test_stability_says_beforehand_when_its_report_takes_long(capsys, monkeypatc
     assert engine.long_report_note(dict(T=0.15, A=100.0, l=1.0, g=9.81, drive=K.TriangleWave())) is None
     assert engine.long_report_note(dict(eps=3e9, mu=0.1, drive=K.TriangleWave())) is None
     assert engine.long_report_note(dict(T=0.15, A=1e10, l=1.0, g=0.0, drive=K.TriangleWave())) is None
+    # the sine's physical report from eps 30 (its rig edges by exact traces: 8 s there, a minute at 60);
+    # at an Arnold point (no rig edges) or below 30, or beyond its reach, nothing
+    A = 9.81 / 0.5**2
+    note = engine.long_report_note(dict(T=40.0 * np.sqrt(8.0 / A), A=A, l=1.0, g=9.81, drive=K.SineWave()))
+    assert note.startswith("eps = 40 with the sine wave") and "exact traces" in note
+    assert engine.long_report_note(dict(T=20.0 * np.sqrt(8.0 / A), A=A, l=1.0, g=9.81, drive=K.SineWave())) is None
+    assert engine.long_report_note(dict(eps=40.0, mu=0.5, drive=K.SineWave())) is None
+    assert engine.long_report_note(dict(T=5e3 * np.sqrt(8.0 / A), A=A, l=1.0, g=9.81, drive=K.SineWave())) is None
     # the command prints it to standard error before the report (here at an ordinary point, the bar lowered)
     monkeypatch.setattr(engine, "LONG_REPORT_STEPS", 1)
     code, out, err = run(["stability", "--drive", "triangle", "--T", "0.15", "--A", "100"], capsys)

@@ -158,25 +158,36 @@ def register(sub):
 #: From this many integration steps a period at the point, ``kapitza stability`` says beforehand that its
 #: report takes long (a triangle-wave report: 8 s at 2^18 steps, 20-30 s at 2^20, minutes at 2^22)
 LONG_REPORT_STEPS = 1 << 19
+#: ... and from this ``eps`` at a physical point, for a drive of its own Floquet data whose cost grows with
+#: ``eps`` (the sine: 8 s at eps 30, 18 s at 40, a minute at 60, the rig's edges decided by exact traces)
+LONG_REPORT_EPS = 30.0
 
 
 def long_report_note(kw):
-    """One line before a report whose drive integrates each period in at least :data:`LONG_REPORT_STEPS`
-    steps at the point (``kw``: :func:`kapitza.analyze`'s keywords), else None."""
+    """One line before a report that will take long (``kw``: :func:`kapitza.analyze`'s keywords), else
+    None: where the drive integrates each period in at least :data:`LONG_REPORT_STEPS` steps at the
+    point, or a drive of its own Floquet data whose cost grows with ``eps`` has a physical point at
+    ``eps >= LONG_REPORT_EPS``."""
     from ..parameters import to_arnold
 
     drive = kw.get("drive")
     given = [kw[k] for k in ("T", "A", "l", "g", "eps", "mu") if k in kw]
-    if drive is None or not drive._from_shape or not all(np.isfinite(v) and v > 0 for v in given):
+    if drive is None or not drive._far_cost or not all(np.isfinite(v) and v > 0 for v in given):
         return None   # (a value out of range is refused by name in the report itself, in one line)
     try:
         eps, mu = (kw["eps"], kw["mu"]) if "eps" in kw else to_arnold(kw["T"], kw["A"], kw["l"], kw["g"])
-        steps = int(drive._engine.steps_for(np.array([float(eps)]), np.array([float(mu)]))[0])
+        eps, mu = float(eps), float(mu)
+        if not drive._from_shape:
+            if "T" not in kw or not eps >= LONG_REPORT_EPS or not eps <= float(drive._eps_reach(mu)):
+                return None
+            return (f"eps = {eps:.6g} with the {drive.label}: the report's edges along the rig's knobs are decided by "
+                    "exact traces beside its thin zones: it may take tens of seconds to minutes")
+        steps = int(drive._engine.steps_for(np.array([eps]), np.array([mu]))[0])
     except (ValueError, ArithmeticError):   # (beyond the drive's reach: refused by name there too)
         return None
     if steps < LONG_REPORT_STEPS:
         return None
-    return (f"eps = {float(eps):.6g} with the {drive.label}: each period is integrated in {steps:,} steps, and the "
+    return (f"eps = {eps:.6g} with the {drive.label}: each period is integrated in {steps:,} steps, and the "
             "report's searches ask hundreds of them: it may take tens of seconds to minutes")
 
 
