@@ -198,22 +198,15 @@ class StabilityReport(Summary):
             rows.append(("nonlinear", self.nonlinear))
         if self.nearest_zone >= 0:
             where = "in" if self.stable else "nearest"
-            # (each range with the digits that tell its ends apart: a zone a few doubles wide is not
-            # written as one number twice)
-            d = digits_apart(self.eps_lo, self.eps_hi, least=12)
-            rows.append((f"zone ({where})",
-                         f"n = {self.nearest_zone}: {_fmt(self.eps_lo, d)} < eps < {_fmt(self.eps_hi, d)}"))
+            rows.append((f"zone ({where})", f"n = {self.nearest_zone}: {_between(self.eps_lo, 'eps', self.eps_hi)}"))
             if self.T_lo is not None:
-                d = digits_apart(self.T_lo, self.T_hi, least=12)
-                rows.append(("", f"{_fmt(self.T_lo, d)} < T < {_fmt(self.T_hi, d)} s at this A"))
-                d = digits_apart(self.A_lo, self.A_hi, least=12)
-                rows.append(("", f"{_fmt(self.A_lo, d)} < A < {_fmt(self.A_hi, d)} m/s^2 at this T"))
+                rows.append(("", f"{_between(self.T_lo, 'T', self.T_hi)} s at this A"))
+                rows.append(("", f"{_between(self.A_lo, 'A', self.A_hi)} m/s^2 at this T"))
             if self.frequency_lo is not None:
                 f = self.frequency
                 kept = "amplitude" if self.given == "amplitude" else "stroke"
                 if self.frequency_hi is not None and np.isfinite(self.frequency_hi):
-                    d = digits_apart(self.frequency_lo, self.frequency_hi, least=6)
-                    rows.append(("", f"{_fmt(self.frequency_lo, d)} < frequency < {_fmt(self.frequency_hi, d)} Hz at "
+                    rows.append(("", f"{_between(self.frequency_lo, 'frequency', self.frequency_hi, 6)} Hz at "
                                      f"this {kept} ({percent_change(self.frequency_lo, f)} / "
                                      f"{percent_change(self.frequency_hi, f)})"))
                 else:
@@ -223,9 +216,8 @@ class StabilityReport(Summary):
                 st, k, word = self.stroke, 1.0, "stroke"
                 if self.given == "amplitude":
                     k, word = 0.5, "amplitude"
-                d = digits_apart(1e3 * k * self.stroke_lo, 1e3 * k * self.stroke_hi, least=6)
                 rows.append(("",
-                             f"{_fmt(1e3 * k * self.stroke_lo, d)} < {word} < {_fmt(1e3 * k * self.stroke_hi, d)} mm "
+                             f"{_between(1e3 * k * self.stroke_lo, word, 1e3 * k * self.stroke_hi, 6)} mm "
                                  f"at this frequency ({percent_change(self.stroke_lo, st)} / "
                                  f"{percent_change(self.stroke_hi, st)})"))
             ways = self.directions
@@ -266,6 +258,13 @@ def _unstable_verdict(tau, nearest, eps, eps_lo):
     if tau > 0:
         return "unstable: parametric resonance, 2T-type (multipliers real, positive)"
     return "unstable: parametric resonance, 4T-type, period doubling (multipliers real, negative)"
+
+
+def _between(lo, name, hi, digits=12):
+    """``lo < name < hi`` with at least ``digits`` significant digits, more where they tell the ends
+    apart (a zone a few doubles wide is not written as one number twice)."""
+    d = digits_apart(lo, hi, least=digits)
+    return f"{_fmt(lo, d)} < {name} < {_fmt(hi, d)}"
 
 
 def _fmt(v, digits=12):

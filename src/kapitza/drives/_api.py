@@ -1071,7 +1071,7 @@ def _margin_rows(drive, eps, mu, L0=None, zeta=0.0):
     climb = iter((2, 3) if drive._far_cost else ())
     ladder = eps * 2.0 ** np.arange(1.0, 1.0 + next(climb, 8))
     rungs, rung_levels = [np.array([eps]), eps * 2.0 ** -np.arange(1.0, 9.0)], [np.array([L0])]
-    limit = min(_LADDER_TOP, float(drive._eps_reach(mu * math.sqrt(1.0 + zeta * zeta))))
+    limit = min(_LADDER_TOP, float(_reach(drive, mu, zeta)))
     while ladder[0] <= limit:
         ladder = ladder[ladder <= limit]
         rungs.append(ladder)
@@ -1135,8 +1135,7 @@ def along_amplitude(T, n, l, g, drive, c):
     hi = ladder[:1]
     for _ in range(138):
         e_l, m_l = arnold(ladder)
-        ladder = ladder[:int(np.argmin(np.append(e_l <= drive._eps_reach(m_l * math.sqrt(1.0 + zeta * zeta)),
-                                                  False)))]
+        ladder = ladder[:int(np.argmin(np.append(e_l <= _reach(drive, m_l, zeta), False)))]
         if not ladder.size:   # (as far as the drive reaches)
             break
         up = np.flatnonzero(reached(ladder, n + 1, False))
@@ -1178,8 +1177,7 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     # where the margin's zone is known beforehand its rig edges are searched with it, one call a step
     # for all six: inside zone floor(level0), and below zone 0 (the gap theta = 0). In a gap k >= 1 it
     # is k - 1 or k, and searching both zones' rig edges costs more points than the calls it saves
-    known = None if level0 is None else (int(np.floor(level0)) if level0 != np.rint(level0) else
-                                         (0 if level0 == 0 else None))
+    known = known_zone(level0)
     if known is not None:
         m_rows, r_rows = _prepared(levels, [_margin_rows(drive, eps, mu, level0, zeta),
                                             _rig_rows(drive, eps, mu, known, T, A, l, g, zeta)])
@@ -1197,17 +1195,31 @@ def point_edges(drive, eps, mu, zeta, T, A, l, g, level0=None):
     return margin, _searched(drive, zeta, levels, [r_rows])[0]
 
 
+def _reach(drive, mu, zeta):
+    """:meth:`Drive._eps_reach` where the levels are taken: damped, at the ``phi``-system's ``mu sqrt(1 +
+    zeta^2)``."""
+    return drive._eps_reach(mu * math.sqrt(1.0 + zeta * zeta))
+
+
+def known_zone(level0):
+    """The zone a point of certified level ``level0`` (``zone + 1/2`` on a zone, ``theta / pi`` off them;
+    None where unknown) is searched in before any search: its own inside a zone, 0 below zone 0, else
+    None (in a gap ``k >= 1`` it is ``k - 1`` or ``k``)."""
+    if level0 is None:
+        return None
+    return int(np.floor(level0)) if level0 != np.rint(level0) else (0 if level0 == 0 else None)
+
+
 def _mu_reach(drive, eps, mu, cap, zeta=0.0):
     """The largest ``mu`` up to ``cap`` at which ``eps`` is within the drive's reach
     (:meth:`Drive._eps_reach`, at ``mu sqrt(1 + zeta^2)`` with damping), ``mu`` itself being within it
     (bisected on its logarithm)."""
-    c = math.sqrt(1.0 + zeta * zeta)
-    if eps <= drive._eps_reach(cap * c):
+    if eps <= _reach(drive, cap, zeta):
         return cap
     lo, hi = math.log(mu), math.log(cap)
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        if eps <= drive._eps_reach(math.exp(mid) * c):
+        if eps <= _reach(drive, math.exp(mid), zeta):
             lo = mid
         else:
             hi = mid
@@ -1235,7 +1247,7 @@ def _rig_rows(drive, eps, mu, zone, T, A, l, g, zeta=0.0):
     ladder = max(g, 1.0) * 2.0 ** np.arange(8.0)
     for _ in range(138):
         e_l, m_l = along_A(ladder)
-        within = (ladder <= _LADDER_TOP) & (e_l <= drive._eps_reach(m_l * math.sqrt(1.0 + zeta * zeta)))
+        within = (ladder <= _LADDER_TOP) & (e_l <= _reach(drive, m_l, zeta))
         if not within.all():  # (as far as along_amplitude goes: the last rung within reach is the top)
             keep = int(np.argmin(within))
             if keep == 0 and A_levels:

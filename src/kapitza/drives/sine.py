@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _api
 from ._base import Drive, Floquet0
 
 PI = np.pi
@@ -78,7 +79,7 @@ class SineWave(Drive):
         # where the zone is known beforehand (inside it, or below zone 0) the margin's and the rig's six
         # edges share each call of the drive (about half a millisecond, however many points); in a gap
         # between zones the margin's own path (the counts' roots, then their certified sides) asks fewer
-        return level0 is not None and (level0 != np.rint(level0) or level0 == 0) and self._joint_edges(zeta)
+        return _api.known_zone(level0) is not None and self._joint_edges(zeta)
 
     def _eps_reach(self, mu):
         from ._mathieu import eps_reach
