@@ -168,11 +168,12 @@ def long_report_note(kw):
     None: where the drive integrates each period in at least :data:`LONG_REPORT_STEPS` steps at the
     point, or a drive of its own Floquet data whose cost grows with ``eps`` has a physical point at
     ``eps >= LONG_REPORT_EPS``."""
+    from ..drives import as_drive
     from ..parameters import to_arnold
 
-    drive = kw.get("drive")
+    drive = as_drive(kw.get("drive"))   # (the square wave where none is given: exact products, no note)
     given = [kw[k] for k in ("T", "A", "l", "g", "eps", "mu") if k in kw]
-    if drive is None or not drive._far_cost or not all(np.isfinite(v) and v > 0 for v in given):
+    if not drive._far_cost or not all(np.isfinite(v) and v > 0 for v in given):
         return None   # (a value out of range is refused by name in the report itself, in one line)
     try:
         eps, mu = (kw["eps"], kw["mu"]) if "eps" in kw else to_arnold(kw["T"], kw["A"], kw["l"], kw["g"])
